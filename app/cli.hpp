@@ -1,0 +1,14 @@
+#pragma once
+// Subcommands of the polarcam executable. Each registers itself on the CLI11 app and, when chosen, stores the
+// action to run in `action`; main() runs it and maps errors to exit codes (InputError -> 2).
+#include <CLI/CLI.hpp>
+#include <functional>
+
+namespace polarcam::cli {
+
+using Action = std::function<int()>;
+
+void register_digitize(CLI::App& app, Action& action);
+void register_inspect(CLI::App& app, Action& action);
+
+}  // namespace polarcam::cli

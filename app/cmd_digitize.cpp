@@ -1,0 +1,117 @@
+// polarcam digitize JOB.toml [-o OUT.tape] [--json]
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "app/cli.hpp"
+#include "app/job_tape.hpp"
+#include "app/output.hpp"
+
+namespace polarcam::cli {
+namespace {
+
+nlohmann::ordered_json summary_json(const Job& job, const DigitizedJob& d, const std::string& out) {
+  const DigitizeResult& r = d.result;
+  nlohmann::ordered_json j;
+  j["job"] = job.file;
+  j["contour"] = job.contour->name();
+  j["closed"] = r.closed;
+  j["rule"] = to_string(job.motion.rule);
+  j["steps_radial"] = r.radial.steps();
+  j["steps_angular"] = r.angular.steps();
+  j["steps_total"] = r.radial.steps() + r.angular.steps();
+  j["steps_radial_plus"] = r.radial.plus;
+  j["steps_radial_minus"] = r.radial.minus;
+  j["steps_angular_plus"] = r.angular.plus;
+  j["steps_angular_minus"] = r.angular.minus;
+  j["duration_s"] = r.duration_s;
+  j["last_step_s"] = static_cast<double>(r.last_step_ns) * 1e-9;
+  j["path_length_m"] = r.path_length_m;
+  j["max_step_rate_radial_hz"] = r.radial.max_rate_hz;
+  j["max_step_rate_angular_hz"] = r.angular.max_rate_hz;
+  j["min_step_interval_radial_ns"] = r.radial.min_interval_ns;
+  j["min_step_interval_angular_ns"] = r.angular.min_interval_ns;
+  j["start_node"] = {r.start_n, r.start_m};
+  j["end_node"] = {r.end_n, r.end_m};
+  j["returns_to_start"] = r.returns_to_start;
+  j["winding"] = r.winding;
+  j["radial_resolution_m"] = job.grid.dr;
+  j["angular_resolution_rad"] = job.grid.dtheta;
+  j["angular_steps_per_rev"] = job.grid.steps_per_rev;
+  j["r_min_path_m"] = d.track.r_min().value;
+  j["r_max_path_m"] = d.track.r_max().value;
+  j["theta_min_path_rad"] = d.track.theta_min().value + r.theta_shift;
+  j["theta_max_path_rad"] = d.track.theta_max().value + r.theta_shift;
+  if (!out.empty()) j["tape"] = out;
+  return j;
+}
+
+std::string fmt(double v, int prec = 6) {
+  std::ostringstream os;
+  os.precision(prec);
+  os << v;
+  return os.str();
+}
+
+std::string summary_text(const Job& job, const DigitizedJob& d, const std::string& out) {
+  const DigitizeResult& r = d.result;
+  std::ostringstream os;
+  os << "polarcam digitize " << job.file << "\n";
+  os << "  contour    " << job.contour->name() << (r.closed ? " (closed)" : " (open)") << ", tool radius "
+     << fmt(job.tool.radius * 1e3) << " mm\n";
+  os << "  placement  C = " << fmt(job.placement.C * 1e3) << " mm, beta = " << fmt(job.placement.beta) << " rad\n";
+  os << "  grid       dR = " << fmt(job.grid.dr * 1e3) << " mm, dtheta = " << fmt(job.grid.dtheta) << " rad";
+  if (job.grid.steps_per_rev) os << " (" << job.grid.steps_per_rev << " steps/rev)";
+  os << ", rule " << to_string(job.motion.rule) << "\n";
+  os << "  path       " << fmt(r.path_length_m * 1e3) << " mm long, r " << fmt(d.track.r_min().value * 1e3) << " .. "
+     << fmt(d.track.r_max().value * 1e3) << " mm, theta " << fmt(d.track.theta_min().value + r.theta_shift) << " .. "
+     << fmt(d.track.theta_max().value + r.theta_shift) << " rad\n";
+  os << "  steps      radial " << thousands(r.radial.steps()) << " (+" << thousands(r.radial.plus) << " / -"
+     << thousands(r.radial.minus) << "), angular " << thousands(r.angular.steps()) << " (+" << thousands(r.angular.plus)
+     << " / -" << thousands(r.angular.minus) << "), total " << thousands(r.radial.steps() + r.angular.steps()) << "\n";
+  os << "  time       " << fmt(r.duration_s) << " s; max step rate radial " << fmt(r.radial.max_rate_hz, 5)
+     << " Hz, angular " << fmt(r.angular.max_rate_hz, 5) << " Hz\n";
+  os << "  nodes      start [" << r.start_n << ", " << r.start_m << "], end [" << r.end_n << ", " << r.end_m << "]";
+  if (r.closed) os << (r.returns_to_start ? " (returns to its start)" : " (does NOT return to its start node)");
+  os << "\n";
+  if (!out.empty()) os << "  tape       " << out << " (" << thousands(std::filesystem::file_size(out)) << " bytes)\n";
+  return os.str();
+}
+
+}  // namespace
+
+void register_digitize(CLI::App& app, Action& action) {
+  struct Opts {
+    std::string job, out;
+    bool json = false;
+  };
+  auto o = std::make_shared<Opts>();
+  CLI::App* c = app.add_subcommand("digitize", "Digitize a job into a step tape and print its summary");
+  c->add_option("job", o->job, "job file (TOML)")->required();
+  c->add_option("-o,--output", o->out, "write the step tape to this file");
+  c->add_flag("--json", o->json, "print the summary as one JSON object");
+  c->callback([o, &action] {
+    action = [o] {
+      Job job = load_job(o->job);
+      DigitizedJob d;
+      if (!o->out.empty()) {
+        TapeHeader h = tape_header_for(job);
+        TapeWriter w(o->out, h);
+        d = digitize_job(job, &w);
+        complete_header(h, d.result);
+        w.finish(h);
+      } else {
+        d = digitize_job(job, nullptr);
+      }
+      if (o->json)
+        std::cout << summary_json(job, d, o->out).dump(2) << "\n";
+      else
+        std::cout << summary_text(job, d, o->out);
+      return 0;
+    };
+  });
+}
+
+}  // namespace polarcam::cli

@@ -1,0 +1,69 @@
+#pragma once
+// Chebyshev series on the reference interval t in [-1, 1]: fitting from values at the Chebyshev-Lobatto points,
+// evaluation (Clenshaw), differentiation, integration and bracketed root finding. The building block of the
+// polar track (polar_track.hpp): each piece of the tool path is a few such series.
+#include <array>
+#include <cmath>
+
+namespace polarcam {
+
+inline constexpr int kChebMaxDegree = 16;
+
+struct Cheb {
+  int deg = 0;  // number of coefficients - 1 after chopping
+  std::array<double, kChebMaxDegree + 1> c{};
+
+  double operator()(double t) const {
+    double b1 = 0.0, b2 = 0.0;
+    for (int k = deg; k >= 1; --k) {
+      double b0 = c[k] + 2.0 * t * b1 - b2;
+      b2 = b1;
+      b1 = b0;
+    }
+    return c[0] + t * b1 - b2;
+  }
+
+  // value and derivative d/dt together (differentiated Clenshaw recurrence)
+  void eval2(double t, double& f, double& df) const {
+    double b1 = 0.0, b2 = 0.0, d1 = 0.0, d2 = 0.0;
+    for (int k = deg; k >= 1; --k) {
+      double b0 = c[k] + 2.0 * t * b1 - b2;
+      double dd = 2.0 * b1 + 2.0 * t * d1 - d2;
+      b2 = b1;
+      b1 = b0;
+      d2 = d1;
+      d1 = dd;
+    }
+    f = c[0] + t * b1 - b2;
+    df = b1 + t * d1 - d2;
+  }
+
+  // Series of the derivative d/dt.
+  Cheb derivative() const;
+  // Series of the integral from -1 to t.
+  Cheb integral() const;
+  // Largest |coefficient|.
+  double max_abs() const;
+  void scale(double k) {
+    for (int i = 0; i <= deg; ++i) c[i] *= k;
+  }
+};
+
+// Chebyshev-Lobatto points t_j = cos(pi j / n), j = 0..n (from +1 down to -1), n = kChebMaxDegree.
+const std::array<double, kChebMaxDegree + 1>& cheb_points();
+
+// Coefficients of the degree-n interpolant through values f_j, j = 0..n, at t_j = cos(pi j / n) (n = 8 or 16;
+// the degree-8 points are every other point of cheb_points()).
+Cheb cheb_fit(const double* f, int n);
+
+// |c_{n-1}| + |c_n|: the tail that measures how well the interpolant has converged.
+double cheb_tail(const Cheb& s);
+
+// Drops trailing coefficients whose absolute sum stays below `tol`.
+void cheb_chop(Cheb& s, double tol);
+
+// Root of s(t) = y in [lo, hi], given that s(lo) - y and s(hi) - y do not have the same strict sign
+// (fl = s(lo) - y, fh = s(hi) - y as known to the caller). Safeguarded Newton; returns t to machine precision.
+double cheb_solve(const Cheb& s, double y, double lo, double hi, double fl, double fh);
+
+}  // namespace polarcam

@@ -1,0 +1,68 @@
+#pragma once
+// The software digitizer (Sec. 2.3 and Appendix C of 002_d776f0f2af43efa4.txt, rebuilt): every axis step of a
+// polar machine, in order, with the exact time at which it is due, for the tool centre moving along the path at
+// the tangential speed of a SpeedProfile.
+//
+// Each axis is a quantiser of the path's continuous coordinate f (r / DeltaR or theta / DeltaTheta) with
+// threshold h: from node v the axis steps up when f reaches v + h and down when f falls below v - h.
+//  - rule `nearest` (h = 1/2): the node is always the grid value nearest the path point, v = floor(f + 1/2);
+//    radial steps fall where the path crosses the circles r = (n + 1/2) DeltaR, angular steps where it crosses
+//    the rays theta = (m + 1/2) DeltaTheta. The default.
+//  - rule `thesis` (h = 1): an axis is indexed by one full resolution when the path has moved a full resolution
+//    from the node (App. C: index by DeltaR or DeltaTheta, solve Eq. 2.1/2.2 for the contour point). The start
+//    node truncates (ALL = INT(AL/DELR)*DELR); on a closed path the start node is the one the quantiser holds
+//    after a lap, so the tape closes.
+// A step's time is t(s) of the profile at the arc length s where the path meets the step's level, rounded to
+// the nearest nanosecond from the start (never accumulated interval by interval, so there is no drift).
+// Simultaneous steps are two events with equal times; when two steps fall at the same point the radial one
+// comes first.
+#include <cstdint>
+
+#include "digitizer/grid.hpp"
+#include "digitizer/polar_track.hpp"
+#include "digitizer/speed_profile.hpp"
+
+namespace polarcam {
+
+enum class StepRule { nearest, thesis };
+const char* to_string(StepRule r);
+
+enum : int { kAxisRadial = 0, kAxisAngular = 1 };
+
+class StepSink {
+ public:
+  virtual ~StepSink() = default;
+  // axis kAxisRadial or kAxisAngular, dir +1 or -1, t_ns cumulative time of the step from the start
+  virtual void step(int axis, int dir, int64_t t_ns) = 0;
+};
+
+// Checks the track against the work area and chooses the angular branch: returns the multiple of 2 pi added to
+// the track's theta so that the whole path lies in [theta_min, theta_max] (or, without an angular range, so that
+// the start angle lies in [0, 2 pi)). Throws InputError naming where the path leaves the work area.
+double place_on_grid(const PolarTrack& track, const Grid& grid);
+
+struct AxisSummary {
+  uint64_t plus = 0, minus = 0;
+  double max_rate_hz = 0.0;              // max over the path of V |df/ds| (steps per second, geometric)
+  int64_t min_interval_ns = -1;          // shortest time between consecutive steps of this axis (-1: < 2 steps)
+  uint64_t steps() const { return plus + minus; }
+};
+
+struct DigitizeResult {
+  int64_t start_n = 0, start_m = 0, end_n = 0, end_m = 0;
+  AxisSummary radial, angular;
+  double path_length_m = 0.0;
+  double duration_s = 0.0;       // time to traverse the whole path
+  int64_t duration_ns = 0;
+  int64_t last_step_ns = 0;
+  double theta_shift = 0.0;      // rad added to the track's theta (place_on_grid)
+  bool closed = false;           // the path is closed
+  bool returns_to_start = false; // the tape ends on its start node (same place; whole turns of the arm allowed)
+  int winding = 0;               // turns about the pole of a closed path
+};
+
+// Digitizes the track. `sink` may be null (counting and timing only).
+DigitizeResult digitize(const PolarTrack& track, const Grid& grid, StepRule rule, const SpeedProfile& profile,
+                        StepSink* sink);
+
+}  // namespace polarcam

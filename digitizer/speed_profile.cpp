@@ -1,0 +1,120 @@
+#include "digitizer/speed_profile.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "cam/error.hpp"
+
+namespace polarcam {
+namespace {
+
+class Constant final : public SpeedProfile {
+ public:
+  Constant(double v, double L) : SpeedProfile(L), v_(v) {}
+  double time_at(double s) const override { return s / v_; }
+  double speed_at(double) const override { return v_; }
+
+ private:
+  double v_;
+};
+
+class Trapezoid final : public SpeedProfile {
+ public:
+  Trapezoid(double v, double a, double L) : SpeedProfile(L), a_(a) {
+    sa_ = v * v / (2.0 * a);
+    if (2.0 * sa_ > L) {  // triangle
+      sa_ = 0.5 * L;
+      v = std::sqrt(a * L);
+    }
+    v_ = v;
+    ta_ = v / a;
+    tc_ = (L - 2.0 * sa_) / v;
+  }
+  double time_at(double s) const override {
+    const double L = length();
+    if (s <= sa_) return std::sqrt(2.0 * std::max(s, 0.0) / a_);
+    if (s <= L - sa_) return ta_ + (s - sa_) / v_;
+    return 2.0 * ta_ + tc_ - std::sqrt(2.0 * std::max(L - s, 0.0) / a_);
+  }
+  double speed_at(double s) const override {
+    const double L = length();
+    if (s <= sa_) return std::sqrt(2.0 * a_ * std::max(s, 0.0));
+    if (s <= L - sa_) return v_;
+    return std::sqrt(2.0 * a_ * std::max(L - s, 0.0));
+  }
+
+ private:
+  double a_, v_, sa_, ta_, tc_;
+};
+
+class Table final : public SpeedProfile {
+ public:
+  Table(std::vector<SpeedStation> st, double L) : SpeedProfile(L), st_(std::move(st)) {
+    cum_.assign(st_.size(), 0.0);
+    t0_ = st_.front().s > 0 ? st_.front().s / st_.front().v : 0.0;
+    for (size_t i = 1; i < st_.size(); ++i) cum_[i] = cum_[i - 1] + seg_time(i - 1, st_[i].s);
+  }
+  double time_at(double s) const override {
+    if (s <= st_.front().s) return s / st_.front().v;
+    if (s >= st_.back().s) return t0_ + cum_.back() + (s - st_.back().s) / st_.back().v;
+    size_t i = seg(s);
+    return t0_ + cum_[i] + seg_time(i, s);
+  }
+  double speed_at(double s) const override {
+    if (s <= st_.front().s) return st_.front().v;
+    if (s >= st_.back().s) return st_.back().v;
+    size_t i = seg(s);
+    double f = (s - st_[i].s) / (st_[i + 1].s - st_[i].s);
+    return st_[i].v + f * (st_[i + 1].v - st_[i].v);
+  }
+
+ private:
+  size_t seg(double s) const {
+    auto it = std::upper_bound(st_.begin(), st_.end(), s, [](double v, const SpeedStation& p) { return v < p.s; });
+    return std::min(static_cast<size_t>(it - st_.begin()) - 1, st_.size() - 2);
+  }
+  // time from station i to s inside segment i
+  double seg_time(size_t i, double s) const {
+    double ds = s - st_[i].s, h = st_[i + 1].s - st_[i].s;
+    double k = (st_[i + 1].v - st_[i].v) / h, v0 = st_[i].v;
+    double x = k * ds / v0;
+    if (std::abs(x) < 1e-8) return ds / v0 * (1.0 - 0.5 * x + x * x / 3.0);
+    return std::log1p(x) / k;
+  }
+  std::vector<SpeedStation> st_;
+  std::vector<double> cum_;
+  double t0_ = 0.0;
+};
+
+void check_speed(double v, const char* what) {
+  if (!(v > 0.0) || !std::isfinite(v)) throw InputError(std::string(what) + " must be a positive speed");
+}
+
+}  // namespace
+
+SpeedProfilePtr make_constant_speed(double v, double length) {
+  check_speed(v, "the speed");
+  return std::make_shared<Constant>(v, length);
+}
+
+SpeedProfilePtr make_trapezoid_speed(double v, double accel, double length) {
+  check_speed(v, "the speed");
+  if (!(accel > 0.0) || !std::isfinite(accel)) throw InputError("the acceleration limit must be positive");
+  return std::make_shared<Trapezoid>(v, accel, length);
+}
+
+SpeedProfilePtr make_table_speed(std::vector<SpeedStation> st, double length) {
+  if (st.empty()) throw InputError("the speed table is empty");
+  for (size_t i = 0; i < st.size(); ++i) {
+    if (!std::isfinite(st[i].s) || st[i].s < 0.0)
+      throw InputError("speed table row " + std::to_string(i + 1) + ": the arc length must be zero or positive");
+    check_speed(st[i].v, ("speed table row " + std::to_string(i + 1) + ": the speed").c_str());
+    if (i > 0 && !(st[i].s > st[i - 1].s))
+      throw InputError("speed table row " + std::to_string(i + 1) + ": arc lengths must increase");
+  }
+  if (st.size() == 1) return make_constant_speed(st[0].v, length);
+  return std::make_shared<Table>(std::move(st), length);
+}
+
+}  // namespace polarcam

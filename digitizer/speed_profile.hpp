@@ -1,0 +1,38 @@
+#pragma once
+// Tangential speed along the path as a function of arc length s, and the time t(s) = integral ds / V(s) at which
+// the tool reaches s. The digitizer times each step by t(s_step). Profiles:
+//  - constant: V from the first step, as the thesis (t = s / V);
+//  - trapezoid: from rest to V at acceleration a, cruise, and back to rest at the end (triangle when the path
+//    is too short to reach V);
+//  - table: V given at arc-length stations, linear in s between them, held constant beyond the ends
+//    (t is integrated exactly: ds / (V0 + k s) gives a logarithm).
+#include <memory>
+#include <vector>
+
+namespace polarcam {
+
+class SpeedProfile {
+ public:
+  virtual ~SpeedProfile() = default;
+  virtual double time_at(double s) const = 0;   // s
+  virtual double speed_at(double s) const = 0;  // m/s
+  double length() const { return length_; }     // m, the path length the profile was made for
+  double total_time() const { return time_at(length_); }
+
+ protected:
+  explicit SpeedProfile(double length) : length_(length) {}
+
+ private:
+  double length_;
+};
+
+using SpeedProfilePtr = std::shared_ptr<const SpeedProfile>;
+
+SpeedProfilePtr make_constant_speed(double v, double length);
+SpeedProfilePtr make_trapezoid_speed(double v, double accel, double length);
+struct SpeedStation {
+  double s, v;
+};
+SpeedProfilePtr make_table_speed(std::vector<SpeedStation> stations, double length);
+
+}  // namespace polarcam

@@ -1,0 +1,342 @@
+#include "digitizer/tape.hpp"
+
+#include <unistd.h>
+#include <zlib.h>
+
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+#include "cam/error.hpp"
+
+namespace polarcam {
+
+const char* to_string(TapeRule r) {
+  switch (r) {
+    case TapeRule::nearest: return "nearest";
+    case TapeRule::thesis: return "thesis";
+    case TapeRule::dda: return "dda";
+    case TapeRule::exact_cartesian: return "exact";
+  }
+  return "unknown";
+}
+
+namespace {
+
+constexpr char kMagic[8] = {'P', 'O', 'L', 'A', 'R', 'C', 'A', 'M'};
+constexpr size_t kBuf = 1 << 20;
+constexpr uint32_t kMaxProvenance = 16u << 20;
+
+// little-endian field codec over a byte array
+struct Put {
+  uint8_t* p;
+  void u8(size_t off, uint8_t v) { p[off] = v; }
+  void u16(size_t off, uint16_t v) {
+    for (int i = 0; i < 2; ++i) p[off + i] = static_cast<uint8_t>(v >> (8 * i));
+  }
+  void u32(size_t off, uint32_t v) {
+    for (int i = 0; i < 4; ++i) p[off + i] = static_cast<uint8_t>(v >> (8 * i));
+  }
+  void u64(size_t off, uint64_t v) {
+    for (int i = 0; i < 8; ++i) p[off + i] = static_cast<uint8_t>(v >> (8 * i));
+  }
+  void i64(size_t off, int64_t v) { u64(off, static_cast<uint64_t>(v)); }
+  void f64(size_t off, double v) {
+    uint64_t b;
+    std::memcpy(&b, &v, 8);
+    u64(off, b);
+  }
+};
+struct Get {
+  const uint8_t* p;
+  uint8_t u8(size_t off) const { return p[off]; }
+  uint16_t u16(size_t off) const { return static_cast<uint16_t>(p[off] | (p[off + 1] << 8)); }
+  uint32_t u32(size_t off) const {
+    uint32_t v = 0;
+    for (int i = 3; i >= 0; --i) v = (v << 8) | p[off + i];
+    return v;
+  }
+  uint64_t u64(size_t off) const {
+    uint64_t v = 0;
+    for (int i = 7; i >= 0; --i) v = (v << 8) | p[off + i];
+    return v;
+  }
+  int64_t i64(size_t off) const { return static_cast<int64_t>(u64(off)); }
+  double f64(size_t off) const {
+    uint64_t b = u64(off);
+    double v;
+    std::memcpy(&v, &b, 8);
+    return v;
+  }
+};
+
+// Field offsets of the fixed header (docs/tape-format.md).
+enum : size_t {
+  kOffMagic = 0, kOffVersion = 8, kOffFixed = 10, kOffProvLen = 12, kOffAxes = 16, kOffRule = 17, kOffFlags = 18,
+  kOffTick = 24, kOffRes0 = 32, kOffRes1 = 40, kOffSpr = 48, kOffRmin = 56, kOffRmax = 64, kOffThmin = 72,
+  kOffThmax = 80, kOffHome0 = 88, kOffHome1 = 96, kOffStart0 = 104, kOffStart1 = 112, kOffEnd0 = 120,
+  kOffEnd1 = 128, kOffCount = 136, kOffPlus0 = 144, kOffMinus0 = 152, kOffPlus1 = 160, kOffMinus1 = 168,
+  kOffDuration = 176, kOffLastStep = 184, kOffRecBytes = 192, kOffSpeed = 200, kOffLength = 208,
+  kOffRecCrc = 216, kOffHdrCrc = 220
+};
+enum : uint16_t { kFlagClosed = 1, kFlagRmax = 2, kFlagTheta = 4, kFlagReturns = 8 };
+
+std::vector<uint8_t> encode_header(const TapeHeader& h) {
+  std::vector<uint8_t> b(kTapeFixedHeader + h.provenance.size(), 0);
+  Put w{b.data()};
+  std::memcpy(b.data(), kMagic, 8);
+  w.u16(kOffVersion, h.version);
+  w.u16(kOffFixed, static_cast<uint16_t>(kTapeFixedHeader));
+  w.u32(kOffProvLen, static_cast<uint32_t>(h.provenance.size()));
+  w.u8(kOffAxes, static_cast<uint8_t>(h.axes));
+  w.u8(kOffRule, static_cast<uint8_t>(h.rule));
+  uint16_t flags = (h.closed ? kFlagClosed : 0) | (h.has_r_max ? kFlagRmax : 0) | (h.has_theta_range ? kFlagTheta : 0) |
+                   (h.returns_to_start ? kFlagReturns : 0);
+  w.u16(kOffFlags, flags);
+  w.u64(kOffTick, h.tick_ps);
+  w.f64(kOffRes0, h.res[0]);
+  w.f64(kOffRes1, h.res[1]);
+  w.i64(kOffSpr, h.steps_per_rev);
+  w.f64(kOffRmin, h.r_min);
+  w.f64(kOffRmax, h.has_r_max ? h.r_max : 0.0);
+  w.f64(kOffThmin, h.has_theta_range ? h.theta_min : 0.0);
+  w.f64(kOffThmax, h.has_theta_range ? h.theta_max : 0.0);
+  w.i64(kOffHome0, h.home[0]);
+  w.i64(kOffHome1, h.home[1]);
+  w.i64(kOffStart0, h.start[0]);
+  w.i64(kOffStart1, h.start[1]);
+  w.i64(kOffEnd0, h.end[0]);
+  w.i64(kOffEnd1, h.end[1]);
+  w.u64(kOffCount, h.record_count);
+  w.u64(kOffPlus0, h.plus[0]);
+  w.u64(kOffMinus0, h.minus[0]);
+  w.u64(kOffPlus1, h.plus[1]);
+  w.u64(kOffMinus1, h.minus[1]);
+  w.u64(kOffDuration, h.duration_ticks);
+  w.u64(kOffLastStep, h.last_step_ticks);
+  w.u64(kOffRecBytes, h.records_bytes);
+  w.f64(kOffSpeed, h.speed_mps);
+  w.f64(kOffLength, h.path_length_m);
+  w.u32(kOffRecCrc, h.records_crc);
+  std::memcpy(b.data() + kTapeFixedHeader, h.provenance.data(), h.provenance.size());
+  uint32_t hc = static_cast<uint32_t>(crc32(0L, b.data(), static_cast<uInt>(b.size())));
+  w.u32(kOffHdrCrc, hc);
+  return b;
+}
+
+}  // namespace
+
+// ------------------------------------------------------------------------------------------------ writer
+
+TapeWriter::TapeWriter(const std::string& path, const TapeHeader& h) : path_(path) {
+  if (h.provenance.size() > kMaxProvenance) throw InputError(path + ": the provenance block is too large");
+  tmp_ = path + ".partial-" + std::to_string(::getpid());
+  f_ = std::fopen(tmp_.c_str(), "wb");
+  if (!f_) throw InputError(path + ": cannot create the file (" + std::strerror(errno) + ")");
+  header_size_ = kTapeFixedHeader + h.provenance.size();
+  std::vector<uint8_t> zeros(header_size_, 0);
+  if (std::fwrite(zeros.data(), 1, zeros.size(), f_) != zeros.size()) {
+    std::fclose(f_);
+    f_ = nullptr;
+    std::remove(tmp_.c_str());
+    throw InputError(path + ": cannot write (" + std::strerror(errno) + ")");
+  }
+  buf_.reserve(kBuf + 16);
+  crc_ = static_cast<uint32_t>(crc32(0L, Z_NULL, 0));
+}
+
+TapeWriter::~TapeWriter() {
+  if (f_) std::fclose(f_);
+  if (!done_) std::remove(tmp_.c_str());
+}
+
+void TapeWriter::write(const StepRecord& r) {
+  if (r.interval >> 62) throw std::length_error("tape interval does not fit 62 bits");
+  uint64_t v = (r.interval << 2) | (static_cast<uint64_t>(r.axis & 1) << 1) | (r.dir > 0 ? 1u : 0u);
+  do {
+    uint8_t byte = v & 0x7f;
+    v >>= 7;
+    buf_.push_back(v ? (byte | 0x80) : byte);
+  } while (v);
+  ++count_;
+  (r.dir > 0 ? plus_ : minus_)[r.axis & 1] += 1;
+  cum_ticks_ += r.interval;
+  if (buf_.size() >= kBuf) flush();
+}
+
+void TapeWriter::step(int axis, int dir, int64_t t_ns) {
+  StepRecord r;
+  r.interval = static_cast<uint64_t>(t_ns - last_ns_);
+  r.axis = axis;
+  r.dir = dir;
+  last_ns_ = t_ns;
+  write(r);
+}
+
+void TapeWriter::flush() {
+  if (buf_.empty()) return;
+  crc_ = static_cast<uint32_t>(crc32(crc_, buf_.data(), static_cast<uInt>(buf_.size())));
+  if (std::fwrite(buf_.data(), 1, buf_.size(), f_) != buf_.size())
+    throw InputError(path_ + ": cannot write (" + std::strerror(errno) + ")");
+  bytes_ += buf_.size();
+  buf_.clear();
+}
+
+void TapeWriter::finish(TapeHeader h) {
+  flush();
+  h.record_count = count_;
+  h.records_bytes = bytes_;
+  h.records_crc = crc_;
+  h.last_step_ticks = cum_ticks_;
+  for (int a = 0; a < 2; ++a) {
+    h.plus[a] = plus_[a];
+    h.minus[a] = minus_[a];
+    if (h.end[a] != h.start[a] + static_cast<int64_t>(plus_[a]) - static_cast<int64_t>(minus_[a]))
+      throw std::logic_error("internal error: the tape's end node does not match its steps");
+  }
+  if (h.duration_ticks < h.last_step_ticks) h.duration_ticks = h.last_step_ticks;
+  std::vector<uint8_t> hb = encode_header(h);
+  if (hb.size() != header_size_) throw std::logic_error("internal error: the provenance changed while writing");
+  if (std::fseek(f_, 0, SEEK_SET) != 0 || std::fwrite(hb.data(), 1, hb.size(), f_) != hb.size() ||
+      std::fflush(f_) != 0)
+    throw InputError(path_ + ": cannot write (" + std::strerror(errno) + ")");
+  int rc = std::fclose(f_);
+  f_ = nullptr;
+  if (rc != 0) throw InputError(path_ + ": cannot write (" + std::strerror(errno) + ")");
+  if (std::rename(tmp_.c_str(), path_.c_str()) != 0)
+    throw InputError(path_ + ": cannot move the finished tape into place (" + std::strerror(errno) + ")");
+  done_ = true;
+}
+
+// ------------------------------------------------------------------------------------------------ reader
+
+TapeReader::TapeReader(const std::string& path) : path_(path) {
+  f_ = std::fopen(path.c_str(), "rb");
+  if (!f_) throw InputError(path + ": cannot open the tape (" + std::strerror(errno) + ")");
+  std::vector<uint8_t> fixed(kTapeFixedHeader);
+  size_t got = std::fread(fixed.data(), 1, fixed.size(), f_);
+  if (got < 16 || std::memcmp(fixed.data(), kMagic, 8) != 0) fail("not a polarcam tape (bad magic)");
+  Get g{fixed.data()};
+  h_.version = g.u16(kOffVersion);
+  if (h_.version != kTapeVersion)
+    fail("tape format version " + std::to_string(h_.version) + " is not supported (this polarcam reads version " +
+         std::to_string(kTapeVersion) + ")");
+  if (got < kTapeFixedHeader) fail("the header is truncated");
+  if (g.u16(kOffFixed) != kTapeFixedHeader) fail("the header size is wrong");
+  uint32_t plen = g.u32(kOffProvLen);
+  if (plen > kMaxProvenance) fail("the provenance block is too large");
+  std::vector<uint8_t> all(kTapeFixedHeader + plen);
+  std::memcpy(all.data(), fixed.data(), kTapeFixedHeader);
+  if (std::fread(all.data() + kTapeFixedHeader, 1, plen, f_) != plen) fail("the header is truncated");
+  uint32_t stored = Get{all.data()}.u32(kOffHdrCrc);
+  Put{all.data()}.u32(kOffHdrCrc, 0);
+  uint32_t calc = static_cast<uint32_t>(crc32(0L, all.data(), static_cast<uInt>(all.size())));
+  if (stored != calc) fail("the header checksum does not match (the header is corrupted)");
+  g = Get{all.data()};
+  uint8_t axes = g.u8(kOffAxes), rule = g.u8(kOffRule);
+  if (axes > 1) fail("unknown axis kind " + std::to_string(axes));
+  if (rule > 3) fail("unknown stepping rule " + std::to_string(rule));
+  h_.axes = static_cast<TapeAxes>(axes);
+  h_.rule = static_cast<TapeRule>(rule);
+  uint16_t flags = g.u16(kOffFlags);
+  h_.closed = flags & kFlagClosed;
+  h_.has_r_max = flags & kFlagRmax;
+  h_.has_theta_range = flags & kFlagTheta;
+  h_.returns_to_start = flags & kFlagReturns;
+  h_.tick_ps = g.u64(kOffTick);
+  h_.res[0] = g.f64(kOffRes0);
+  h_.res[1] = g.f64(kOffRes1);
+  h_.steps_per_rev = g.i64(kOffSpr);
+  h_.r_min = g.f64(kOffRmin);
+  h_.r_max = g.f64(kOffRmax);
+  h_.theta_min = g.f64(kOffThmin);
+  h_.theta_max = g.f64(kOffThmax);
+  h_.home[0] = g.i64(kOffHome0);
+  h_.home[1] = g.i64(kOffHome1);
+  h_.start[0] = g.i64(kOffStart0);
+  h_.start[1] = g.i64(kOffStart1);
+  h_.end[0] = g.i64(kOffEnd0);
+  h_.end[1] = g.i64(kOffEnd1);
+  h_.record_count = g.u64(kOffCount);
+  h_.plus[0] = g.u64(kOffPlus0);
+  h_.minus[0] = g.u64(kOffMinus0);
+  h_.plus[1] = g.u64(kOffPlus1);
+  h_.minus[1] = g.u64(kOffMinus1);
+  h_.duration_ticks = g.u64(kOffDuration);
+  h_.last_step_ticks = g.u64(kOffLastStep);
+  h_.records_bytes = g.u64(kOffRecBytes);
+  h_.speed_mps = g.f64(kOffSpeed);
+  h_.path_length_m = g.f64(kOffLength);
+  h_.records_crc = g.u32(kOffRecCrc);
+  h_.header_crc = stored;
+  h_.provenance.assign(reinterpret_cast<const char*>(all.data() + kTapeFixedHeader), plen);
+  if (!(h_.res[0] > 0.0) || !(h_.res[1] > 0.0) || !std::isfinite(h_.res[0]) || !std::isfinite(h_.res[1]))
+    fail("the header's resolutions are not positive");
+  if (h_.tick_ps == 0) fail("the header's tick is zero");
+  if (h_.plus[0] + h_.minus[0] + h_.plus[1] + h_.minus[1] != h_.record_count)
+    fail("the header's step totals do not add up to its record count");
+  buf_.resize(kBuf);
+  crc_ = static_cast<uint32_t>(crc32(0L, Z_NULL, 0));
+}
+
+TapeReader::~TapeReader() {
+  if (f_) std::fclose(f_);
+}
+
+void TapeReader::fail(const std::string& what) const { throw InputError(path_ + ": " + what); }
+
+bool TapeReader::fill() {
+  len_ = std::fread(buf_.data(), 1, buf_.size(), f_);
+  pos_ = 0;
+  if (len_ > 0) {
+    crc_ = static_cast<uint32_t>(crc32(crc_, buf_.data(), static_cast<uInt>(len_)));
+    bytes_ += len_;
+  }
+  return len_ > 0;
+}
+
+bool TapeReader::next(StepRecord& r) {
+  if (finished_) return false;
+  if (n_ == h_.record_count) {
+    // all records read: nothing may follow, and the totals must agree
+    if (pos_ < len_ || fill()) fail("unexpected data after record " + std::to_string(n_));
+    if (bytes_ != h_.records_bytes)
+      fail("the records take " + std::to_string(bytes_) + " bytes but the header says " + std::to_string(h_.records_bytes));
+    if (crc_ != h_.records_crc) fail("the records' checksum does not match (the tape is corrupted)");
+    for (int a = 0; a < 2; ++a)
+      if (h_.plus[a] != plus_[a] || h_.minus[a] != minus_[a])
+        fail("the step counts of axis " + std::to_string(a) + " do not match the header");
+    if (cum_ != h_.last_step_ticks) fail("the record intervals do not add up to the header's last step time");
+    finished_ = true;
+    return false;
+  }
+  uint64_t v = 0;
+  int shift = 0;
+  for (;;) {
+    if (pos_ == len_ && !fill())
+      fail("record " + std::to_string(n_ + 1) + " of " + std::to_string(h_.record_count) + " is missing (the tape is truncated)");
+    uint8_t b = buf_[pos_++];
+    if (shift == 63 && (b & 0x7e)) fail("record " + std::to_string(n_ + 1) + " is malformed (varint overflow)");
+    v |= static_cast<uint64_t>(b & 0x7f) << shift;
+    if (!(b & 0x80)) break;
+    shift += 7;
+    if (shift > 63) fail("record " + std::to_string(n_ + 1) + " is malformed (varint too long)");
+  }
+  r.interval = v >> 2;
+  r.axis = static_cast<int>((v >> 1) & 1);
+  r.dir = (v & 1) ? 1 : -1;
+  ++n_;
+  (r.dir > 0 ? plus_ : minus_)[r.axis] += 1;
+  cum_ += r.interval;
+  return true;
+}
+
+TapeHeader verify_tape(const std::string& path) {
+  TapeReader rd(path);
+  StepRecord r;
+  while (rd.next(r)) {
+  }
+  return rd.header();
+}
+
+}  // namespace polarcam

@@ -1,0 +1,112 @@
+#pragma once
+// The step tape: polarcam's one file format for timed axis steps (spec: docs/tape-format.md).
+// A fixed little-endian header (format version, grid, work area, home, start/end nodes, totals, CRC-32s), a
+// JSON provenance block (the job that made it), then one LEB128 varint per step:
+//   value = (interval_ticks << 2) | (axis << 1) | (direction > 0)
+// where interval_ticks is the time since the previous step (tick = 1 ns) and axis 0/1 is r/theta on a polar
+// tape, x/y on a Cartesian one. Writer and reader stream with O(1) memory; the writer writes to a temporary file
+// and renames it into place only when the tape is complete.
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "digitizer/digitize.hpp"
+
+namespace polarcam {
+
+inline constexpr uint16_t kTapeVersion = 1;
+inline constexpr uint32_t kTapeFixedHeader = 256;
+
+enum class TapeAxes : uint8_t { polar = 0, cartesian = 1 };
+enum class TapeRule : uint8_t { nearest = 0, thesis = 1, dda = 2, exact_cartesian = 3 };
+const char* to_string(TapeRule r);
+
+struct TapeHeader {
+  uint16_t version = kTapeVersion;
+  TapeAxes axes = TapeAxes::polar;
+  TapeRule rule = TapeRule::nearest;
+  bool closed = false, returns_to_start = false;
+  uint64_t tick_ps = 1000;          // tick length in picoseconds (1 ns)
+  double res[2] = {0, 0};           // axis resolutions: m and rad (polar), m and m (Cartesian)
+  int64_t steps_per_rev = 0;
+  double r_min = 0;
+  bool has_r_max = false, has_theta_range = false;
+  double r_max = 0, theta_min = 0, theta_max = 0;
+  int64_t home[2] = {0, 0};
+  int64_t start[2] = {0, 0}, end[2] = {0, 0};
+  uint64_t record_count = 0;
+  uint64_t plus[2] = {0, 0}, minus[2] = {0, 0};
+  uint64_t duration_ticks = 0;      // time to traverse the whole path
+  uint64_t last_step_ticks = 0;     // cumulative time of the last step
+  uint64_t records_bytes = 0;
+  double speed_mps = 0, path_length_m = 0;
+  uint32_t records_crc = 0, header_crc = 0;
+  std::string provenance;           // JSON text
+};
+
+struct StepRecord {
+  uint64_t interval = 0;  // ticks since the previous step
+  int axis = 0;
+  int dir = 1;
+};
+
+class TapeWriter final : public StepSink {
+ public:
+  // Starts writing `path` (through a temporary file beside it). `h.provenance` must be final now.
+  TapeWriter(const std::string& path, const TapeHeader& h);
+  ~TapeWriter() override;  // removes the temporary file unless finish() succeeded
+  TapeWriter(const TapeWriter&) = delete;
+  TapeWriter& operator=(const TapeWriter&) = delete;
+
+  void step(int axis, int dir, int64_t t_ns) override;
+  void write(const StepRecord& r);  // raw record (interval already relative)
+
+  // Completes the header (caller's start/end nodes, durations and flags; the writer's own totals and CRCs),
+  // checks that the end node equals the start node plus the steps written, and renames the file into place.
+  void finish(TapeHeader h);
+
+ private:
+  void flush();
+  std::string path_, tmp_;
+  std::FILE* f_ = nullptr;
+  std::vector<uint8_t> buf_;
+  uint32_t crc_ = 0;
+  uint64_t count_ = 0, bytes_ = 0, plus_[2] = {0, 0}, minus_[2] = {0, 0};
+  int64_t last_ns_ = 0;
+  uint64_t cum_ticks_ = 0;
+  size_t header_size_ = 0;
+  bool done_ = false;
+};
+
+class TapeReader {
+ public:
+  // Opens and checks the header. Throws InputError (naming the file) for anything malformed.
+  explicit TapeReader(const std::string& path);
+  ~TapeReader();
+  TapeReader(const TapeReader&) = delete;
+  TapeReader& operator=(const TapeReader&) = delete;
+
+  const TapeHeader& header() const { return h_; }
+  // Next record; false after the last one, once the totals, byte count and CRC have been verified.
+  bool next(StepRecord& r);
+  uint64_t records_read() const { return n_; }
+
+ private:
+  [[noreturn]] void fail(const std::string& what) const;
+  bool fill();
+  std::string path_;
+  std::FILE* f_ = nullptr;
+  TapeHeader h_;
+  std::vector<uint8_t> buf_;
+  size_t pos_ = 0, len_ = 0;
+  uint64_t n_ = 0, bytes_ = 0, cum_ = 0;
+  uint64_t plus_[2] = {0, 0}, minus_[2] = {0, 0};
+  uint32_t crc_ = 0;
+  bool finished_ = false;
+};
+
+// Reads the whole tape once and throws InputError if anything is wrong with it.
+TapeHeader verify_tape(const std::string& path);
+
+}  // namespace polarcam

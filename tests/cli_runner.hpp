@@ -1,0 +1,56 @@
+#pragma once
+// Runs the polarcam executable for end-to-end tests.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+namespace polarcam::test {
+
+struct CliResult {
+  int code = -1;
+  std::string out, err;
+};
+
+inline std::string read_file(const std::string& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+inline CliResult run_cli(const std::string& args) {
+  static int counter = 0;
+  std::string base = "/tmp/polarcam-cli-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
+  std::string cmd = std::string(POLARCAM_BIN) + " " + args + " >" + base + ".out 2>" + base + ".err";
+  int st = std::system(cmd.c_str());
+  CliResult r;
+  r.code = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  r.out = read_file(base + ".out");
+  r.err = read_file(base + ".err");
+  std::remove((base + ".out").c_str());
+  std::remove((base + ".err").c_str());
+  return r;
+}
+
+// A scratch directory with the examples' machine file, removed at the end of the test.
+struct Scratch {
+  std::filesystem::path dir;
+  Scratch() {
+    dir = std::filesystem::temp_directory_path() / ("polarcam-scratch-" + std::to_string(::getpid()) + "-" +
+                                                    std::to_string(reinterpret_cast<uintptr_t>(this)));
+    std::filesystem::create_directories(dir / "machines");
+    std::filesystem::copy_file(std::string(POLARCAM_SOURCE_DIR) + "/examples/machines/fahim1983.toml",
+                               dir / "machines" / "fahim1983.toml");
+  }
+  ~Scratch() { std::filesystem::remove_all(dir); }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(dir / name) << text;
+    return (dir / name).string();
+  }
+  std::string path(const std::string& name) const { return (dir / name).string(); }
+};
+
+}  // namespace polarcam::test

@@ -1,0 +1,45 @@
+#include <gtest/gtest.h>
+
+#include <numbers>
+
+#include "cam/error.hpp"
+#include "cam/units.hpp"
+
+using namespace polarcam;
+
+TEST(Units, QuantitiesAreConvertedToSI) {
+  EXPECT_DOUBLE_EQ(parse_quantity_as("7.62 cm", dim::length), 0.0762);
+  EXPECT_DOUBLE_EQ(parse_quantity_as("0.001 in", dim::length), 2.54e-5);
+  EXPECT_DOUBLE_EQ(parse_quantity_as("1.52 cm/s", dim::speed), 0.0152);
+  EXPECT_DOUBLE_EQ(parse_quantity_as("3.438 ft/min", dim::speed), 3.438 * 0.3048 / 60);
+  EXPECT_DOUBLE_EQ(parse_quantity_as("3*pi/4 rad", dim::angle), 3 * std::numbers::pi / 4);
+  EXPECT_DOUBLE_EQ(parse_quantity_as("pi/2", dim::angle), std::numbers::pi / 2);
+  EXPECT_DOUBLE_EQ(parse_quantity_as("90 deg", dim::angle), std::numbers::pi / 2);
+  EXPECT_DOUBLE_EQ(parse_quantity_as("6.46e7 kN/m^2", dim::pressure), 6.46e10);
+  EXPECT_DOUBLE_EQ(parse_quantity_as("0.068 V s/rad", dim::voltage * dim::time / dim::angle), 0.068);
+  EXPECT_DOUBLE_EQ(parse_quantity_as("0.0759 N m/A", dim::torque / dim::current), 0.0759);
+  EXPECT_DOUBLE_EQ(parse_quantity_as("20 rev/in", dim::angle / dim::length), 20 * 2 * std::numbers::pi / 0.0254);
+  EXPECT_NEAR(parse_quantity_as("1 slug", dim::mass), 14.593903, 1e-6);
+  EXPECT_NEAR(parse_quantity_as("0.094 lbf ft", dim::torque), 0.127447, 1e-5);
+  EXPECT_DOUBLE_EQ(parse_quantity_as("1/s", dim::frequency), 1.0);
+  EXPECT_DOUBLE_EQ(parse_quantity_as("5 mm/s^2", dim::acceleration), 5e-3);
+}
+
+TEST(Units, WrongUnitsAreRejectedWithTheText) {
+  try {
+    parse_quantity_as("5.08 kg", dim::length);
+    FAIL();
+  } catch (const InputError& e) {
+    std::string m = e.what();
+    EXPECT_NE(m.find("5.08 kg"), std::string::npos);
+    EXPECT_NE(m.find("mass"), std::string::npos);
+    EXPECT_NE(m.find("length"), std::string::npos);
+  }
+  EXPECT_THROW(parse_quantity_as("5.08", dim::length), InputError);
+  EXPECT_THROW(parse_quantity_as("abc cm", dim::length), InputError);
+  EXPECT_THROW(parse_quantity_as("5 furlongs", dim::length), InputError);
+  EXPECT_THROW(parse_quantity_as("", dim::length), InputError);
+  EXPECT_THROW(parse_quantity_as("1/0 cm", dim::length), InputError);
+  EXPECT_THROW(parse_quantity_as("nan cm", dim::length), InputError);
+  EXPECT_THROW(parse_quantity_as("2 cm^x", dim::area), InputError);
+}
