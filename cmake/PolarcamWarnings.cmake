@@ -1,6 +1,10 @@
 # Project-wide compile options: warnings on everywhere, optional ASan+UBSan.
 add_library(polarcam_options INTERFACE)
 target_compile_options(polarcam_options INTERFACE -Wall -Wextra -Wpedantic -Wshadow)
+# GCC 12 reports false -Wrestrict warnings inside std::string's operator+ at -O2 (GCC bug 105329).
+if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU" AND CMAKE_CXX_COMPILER_VERSION VERSION_LESS 13)
+  target_compile_options(polarcam_options INTERFACE -Wno-restrict)
+endif()
 if(POLARCAM_SANITIZE)
   target_compile_options(polarcam_options INTERFACE -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
   target_link_options(polarcam_options INTERFACE -fsanitize=address,undefined)

@@ -1,0 +1,58 @@
+#pragma once
+// Figures for reports and the CLI, drawn with PLplot (cairo devices): line and marker series, filled contour
+// maps with contour lines, several panels per figure. Written as PNG or SVG by the file name's extension, all
+// or nothing. PLplot keeps global state, so rendering is serialised internally.
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace polarcam::plot {
+
+struct Color {
+  int r = 0, g = 0, b = 0;
+};
+// A qualitative palette (colour-blind safe, Okabe-Ito): index 0..7.
+Color palette(int i);
+
+struct Series {
+  std::vector<double> x, y;
+  std::string label;        // shown in the legend when not empty
+  Color color = palette(0);
+  double width = 1.5;       // line width; 0 draws markers only
+  int marker = 0;           // 0 none; otherwise a PLplot symbol code (e.g. 2 plus, 4 circle, 17 dot)
+  double marker_scale = 1.0;
+  bool dashed = false;
+};
+
+// Values on a regular grid: z[iy * nx + ix] at x = x0 + ix (x1 - x0)/(nx - 1), y likewise. NaN cells are left
+// blank (outside a constraint, say).
+struct Map {
+  int nx = 0, ny = 0;
+  double x0 = 0, x1 = 1, y0 = 0, y1 = 1;
+  std::vector<double> z;
+  int levels = 12;          // filled bands
+  bool log_scale = false;   // bands evenly spaced in log10(z)
+  std::string colorbar_label;
+};
+
+struct Panel {
+  std::string title, xlabel, ylabel;
+  std::vector<Series> series;
+  std::optional<Map> map;   // drawn under the series
+  bool equal_aspect = false;
+  std::optional<double> xmin, xmax, ymin, ymax;  // default: the data's extent with a margin
+  std::vector<double> hlines;                    // horizontal reference lines (dashed grey)
+};
+
+struct Figure {
+  int width = 1000, height = 700;  // pixels
+  int cols = 1, rows = 1;
+  std::vector<Panel> panels;       // row-major, cols * rows at most
+};
+
+// Renders to `path` (.png or .svg); throws InputError for another extension or an unwritable file.
+void save(const Figure& f, const std::string& path);
+// Renders to bytes in the given format ("png" or "svg").
+std::string render(const Figure& f, const std::string& format);
+
+}  // namespace polarcam::plot
