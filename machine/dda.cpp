@@ -59,25 +59,7 @@ class Builder {
 
   void arc(const int64_t a[2], const int64_t b[2], const PathSegment& seg) {
     if (a[0] == b[0] && a[1] == b[1]) return;
-    // The control needs the end point on the circle through the start about an integer centre (I, J words): of
-    // the nodes next to the rounded centre, take the one that puts the two rounded ends most nearly at one
-    // radius (ties: the one nearest the true centre), as a careful part programmer would.
-    const int64_t c0[2] = {cartesian_node(seg.center.x, p_.blu), cartesian_node(seg.center.y, p_.blu)};
-    int64_t c[2] = {c0[0], c0[1]};
-    double best = std::numeric_limits<double>::infinity(), best_d = best;
-    for (int64_t i = -1; i <= 1; ++i)
-      for (int64_t j = -1; j <= 1; ++j) {
-        const double cx = static_cast<double>(c0[0] + i), cy = static_cast<double>(c0[1] + j);
-        const double mismatch = std::abs(std::hypot(static_cast<double>(a[0]) - cx, static_cast<double>(a[1]) - cy) -
-                                         std::hypot(static_cast<double>(b[0]) - cx, static_cast<double>(b[1]) - cy));
-        const double d = std::hypot(cx - seg.center.x / p_.blu, cy - seg.center.y / p_.blu);
-        if (mismatch < best - 1e-9 || (mismatch <= best + 1e-9 && d < best_d)) {
-          best = mismatch;
-          best_d = d;
-          c[0] = c0[0] + i;
-          c[1] = c0[1] + j;
-        }
-      }
+    const int64_t c[2] = {cartesian_node(seg.center.x, p_.blu), cartesian_node(seg.center.y, p_.blu)};
     const double rax = static_cast<double>(a[0] - c[0]), ray = static_cast<double>(a[1] - c[1]);
     const double rbx = static_cast<double>(b[0] - c[0]), rby = static_cast<double>(b[1] - c[1]);
     const double R = std::hypot(rax, ray);
@@ -247,31 +229,24 @@ CartesianResult run_dda(const DdaProgram& p, StepSink* sink, DdaStats* stats) {
       const uint64_t limit = static_cast<uint64_t>(Q + 1) * static_cast<uint64_t>(ca + cb + 2);
       while (ca > 0 || cb > 0) {
         const int64_t t = next_cycle();
+        // Each register integrates as in the listing. Once the other axis has run out its count, an axis that
+        // still owes steps takes one every cycle (end-point clean-up); steps its register would not have made
+        // that cycle are counted.
         if (ca > 0) {
-          bool pulse = false;
-          if (cb == 0) {  // the other axis is done: end-point clean-up, one step per cycle
-            pulse = true;
-            ++st.cleanup_steps;
-          } else if ((Ra += Ib) >= Q) {
-            Ra -= Q;
-            pulse = true;
-          }
-          if (pulse) {
+          const bool overflow = (Ra += Ib) >= Q;
+          if (overflow) Ra -= Q;
+          if (overflow || cb == 0) {
+            if (!overflow) ++st.cleanup_steps;
             --ca;
             ++Ia;
             tally.step(ia, da, t);
           }
         }
         if (cb > 0) {
-          bool pulse = false;
-          if (ca == 0 && Ia == 0) {  // (|a| only grows: zero here means a never moved and never will)
-            pulse = true;
-            ++st.cleanup_steps;
-          } else if ((Rb += Ia) >= Q) {
-            Rb -= Q;
-            pulse = true;
-          }
-          if (pulse) {
+          const bool overflow = (Rb += Ia) >= Q;
+          if (overflow) Rb -= Q;
+          if (overflow || ca == 0) {
+            if (!overflow) ++st.cleanup_steps;
             --cb;
             --Ib;
             tally.step(ib, db, t);

@@ -18,11 +18,9 @@
 // Decisions of this implementation (docs/cartesian.md): the registers are 64-bit (the listing's are 16-bit);
 // the feed accumulator's capacity is 2^16 (the listing's is 3000 with F in 0.01 in/min); the feed word of each
 // block is computed so that the block's ideal duration is its length over the programmed speed (which corrects
-// the rounding of PATH); end points are rounded to the nearest node and an arc's centre to the node (of the
-// nine around it) that puts both rounded ends most nearly on one circle; when the shrinking axis b of an arc
-// block has finished its count while the growing axis a still owes steps (a rounded end point off the DDA's
-// circle), a finishes them at one step per cycle instead of waiting on its integrand |b|, which is frozen and
-// near a quadrant's end close to zero (the end-point clean-up).
+// the rounding of PATH); end points and arc centres are rounded to the nearest node; once one axis of an arc
+// block has run out its count, the other, if it still owes steps (a rounded end point off the DDA's circle),
+// takes one every cycle instead of waiting on an integrand that no longer changes (the end-point clean-up).
 #include <cstdint>
 #include <vector>
 
@@ -68,7 +66,7 @@ DdaProgram make_dda_program(const std::vector<PathSegment>& segments, bool close
 struct DdaStats {
   uint64_t cycles = 0;         // DDA cycles (iterations) run
   uint64_t interrupts = 0;     // interrupts from the start to the end of the last block
-  uint64_t cleanup_steps = 0;  // arc steps issued by the end-point clean-up
+  uint64_t cleanup_steps = 0;  // arc steps the end-point clean-up issued where the register had not overflowed
 };
 
 // Runs the program through the interpolator. Every pulse goes to `sink` (may be null) with the time of the
