@@ -139,16 +139,7 @@ void register_dda(CLI::App& app, Action& action) {
       }
       Job job = load_job(o->job);
       const double hz = cartesian_interrupt_rate(job, rate);
-      CartesianRun run;
-      if (!o->out.empty()) {
-        TapeHeader h = cartesian_tape_header(job, m, hz);
-        TapeWriter w(o->out, h);
-        run = run_cartesian_job(job, m, hz, &w);
-        complete_cartesian_header(h, run.result);
-        w.finish(h);
-      } else {
-        run = run_cartesian_job(job, m, hz, nullptr);
-      }
+      CartesianRun run = run_cartesian_job_to_tape(job, m, hz, o->out);
       if (o->json)
         std::cout << summary_json(job, run, o->out).dump(2) << "\n";
       else

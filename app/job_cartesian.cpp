@@ -1,6 +1,10 @@
 #include "app/job_cartesian.hpp"
 
+#include <unistd.h>
+
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 
 #include "cam/error.hpp"
 #include "machine/cartesian_exact.hpp"
@@ -12,19 +16,6 @@
 
 namespace polarcam {
 namespace {
-
-// Forwards each step to the speed meter and to the tape (when there is one).
-class Tee final : public StepSink {
- public:
-  Tee(StepSink* a, StepSink* b) : a_(a), b_(b) {}
-  void step(int axis, int dir, int64_t t_ns) override {
-    if (a_) a_->step(axis, dir, t_ns);
-    if (b_) b_->step(axis, dir, t_ns);
-  }
-
- private:
-  StepSink *a_, *b_;
-};
 
 double nominal_speed(const Job& job) { return job.motion.table.empty() ? job.motion.speed : job.motion.table.front().v; }
 
@@ -81,12 +72,10 @@ CartesianRun run_cartesian_job(const Job& job, CartesianMethod m, double interru
   try {
     // the tool-centre path in the contour's own frame: tool offset and direction apply, the placement does not
     run.path = make_tool_path(job.contour, Placement{}, job.tool, job.motion.travel);
-    PulseSpeedMeter meter(run.blu, run.blu);
-    Tee tee(&meter, sink);
     if (m == CartesianMethod::exact) {
       CartesianTrack track = CartesianTrack::build(*run.path);
       SpeedProfilePtr profile = make_job_profile(job, track.length());
-      run.result = step_exact(track, run.blu, *profile, &tee);
+      run.result = step_exact(track, run.blu, *profile, sink);
     } else {
       if (job.motion.accel) throw InputError("[motion] accel: the DDA runs every block at a constant feed; remove it or use --method exact");
       if (!job.motion.table.empty())
@@ -97,12 +86,37 @@ CartesianRun run_cartesian_job(const Job& job, CartesianMethod m, double interru
       DdaOptions dopt;
       dopt.interrupt_hz = interrupt_rate;
       run.program = make_dda_program(run.fit.segments, run.path->closed(), run.blu, job.motion.speed, dopt);
-      run.result = run_dda(run.program, &tee, &run.dda);
+      run.result = run_dda(run.program, sink, &run.dda);
     }
-    run.speed = meter.stats(run.nominal_speed);
   } catch (const InputError& e) {
     throw InputError(job.file + ": " + e.what());
   }
+  return run;
+}
+
+CartesianRun run_cartesian_job_to_tape(const Job& job, CartesianMethod m, double interrupt_rate, const std::string& out) {
+  // without an output file the tape goes to a temporary file, removed at the end: the speed is measured from it
+  static int counter = 0;
+  const std::string path =
+      !out.empty() ? out
+                   : (std::filesystem::temp_directory_path() /
+                      ("polarcam-dda-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ".tape"))
+                         .string();
+  struct Remove {
+    std::string p;
+    ~Remove() {
+      if (!p.empty()) std::remove(p.c_str());
+    }
+  } remove_temp{out.empty() ? path : std::string()};
+  TapeHeader h = cartesian_tape_header(job, m, interrupt_rate);
+  CartesianRun run;
+  {
+    TapeWriter w(path, h);
+    run = run_cartesian_job(job, m, interrupt_rate, &w);
+    complete_cartesian_header(h, run.result);
+    w.finish(h);
+  }
+  run.speed = measure_tape_speed(path, run.nominal_speed);
   return run;
 }
 

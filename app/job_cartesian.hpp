@@ -26,7 +26,7 @@ struct CartesianRun {
   DdaProgram program;        // DDA: the blocks
   DdaStats dda;              // DDA: cycles, interrupts, clean-up steps
   CartesianResult result;
-  PulseSpeedStats speed;     // measured from the pulse rates of the stream
+  PulseSpeedStats speed;     // measured from the pulse rates of the tape (run_cartesian_job_to_tape)
 };
 
 // Header fields known before stepping: axes, rule, resolution, speed, provenance (with the Cartesian settings).
@@ -39,5 +39,9 @@ double cartesian_interrupt_rate(const Job& job, std::optional<double> override_h
 
 // Builds the path and steps it with the chosen method into `sink` (may be null). Errors name the job file.
 CartesianRun run_cartesian_job(const Job& job, CartesianMethod m, double interrupt_rate, StepSink* sink);
+
+// The same into the tape `out` (all or nothing), or into a temporary tape when `out` is empty, and the speed
+// measured from that tape in constant memory.
+CartesianRun run_cartesian_job_to_tape(const Job& job, CartesianMethod m, double interrupt_rate, const std::string& out);
 
 }  // namespace polarcam

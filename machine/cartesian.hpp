@@ -23,6 +23,9 @@ enum : int { kAxisX = 0, kAxisY = 1 };
 // Node nearest a point (rounding half up, as the nearest rule: floor(f + 1/2)). Throws InputError when the
 // point is too far from the origin for the resolution (more than 2^50 BLU).
 int64_t cartesian_node(double coordinate_m, double blu);
+// Throws InputError when a path of `length_m` would take more than 10^10 steps on a grid of `blu` (a tape of tens
+// of gigabytes: the resolution is too fine for the path).
+void check_step_budget(double length_m, double blu);
 // Position of a node, m.
 inline Vec2 cartesian_position(const int64_t node[2], double blu) {
   return {static_cast<double>(node[0]) * blu, static_cast<double>(node[1]) * blu};

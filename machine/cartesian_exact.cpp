@@ -82,6 +82,7 @@ CartesianResult step_exact(const CartesianTrack& tr, double blu, const SpeedProf
   res.duration_s = profile.time_at(tr.length());
   res.duration_ns = std::llround(res.duration_s * 1e9);
   cartesian_node(tr.max_abs_coordinate(), blu);  // range check
+  check_step_budget(tr.length(), blu);
 
   const auto& P = tr.pieces();
   const auto& E = tr.extrema();

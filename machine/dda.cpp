@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "cam/arc_fit.hpp"  // segment_length
 #include "cam/error.hpp"
 
 namespace polarcam {
@@ -156,6 +157,9 @@ DdaProgram make_dda_program(const std::vector<PathSegment>& segs, bool closed, d
   p.closed = closed;
   p.start[0] = cartesian_node(segs.front().from.x, blu);
   p.start[1] = cartesian_node(segs.front().from.y, blu);
+  double length = 0.0;
+  for (const PathSegment& s : segs) length += segment_length(s);
+  check_step_budget(length, blu);
   Builder b(p);
   int64_t cur[2] = {p.start[0], p.start[1]};
   for (size_t i = 0; i < segs.size(); ++i) {

@@ -11,6 +11,7 @@
 #include "cam/path.hpp"
 #include "helpers.hpp"
 #include "machine/cartesian_exact.hpp"
+#include "digitizer/tape.hpp"
 #include "machine/pulse_speed.hpp"
 
 using namespace polarcam;
@@ -154,6 +155,11 @@ TEST(CartesianExact, PathTooLargeForTheResolutionIsAnError) {
   CartesianTrack tr = CartesianTrack::build(*line);
   auto prof = make_constant_speed(1.0, tr.length());
   EXPECT_THROW(step_exact(tr, 1e-6, *prof, nullptr), InputError);
+  // within reach of the node numbers, but 2 * 10^12 steps: refused before any work
+  auto metre = make_line({0, 0}, {1.0, 0});
+  CartesianTrack tm = CartesianTrack::build(*metre);
+  auto pm = make_constant_speed(1.0, tm.length());
+  EXPECT_THROW(step_exact(tm, 1e-12, *pm, nullptr), InputError);
 }
 
 // ------------------------------------------------------------------------------------ pulse-rate speed
@@ -192,4 +198,68 @@ TEST(PulseSpeed, GrazingReversalIsCappedByItsNeighbours) {
   for (int k = 0; k < 20; ++k) m.step(0, 1, 2000000 * k);
   PulseSpeedStats st = m.stats(0.0);
   EXPECT_NEAR(st.max_mps, std::hypot(0.005, 0.005), 1e-12);
+}
+
+TEST(PulseSpeed, TapeMeasurementEqualsTheInMemoryOne) {
+  // a Cartesian tape (the exact generator on a circle) and a polar one (the digitizer on a circle about the pole,
+  // where every step is angular and moves the tool r DeltaTheta)
+  const std::string path = test::temp_path("speed.tape");
+  {
+    auto circ = make_circle({3 * kBlu, -2 * kBlu}, 120 * kBlu);
+    CartesianTrack tr = CartesianTrack::build(*circ);
+    auto prof = make_constant_speed(0.015, tr.length());
+    TapeHeader h;
+    h.axes = TapeAxes::cartesian;
+    h.res[0] = h.res[1] = kBlu;
+    PulseSpeedMeter mem(kBlu, kBlu);
+    CartesianResult r;
+    {
+      TapeWriter w(path, h);
+      struct Both : StepSink {
+        StepSink *a, *b;
+        void step(int ax, int d, int64_t t) override {
+          a->step(ax, d, t);
+          b->step(ax, d, t);
+        }
+      } both;
+      both.a = &w;
+      both.b = &mem;
+      r = step_exact(tr, kBlu, *prof, &both);
+      for (int a = 0; a < 2; ++a) {
+        h.start[a] = r.start[a];
+        h.end[a] = r.end[a];
+      }
+      w.finish(h);
+    }
+    PulseSpeedStats t = measure_tape_speed(path, 0.015), m = mem.stats(0.015);
+    EXPECT_EQ(t.samples, m.samples);
+    EXPECT_DOUBLE_EQ(t.min_mps, m.min_mps);
+    EXPECT_DOUBLE_EQ(t.max_mps, m.max_mps);
+    EXPECT_DOUBLE_EQ(t.rms_dev_mps, m.rms_dev_mps);
+    EXPECT_GT(t.samples, 900u);
+  }
+  {
+    const double R = 0.1, V = 0.02;
+    Grid g = test::thesis_grid();
+    auto run = test::run_digitizer(*make_tool_path(make_circle({0, 0}, R), Placement{}, ToolSpec{}, TravelSpec{}), g,
+                                   StepRule::nearest, V);
+    TapeHeader h;
+    h.res[0] = g.dr;
+    h.res[1] = g.dtheta;
+    h.start[0] = h.end[0] = run.result.start_n;
+    h.start[1] = run.result.start_m;
+    h.end[1] = run.result.end_m;
+    {
+      TapeWriter w(path, h);
+      for (const auto& s : run.steps) w.step(s.axis, s.dir, s.t_ns);
+      w.finish(h);
+    }
+    // the node's radius n DeltaR = 3937 x 0.0254 mm is 0.2 um short of R: the speed reads V n DeltaR / R
+    const double v = V * static_cast<double>(run.result.start_n) * g.dr / R;
+    PulseSpeedStats st = measure_tape_speed(path, V);
+    const double tol = v * 1.0 / (R * g.dtheta / V * 1e9);  // 1 ns in an interval of 1963 us
+    EXPECT_NEAR(st.min_mps, v, tol);
+    EXPECT_NEAR(st.max_mps, v, tol);
+  }
+  std::remove(path.c_str());
 }

@@ -305,4 +305,6 @@ TEST(Dda, RefusesAFeedTheInterruptsCannotCarry) {
   EXPECT_NO_THROW(run({line_seg({0, 0}, {1e-3, 0})}, false, 0.1, 10000.0));
   EXPECT_THROW(run({line_seg({0, 0}, {1e-3, 0})}, false, 1e-9, 5000.0), InputError);  // the feed word rounds to 0
   EXPECT_THROW(make_dda_program({}, false, kBlu, 0.01, DdaOptions{}), InputError);
+  // a metre on a 1e-12 m grid: 10^12 steps, refused before any work
+  EXPECT_THROW(make_dda_program({line_seg({0, 0}, {1.0, 0})}, false, 1e-12, 1e-9, DdaOptions{}), InputError);
 }
