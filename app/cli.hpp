@@ -10,5 +10,6 @@ using Action = std::function<int()>;
 
 void register_digitize(CLI::App& app, Action& action);
 void register_inspect(CLI::App& app, Action& action);
+void register_dda(CLI::App& app, Action& action);
 
 }  // namespace polarcam::cli

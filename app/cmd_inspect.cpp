@@ -117,6 +117,8 @@ void register_inspect(CLI::App& app, Action& action) {
       if (h.axes == TapeAxes::polar)
         os << "  grid      dR = " << h.res[0] * 1e3 << " mm, dtheta = " << h.res[1] << " rad ("
            << h.steps_per_rev << " steps/rev)\n";
+      else
+        os << "  grid      x " << h.res[0] * 1e3 << " mm, y " << h.res[1] * 1e3 << " mm per step\n";
       os << "  steps     " << thousands(h.record_count) << " (" << axis_name(h, 0) << " +" << thousands(h.plus[0])
          << " / -" << thousands(h.minus[0]) << ", " << axis_name(h, 1) << " +" << thousands(h.plus[1]) << " / -"
          << thousands(h.minus[1]) << ")\n";

@@ -213,6 +213,21 @@ Job load_job(const std::string& path) {
   }
   mo.finish();
 
+  // [cartesian] (optional)
+  Section ca = top.subsection("cartesian");
+  CartesianSpec& cs = job.cartesian;
+  cs.resolution = ca.quantity("resolution", dim::length, job.grid.dr);
+  if (!(cs.resolution > 0.0)) ca.fail("resolution", "must be a positive length");
+  cs.tolerance = ca.quantity("tolerance", dim::length, 0.25 * cs.resolution);
+  if (!(cs.tolerance > 0.0)) ca.fail("tolerance", "must be a positive length");
+  if (cs.tolerance < 1e-6 * cs.resolution) ca.fail("tolerance", "is less than a millionth of the resolution");
+  cs.interrupt_rate = ca.quantity("interrupt_rate", dim::frequency, cs.interrupt_rate);
+  if (!(cs.interrupt_rate > 0.0) || cs.interrupt_rate > 1e9) ca.fail("interrupt_rate", "must be a frequency above 0 and up to 1 GHz");
+  ca.finish();
+  if (ca.present())
+    prov["cartesian"] = {{"resolution_m", cs.resolution}, {"tolerance_m", cs.tolerance},
+                         {"interrupt_rate_hz", cs.interrupt_rate}};
+
   top.finish();
   job.provenance = std::move(prov);
   return job;

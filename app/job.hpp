@@ -23,6 +23,14 @@ struct MotionSpec {
   TravelSpec travel;
 };
 
+// [cartesian]: the Cartesian machine polarcam compares the polar one with (docs/cartesian.md). Nodes (i, j) sit at
+// x = i BLU, y = j BLU in the contour's own frame; the placement does not apply to it.
+struct CartesianSpec {
+  double resolution = 0.0;          // m, BLU of both axes (default: the machine's radial resolution)
+  double tolerance = 0.0;           // m, chord tolerance of the lines and arcs the DDA follows (default: BLU / 4)
+  double interrupt_rate = 5000.0;   // Hz, the DDA control's interrupt rate (Appendix III of the Elbestawi thesis)
+};
+
 struct Job {
   std::string file;                      // the job file as given
   std::string machine_name;
@@ -32,6 +40,7 @@ struct Job {
   Placement placement;
   ToolSpec tool;
   MotionSpec motion;
+  CartesianSpec cartesian;
   nlohmann::ordered_json provenance;     // canonical description of the job (SI values, no paths)
 };
 
