@@ -19,6 +19,8 @@ void HostLink::send_raw(const std::string& f) {
                     std::to_string(o_.write_timeout_s) + " s)");
   ++rep_.frames_sent;
   rep_.bytes_sent += f.size();
+  const double now = t_.now();
+  line_free_at_ = std::max(line_free_at_, now) + (o_.baud > 0 ? static_cast<double>(f.size()) * 10.0 / o_.baud : 0.0);
 }
 
 void HostLink::on_frame(const Frame& f) {
@@ -90,7 +92,7 @@ Ident HostLink::identify() {
     got_ident_ = false;
     const uint16_t id = next_req();
     send_raw(encode_frame(id, IDENTIFY, ""));
-    const double until = t_.now() + o_.identify_timeout_s * (1 + attempt);
+    const double until = t_.now() + o_.identify_timeout_s;
     while (t_.now() < until) {
       poll(0.01);
       if (got_ident_) {
@@ -109,20 +111,24 @@ Ident HostLink::identify() {
 }
 
 Ack HostLink::configure(const Configure& c) {
-  for (int attempt = 0; attempt < 2 * o_.identify_tries; ++attempt) {
+  const double give_up = t_.now() + o_.link_timeout_s + o_.reconnect_timeout_s;
+  const uint16_t first = static_cast<uint16_t>(req_ + 1);
+  // a reply to any of this call's attempts will do (the same configuration each time)
+  auto ours = [&](uint16_t seq) { return seq_diff(seq, first) >= 0 && seq_diff(seq, req_) <= 0; };
+  while (t_.now() < give_up) {
     const uint16_t id = next_req();
     got_reply_ = false;
     got_error_ = false;
     send_raw(encode_frame(id, CONFIGURE, c.encode()));
-    const double until = t_.now() + o_.identify_timeout_s;
+    const double until = line_free_at_ + o_.rto_s;
     while (t_.now() < until) {
       poll(0.01);
-      if (got_error_ && reply_seq_ == id) {
+      if (got_error_ && ours(reply_seq_)) {
         if (error_.code == ErrorCode::grid_mismatch || error_.code == ErrorCode::bad_config || error_.code == ErrorCode::busy)
           throw InputError(t_.describe() + ": the controller refuses the job: " + error_.text);
         throw PlayError(t_.describe() + ": the controller refuses the job: " + error_.text);
       }
-      if (got_reply_ && reply_seq_ == id) return ack_;
+      if (got_reply_ && ours(reply_seq_)) return ack_;
       if (rebooted_) throw PlayError(t_.describe() + ": the controller reset while being configured");
     }
   }
@@ -156,11 +162,15 @@ PlayReport HostLink::play(const PlayPlan& plan, const Schedule& sc) {
   uint64_t steps_sent = 0;
   uint32_t underruns_seen = 0;
   double last_status = -1e9;
+  bool status_outstanding = false;
   last_rx_ = t_.now();
   ItemCodec codec;
   const double prefill_ticks = o_.prefill_s / tick_s;
   bool stopping = false;
   double stop_sent = 0;
+  // frame size adapts to the line: halved at each retransmission, grown again by acknowledged frames
+  size_t payload_limit = o_.max_payload;
+  const size_t min_payload = std::min<size_t>(16, o_.max_payload);
 
   auto inflight_slots = [&] {
     uint64_t s = 0;
@@ -182,7 +192,10 @@ PlayReport HostLink::play(const PlayPlan& plan, const Schedule& sc) {
   for (;;) {
     const double now = t_.now();
     // acknowledged frames leave the window
-    while (!inflight.empty() && seq_diff(inflight.front().seq, ack_.next_seq) < 0) inflight.pop_front();
+    while (!inflight.empty() && seq_diff(inflight.front().seq, ack_.next_seq) < 0) {
+      inflight.pop_front();
+      payload_limit = std::min(o_.max_payload, payload_limit + 2);
+    }
     if (rebooted_) {
       confirm_report();
       throw PlayError(t_.describe() + ": the controller reset during the job (session " + std::to_string(session_) + " -> " +
@@ -207,7 +220,20 @@ PlayReport HostLink::play(const PlayPlan& plan, const Schedule& sc) {
       throw PlayError("stopped by the operator: " + where());
     }
     // new frames, within the window and the credits
-    while (!stopping && inflight.size() < o_.window) {
+    while (!stopping && inflight.size() < o_.window && line_free_at_ <= t_.now() + o_.pace_s) {
+      // START once the buffer holds the prefill, is full, or holds the whole job
+      const int64_t credits0 = static_cast<int64_t>(ack_.free_slots) - static_cast<int64_t>(inflight_slots());
+      const bool prefilled = k == sc.items.size() || credits0 <= 0 ||
+                             (k > 0 && static_cast<double>(sc.horizon[k - 1] == UINT64_MAX ? 0 : sc.horizon[k - 1]) >= prefill_ticks);
+      if (!start_sent && prefilled) {
+        const uint16_t seq = next_seq++;
+        Out o{seq, encode_frame(seq, START, ""), 0, 0, now};
+        send_raw(o.bytes);
+        o.sent = line_free_at_;
+        inflight.push_back(std::move(o));
+        start_sent = true;
+        continue;
+      }
       const int64_t credits = static_cast<int64_t>(ack_.free_slots) - static_cast<int64_t>(inflight_slots());
       if (k < sc.items.size() && credits > 0) {
         std::string payload;
@@ -217,7 +243,7 @@ PlayReport HostLink::play(const PlayPlan& plan, const Schedule& sc) {
           std::string one;
           ItemCodec trial = codec;
           trial.encode(sc.items[k], one);
-          if (!payload.empty() && payload.size() + one.size() > o_.max_payload) break;
+          if (!payload.empty() && payload.size() + one.size() > payload_limit) break;
           codec = trial;
           payload += one;
           const QueueItem& it = sc.items[k];
@@ -228,19 +254,9 @@ PlayReport HostLink::play(const PlayPlan& plan, const Schedule& sc) {
         const uint16_t seq = next_seq++;
         Out o{seq, encode_frame(seq, QUEUE, payload), n, steps, now};
         send_raw(o.bytes);
+        o.sent = line_free_at_;
         steps_sent += steps;
         inflight.push_back(std::move(o));
-        continue;
-      }
-      // START once the buffer holds the prefill, is full, or holds the whole job
-      const bool prefilled = k == sc.items.size() || credits <= 0 ||
-                             (k > 0 && static_cast<double>(sc.horizon[k - 1] == UINT64_MAX ? 0 : sc.horizon[k - 1]) >= prefill_ticks);
-      if (!start_sent && prefilled) {
-        const uint16_t seq = next_seq++;
-        Out o{seq, encode_frame(seq, START, ""), 0, 0, now};
-        send_raw(o.bytes);
-        inflight.push_back(std::move(o));
-        start_sent = true;
         continue;
       }
       break;
@@ -252,23 +268,29 @@ PlayReport HostLink::play(const PlayPlan& plan, const Schedule& sc) {
       for (Out& o : inflight)
         if (o.seq == nak_seq_ && now - o.sent > o_.rto_s / 4) {
           send_raw(o.bytes);
-          o.sent = now;
+          o.sent = line_free_at_;
           ++rep_.retransmissions;
+          payload_limit = std::max(min_payload, payload_limit / 2);
         }
     }
     for (Out& o : inflight)
-      if (now - o.sent > o_.rto_s) {
+      if (now - o.sent > o_.rto_s && line_free_at_ <= now + o_.pace_s) {
         send_raw(o.bytes);
-        o.sent = now;
+        o.sent = line_free_at_;
         ++rep_.retransmissions;
+        payload_limit = std::max(min_payload, payload_limit / 2);
       }
     // status
-    if (now - last_status >= o_.status_period_s) {
+    // one status request at a time (a slow line must not pile up stale replies)
+    if ((!status_outstanding && now - last_status >= o_.status_period_s) ||
+        (status_outstanding && now - last_status > std::max(1.0, 4 * o_.rto_s))) {
       send_raw(encode_frame(next_req(), STATUS, ""));
       last_status = now;
+      status_outstanding = true;
     }
     if (got_status_) {
       got_status_ = false;
+      status_outstanding = false;
       confirm_report();
       if (status_.underruns > underruns_seen) {
         underruns_seen = status_.underruns;
@@ -303,16 +325,19 @@ PlayReport HostLink::play(const PlayPlan& plan, const Schedule& sc) {
     if (now - last_rx_ > o_.link_timeout_s) {
       const double until = now + o_.reconnect_timeout_s;
       bool back = false;
+      bool reopened = false;
       while (t_.now() < until && !back) {
-        if (t_.reconnect()) {
+        // a port that vanished is reopened; either way the controller is asked who it is
+        if (!reopened && t_.reconnect()) {
+          reopened = true;
           ++rep_.reconnects;
-          got_ident_ = false;
-          send_raw(encode_frame(next_req(), IDENTIFY, ""));
-          const double wait_until = t_.now() + o_.identify_timeout_s;
-          while (t_.now() < wait_until && !got_ident_) poll(0.01);
-          back = got_ident_;
         }
-        if (!back) poll(0.1);
+        got_ident_ = false;
+        send_raw(encode_frame(next_req(), IDENTIFY, ""));
+        const double wait_until = t_.now() + o_.identify_timeout_s;
+        while (t_.now() < wait_until && !got_ident_) poll(0.01);
+        back = got_ident_;
+        if (!back) reopened = false;
       }
       if (!back)
         throw PlayError(t_.describe() + ": the link to the controller is lost (no answer for " +

@@ -40,13 +40,15 @@ struct LinkOptions {
   unsigned window = 16;          // frames in flight
   double rto_s = 0.2;            // retransmission timeout
   double status_period_s = 0.1;  // status polling
-  double identify_timeout_s = 0.5;
-  int identify_tries = 4;
+  double identify_timeout_s = 0.25;
+  int identify_tries = 8;
   double link_timeout_s = 2.0;   // silence before a reconnect
   double reconnect_timeout_s = 10.0;
   double write_timeout_s = 5.0;  // a reader that takes nothing for this long has stalled: fail
-  double prefill_s = 0.5;        // schedule time queued before START (or a full buffer, or the whole job)
+  double prefill_s = 2.0;        // schedule time queued before START (or a full buffer, or the whole job)
   double ramp_s = 0.0;           // hold/resume/underrun ramp of the playback rate
+  double baud = 115200;          // line rate, for pacing: the host never queues more than pace_s of bytes ahead
+  double pace_s = 0.03;          //   of the line, and times retransmissions from when a frame has left
 };
 
 struct PlayProgress {
@@ -88,6 +90,7 @@ class HostLink {
     double sent;
   };
   void send_raw(const std::string& f);
+  double line_free_at_ = 0;      // when the bytes written so far will have left the host
   void poll(double timeout_s);
   void on_frame(const proto::Frame& f);
   uint16_t next_req() { return ++req_; }

@@ -43,6 +43,7 @@ std::string encode_frame(uint16_t seq, uint8_t type, const std::string& payload)
   f.reserve(payload.size() + kOverhead);
   f.push_back(static_cast<char>(kSync));
   f.push_back(static_cast<char>(payload.size() + 3));
+  f.push_back(static_cast<char>(~(payload.size() + 3) & 0xff));
   f.push_back(static_cast<char>(seq & 0xff));
   f.push_back(static_cast<char>(seq >> 8));
   f.push_back(static_cast<char>(type));
@@ -61,28 +62,29 @@ void FrameDecoder::feed(const uint8_t* data, size_t n, std::vector<Frame>& out) 
       ++pos;
       ++skipped_;
     }
-    if (buf_.size() - pos < 2) break;
+    if (buf_.size() - pos < 3) break;
     const size_t len = static_cast<uint8_t>(buf_[pos + 1]);
-    if (len < 3 || len > kMaxPayload + 3) {  // impossible length: not a frame start
+    if (len < 3 || len > kMaxPayload + 3 || static_cast<uint8_t>(buf_[pos + 2]) != static_cast<uint8_t>(~len & 0xff)) {
+      // not a frame start (or a damaged length)
       ++pos;
       ++skipped_;
       continue;
     }
-    const size_t total = 2 + len + 4;
+    const size_t total = 3 + len + 4;
     if (buf_.size() - pos < total) break;
     const char* f = buf_.data() + pos;
     uint32_t stored = 0;
-    for (int i = 0; i < 4; ++i) stored |= static_cast<uint32_t>(static_cast<uint8_t>(f[2 + len + i])) << (8 * i);
-    if (stored != crc(f + 1, 1 + len)) {
+    for (int i = 0; i < 4; ++i) stored |= static_cast<uint32_t>(static_cast<uint8_t>(f[3 + len + i])) << (8 * i);
+    if (stored != crc(f + 1, 2 + len)) {
       ++bad_;
       ++pos;  // rescan from the next byte: a frame may start inside the damaged one
       ++skipped_;
       continue;
     }
     Frame fr;
-    fr.seq = static_cast<uint16_t>(static_cast<uint8_t>(f[2]) | (static_cast<uint8_t>(f[3]) << 8));
-    fr.type = static_cast<uint8_t>(f[4]);
-    fr.payload.assign(f + 5, len - 3);
+    fr.seq = static_cast<uint16_t>(static_cast<uint8_t>(f[3]) | (static_cast<uint8_t>(f[4]) << 8));
+    fr.type = static_cast<uint8_t>(f[5]);
+    fr.payload.assign(f + 6, len - 3);
     out.push_back(std::move(fr));
     pos += total;
   }

@@ -2,7 +2,8 @@
 // The host-controller protocol (spec: docs/controller-protocol.md): frames, message types and their payloads.
 // Pure: bytes in, messages out; no ports, no clocks.
 //
-// Frame: 0x7E | LEN (u8: bytes of SEQ..payload) | SEQ (u16 LE) | TYPE (u8) | payload | CRC-32 (LE, over LEN..payload)
+// Frame: 0x7E | LEN (u8: bytes of SEQ..payload) | ~LEN | SEQ (u16 LE) | TYPE (u8) | payload | CRC-32 (LE, over
+// LEN..payload). ~LEN rejects a damaged length at once, so a receiver never waits for bytes that will not come.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -11,7 +12,7 @@ namespace polarcam::proto {
 
 inline constexpr uint8_t kSync = 0x7E;
 inline constexpr size_t kMaxPayload = 240;
-inline constexpr size_t kOverhead = 1 + 1 + 2 + 1 + 4;
+inline constexpr size_t kOverhead = 1 + 2 + 2 + 1 + 4;
 inline constexpr uint8_t kVersion = 1;
 
 enum Type : uint8_t {
