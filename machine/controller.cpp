@@ -313,7 +313,8 @@ void Controller::fire_due() {
     ++a.executed;
     a.has_next = false;
     if (a.left > 0) a.iv += a.add;
-    if (on_step) on_step(now_ - start_, best, dir);
+    last_step_ = now_ - start_;
+    if (on_step) on_step(last_step_, best, dir);
   }
   if (ax_[0].ended && ax_[1].ended && state_ != State::fault) {
     state_ = State::done;
@@ -390,7 +391,7 @@ Status Controller::status() const {
   s.state = state_;
   s.error = error_;
   s.underruns = underruns_;
-  s.now_ticks = started_ || state_ == State::done ? now_ - start_ : 0;
+  s.now_ticks = state_ == State::done ? last_step_ : started_ ? now_ - start_ : 0;
   s.schedule_ticks = static_cast<uint64_t>(tau_ >> 16);
   s.free_slots = free_slots();
   s.queued = queued_items_;

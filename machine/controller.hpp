@@ -97,6 +97,7 @@ class Controller {
   // clocks
   uint64_t now_ = 0;             // ticks since boot
   uint64_t start_ = 0;           // boot tick of START
+  uint64_t last_step_ = 0;       // ticks since START of the latest step
   bool started_ = false;
   uint64_t tau_ = 0;             // schedule time since START, 1/65536 ticks
   uint64_t rate_ = 0;            // playback rate, in 1/ramp units (ramp_ == rate_ means 1)

@@ -23,9 +23,11 @@ uint64_t Emulator::ticks(double now) const {
   return static_cast<uint64_t>(std::floor(now * 1e12 / static_cast<double>(spec_.tick_ps)));
 }
 
-bool Emulator::reading(double now) const {
-  return !(f_.stall_at >= 0 && now >= f_.stall_at && now < f_.stall_at + f_.stall_s);
+bool Emulator::stalled(double now) const {
+  return f_.stall_at >= 0 && now >= f_.stall_at && now < f_.stall_at + f_.stall_s;
 }
+
+bool Emulator::reading(double now) const { return !stalled(now) && up_.in_flight() < 512; }
 
 void Emulator::from_host(const std::string& bytes, double now) {
   if (garble) {
@@ -47,7 +49,7 @@ void Emulator::advance(double now) {
     ++resets;
     ctl_->reboot(ticks(now_));
   }
-  const std::string in = reading(now_) ? up_.deliver(now_) : std::string();  // a stalled reader takes nothing
+  const std::string in = stalled(now_) ? std::string() : up_.deliver(now_);  // a stalled reader takes nothing
   if (!in.empty()) ctl_->receive(reinterpret_cast<const uint8_t*>(in.data()), in.size(), ticks(now_));
   ctl_->advance(ticks(now_));
   const std::string out = ctl_->take_output();

@@ -22,8 +22,11 @@ class Emulator {
   void advance(double now);
   // Bytes that have reached the host by `now`.
   std::string to_host(double now);
-  // Whether the controller reads its input now (false while stalled).
+  // Whether the controller reads its input now: false while stalled, and while the line still carries more
+  // than a UART's worth of earlier bytes (so a host that writes faster than the line rate is held back by
+  // the port, as on real hardware).
   bool reading(double now) const;
+  bool stalled(double now) const;
   // The next time something happens on the lines (for a virtual clock).
   double next_event() const;
   Controller& controller() { return *ctl_; }

@@ -77,6 +77,8 @@ class HostLink {
   proto::Ident identify();
   // Configures the controller for `plan` and streams `sched`; returns when the controller has executed it.
   PlayReport play(const PlayPlan& plan, const Schedule& sched);
+  // What was sent and confirmed so far (also after play() threw).
+  const PlayReport& report() const { return rep_; }
 
   std::function<void(const PlayProgress&)> on_progress;
   std::atomic<bool>* stop = nullptr;  // set by a signal handler: hold, then abort

@@ -117,7 +117,7 @@ struct Status {
   State state = State::idle;
   ErrorCode error = ErrorCode::none;
   uint32_t underruns = 0;
-  uint64_t now_ticks = 0;        // controller time since START
+  uint64_t now_ticks = 0;        // controller time since START (when done: the time of the last step)
   uint64_t schedule_ticks = 0;   // schedule (virtual) time reached
   uint32_t free_slots = 0, queued = 0;
   uint64_t executed[2] = {0, 0};
