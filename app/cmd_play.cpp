@@ -24,8 +24,10 @@
 namespace polarcam::cli {
 namespace {
 
-std::atomic<bool> g_stop{false};
+std::atomic<bool> g_stop{false}, g_hold{false}, g_resume{false};
 extern "C" void on_sigint(int) { g_stop.store(true); }
+extern "C" void on_sigusr1(int) { g_hold.store(true); }
+extern "C" void on_sigusr2(int) { g_resume.store(true); }
 
 // Acceleration for holds and underrun stops: --accel, else the job's (tape provenance), else none.
 std::optional<double> job_accel(const TapeHeader& h) {
@@ -180,7 +182,11 @@ void register_play(CLI::App& app, Action& action) {
       if (tty) link.on_progress = progress_bar;
       g_stop.store(false);
       auto old = std::signal(SIGINT, on_sigint);
+      auto old1 = std::signal(SIGUSR1, on_sigusr1);  // feed hold
+      auto old2 = std::signal(SIGUSR2, on_sigusr2);  // resume
       link.stop = &g_stop;
+      link.hold_request = &g_hold;
+      link.resume_request = &g_resume;
       PlayReport rep;
       std::string error;
       try {
@@ -190,6 +196,8 @@ void register_play(CLI::App& app, Action& action) {
         rep = link.report();
       }
       std::signal(SIGINT, old);
+      std::signal(SIGUSR1, old1);
+      std::signal(SIGUSR2, old2);
       if (tty) std::fprintf(stderr, "\n");
       j["mode"] = "serial";
       j["port"] = o->port;

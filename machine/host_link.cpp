@@ -219,6 +219,9 @@ PlayReport HostLink::play(const PlayPlan& plan, const Schedule& sc) {
       confirm_report();
       throw PlayError("stopped by the operator: " + where());
     }
+    // feed hold and resume
+    if (hold_request && hold_request->exchange(false)) send_raw(encode_frame(next_req(), HOLD, ""));
+    if (resume_request && resume_request->exchange(false)) send_raw(encode_frame(next_req(), RESUME, ""));
     // new frames, within the window and the credits
     while (!stopping && inflight.size() < o_.window && line_free_at_ <= t_.now() + o_.pace_s) {
       // START once the buffer holds the prefill, is full, or holds the whole job

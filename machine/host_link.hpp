@@ -82,6 +82,10 @@ class HostLink {
 
   std::function<void(const PlayProgress&)> on_progress;
   std::atomic<bool>* stop = nullptr;  // set by a signal handler: hold, then abort
+  // Feed hold and resume (set by the caller, e.g. from signals; cleared when sent). The controller ramps the
+  // playback rate down or up with the job's acceleration limit (LinkOptions::ramp_s).
+  std::atomic<bool>* hold_request = nullptr;
+  std::atomic<bool>* resume_request = nullptr;
 
  private:
   struct Out {

@@ -2,6 +2,7 @@
 // faults (virtual clock), the emulator's executed steps against the tape, underruns, holds, resets.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <random>
 
 #include "cam/error.hpp"
@@ -217,6 +218,51 @@ TEST(Link, ControllerWithAnotherGridRefusesTheJob) {
   Schedule sc = compress_schedule(plan, id.tick_ps);
   EXPECT_THROW(link.play(plan, sc), InputError);
   EXPECT_EQ(tr.emulator().controller().status().executed[0] + tr.emulator().controller().status().executed[1], 0u);
+}
+
+// A transport that asks for a feed hold at 1 s and a resume at 3 s of its clock.
+struct HoldingTransport : Transport {
+  SimTransport& t;
+  std::atomic<bool>& hold;
+  std::atomic<bool>& resume;
+  bool held = false, resumed = false;
+  HoldingTransport(SimTransport& s, std::atomic<bool>& h, std::atomic<bool>& r) : t(s), hold(h), resume(r) {}
+  bool write(const std::string& b, double to) override { return t.write(b, to); }
+  std::string read(double to) override {
+    if (!held && t.now() > 1.0) held = true, hold.store(true);
+    if (!resumed && t.now() > 3.0) resumed = true, resume.store(true);
+    return t.read(to);
+  }
+  double now() override { return t.now(); }
+  std::string describe() const override { return "holding"; }
+};
+
+TEST(Link, FeedHoldAndResumeKeepEveryStepInOrder) {
+  const std::string tape = example_tape("witch");
+  PlayScaling s;
+  s.speed = Ratio{10, 1};
+  PlayPlan plan = plan_playback(tape, s, std::nullopt);
+  SimTransport tr(ControllerSpec{}, 115200, FaultSpec{});
+  std::vector<Logged> log;
+  tr.emulator().on_step = [&](uint64_t t, int axis, int dir) { log.push_back({t, axis, dir}); };
+  std::atomic<bool> hold{false}, resume{false};
+  HoldingTransport ht(tr, hold, resume);
+  LinkOptions lo;
+  lo.ramp_s = 0.05;
+  HostLink link(ht, lo);
+  link.hold_request = &hold;
+  link.resume_request = &resume;
+  proto::Ident id = link.identify();
+  PlayReport rep = link.play(plan, compress_schedule(plan, id.tick_ps));
+  EXPECT_EQ(rep.underruns, 0u);
+  ASSERT_EQ(log.size(), plan.steps.size());
+  for (size_t i = 0; i < log.size(); ++i) {
+    ASSERT_EQ(log[i].axis, plan.steps[i].axis);
+    ASSERT_EQ(log[i].dir, plan.steps[i].dir);
+  }
+  // the job (2.9 s at 10x) took about 2 s longer: held from about 1 s to 3 s of the host's clock
+  EXPECT_GT(rep.duration_s, 4.0);
+  EXPECT_LT(rep.duration_s, 5.5);
 }
 
 TEST(Controller, HoldAndResumeRampTheRateAndKeepEveryStep) {
