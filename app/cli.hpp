@@ -11,5 +11,7 @@ using Action = std::function<int()>;
 void register_digitize(CLI::App& app, Action& action);
 void register_inspect(CLI::App& app, Action& action);
 void register_dda(CLI::App& app, Action& action);
+void register_play(CLI::App& app, Action& action);
+void register_controller_sim(CLI::App& app, Action& action);
 
 }  // namespace polarcam::cli

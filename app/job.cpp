@@ -233,6 +233,18 @@ Job load_job(const std::string& path) {
   return job;
 }
 
+Grid load_machine_grid(const std::string& path, std::string* name) {
+  toml::table root = jobfile::parse_toml_file(path);
+  const toml::node* mt = root.get("machine");
+  if (!mt || !mt->is_table()) throw InputError(path + ": the [machine] section is missing");
+  Section machine(mt->as_table(), path, "machine");
+  json prov;
+  std::string n;
+  Grid g = parse_grid(machine, prov, n);
+  if (name) *name = n;
+  return g;
+}
+
 ToolPathPtr make_job_path(const Job& job) {
   try {
     return make_tool_path(job.contour, job.placement, job.tool, job.motion.travel);

@@ -47,6 +47,10 @@ struct Job {
 // Reads and checks a job file. Throws InputError with "FILE:LINE: key 'section.key': what is wrong".
 Job load_job(const std::string& path);
 
+// Reads the grid and work area of a machine file ([machine] table, keys as in a job's [machine]). Keys that
+// other commands read from the same file (mechanics, motors) are left alone. Throws InputError naming the file.
+Grid load_machine_grid(const std::string& path, std::string* name = nullptr);
+
 // The tool-centre path in the machine frame.
 ToolPathPtr make_job_path(const Job& job);
 // The speed profile along a path of the given length.

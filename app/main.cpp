@@ -20,6 +20,8 @@ int main(int argc, char** argv) {
   cli::register_digitize(app, action);
   cli::register_inspect(app, action);
   cli::register_dda(app, action);
+  cli::register_play(app, action);
+  cli::register_controller_sim(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

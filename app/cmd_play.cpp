@@ -1,0 +1,241 @@
+// polarcam play TAPE (--port DEV | --simulate) [--baud N] [--speed-scale K] [--size-scale P/Q] [--angle-offset M]
+//               [--machine FILE] [--accel A] [--json]
+// Plays a step tape on a stepper controller over a serial line (or on the in-process simulated machine).
+#include <unistd.h>
+
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <sstream>
+
+#include "app/cli.hpp"
+#include "app/job.hpp"
+#include "app/output.hpp"
+#include "cam/error.hpp"
+#include "cam/units.hpp"
+#include "machine/host_link.hpp"
+#include "machine/play_plan.hpp"
+#include "machine/serial_port.hpp"
+#include "machine/sim_machine.hpp"
+
+namespace polarcam::cli {
+namespace {
+
+std::atomic<bool> g_stop{false}, g_hold{false}, g_resume{false};
+extern "C" void on_sigint(int) { g_stop.store(true); }
+extern "C" void on_sigusr1(int) { g_hold.store(true); }
+extern "C" void on_sigusr2(int) { g_resume.store(true); }
+
+// Acceleration for holds and underrun stops: --accel, else the job's (tape provenance), else none.
+std::optional<double> job_accel(const TapeHeader& h) {
+  auto j = nlohmann::json::parse(h.provenance, nullptr, false);
+  if (j.is_discarded()) return std::nullopt;
+  auto p = j.find("job");
+  if (p == j.end() || !p->is_object()) return std::nullopt;
+  auto m = p->find("motion");
+  if (m == p->end() || !m->is_object()) return std::nullopt;
+  auto a = m->find("accel_mps2");
+  if (a == m->end() || !a->is_number()) return std::nullopt;
+  return a->get<double>();
+}
+
+std::string clock(double s) {
+  if (!(s >= 0) || s > 1e7) return "--:--";
+  const long t = static_cast<long>(s + 0.5);
+  char b[32];
+  if (t >= 3600) std::snprintf(b, sizeof b, "%ld:%02ld:%02ld", t / 3600, (t / 60) % 60, t % 60);
+  else std::snprintf(b, sizeof b, "%ld:%02ld", t / 60, t % 60);
+  return b;
+}
+
+void progress_bar(const PlayProgress& p) {
+  const double f = p.steps_total ? static_cast<double>(p.steps_confirmed) / static_cast<double>(p.steps_total) : 0.0;
+  const int w = 24, fill = static_cast<int>(f * w);
+  const double rate = p.elapsed_s > 0 ? static_cast<double>(p.steps_confirmed) / p.elapsed_s : 0.0;
+  const double eta = p.total_s - p.schedule_s;
+  std::fprintf(stderr, "\r[%s%s] %3.0f%% %s/%s steps  %s steps/s  buffer %3.0f%%  ETA %s  %-8s", std::string(fill, '#').c_str(),
+               std::string(w - fill, '-').c_str(), 100 * f, thousands(p.steps_confirmed).c_str(),
+               thousands(p.steps_total).c_str(), thousands(static_cast<unsigned long long>(rate)).c_str(),
+               100 * p.buffer_fill, clock(eta).c_str(), proto::state_name(p.state));
+  std::fflush(stderr);
+}
+
+}  // namespace
+
+void register_play(CLI::App& app, Action& action) {
+  struct Opts {
+    std::string tape, port, speed = "1", size = "1", machine, accel, log;
+    unsigned baud = 115200;
+    std::string flow = "none";
+    long long angle_offset = 0;
+    double tick_ns = 1000;
+    bool simulate = false, json = false;
+  };
+  auto o = std::make_shared<Opts>();
+  CLI::App* c = app.add_subcommand("play", "Play a step tape on a stepper controller over a serial line, or simulate it");
+  c->add_option("tape", o->tape, "step tape")->required();
+  auto* port = c->add_option("--port", o->port, "serial port of the controller (e.g. /dev/ttyUSB0)");
+  auto* sim = c->add_flag("--simulate", o->simulate, "run the in-process simulated machine instead of a controller");
+  port->excludes(sim);
+  c->add_option("--baud", o->baud, "baud rate (default 115200)");
+  c->add_option("--flow", o->flow, "flow control: none or hardware (default none)");
+  c->add_option("--speed-scale", o->speed, "speed factor K: every interval divided by K (e.g. 10, 0.5, 3/2)");
+  c->add_option("--size-scale", o->size, "radial size ratio P/Q about the machine pole (e.g. 2/1, 1/2)");
+  c->add_option("--angle-offset", o->angle_offset, "angular steps added to every angular index (floating angular reference)");
+  c->add_option("--machine", o->machine, "machine file: the tape must be for its grid; its work area is checked");
+  c->add_option("--accel", o->accel, "acceleration limit for holds and stops (default: the job's motion.accel)");
+  c->add_option("--tick", o->tick_ns, "simulated controller tick in ns (--simulate; default 1000)");
+  c->add_option("--log", o->log, "write the executed steps as CSV t_ns,axis,dir (--simulate)");
+  c->add_flag("--json", o->json, "print the result as one JSON object");
+  c->callback([o, c, &action] {
+    action = [o, c] {
+      if (!o->simulate && o->port.empty()) throw InputError("play: give --port DEV (a controller) or --simulate");
+      if (!o->simulate) check_baud(o->baud);
+      if (o->flow != "none" && o->flow != "hardware") throw InputError("--flow " + o->flow + ": must be none or hardware");
+      PlayScaling sc;
+      sc.speed = parse_ratio(o->speed, "--speed-scale");
+      sc.size = parse_ratio(o->size, "--size-scale");
+      sc.angle_offset = o->angle_offset;
+      if (!(o->tick_ns >= 1 && o->tick_ns <= 1e9)) throw InputError("--tick must be between 1 ns and 1 s");
+      std::optional<PlayMachine> machine;
+      if (!o->machine.empty()) {
+        PlayMachine m;
+        std::string name;
+        m.grid = load_machine_grid(o->machine, &name);
+        m.source = "machine file " + o->machine;
+        machine = m;
+      }
+      // everything about the tape and the scales is checked here, before the port is touched
+      PlayPlan plan = plan_playback(o->tape, sc, machine);
+      std::optional<double> accel = job_accel(plan.header);
+      if (!o->accel.empty()) {
+        accel = parse_quantity_as(o->accel, dim::acceleration);
+        if (!(*accel > 0)) throw InputError("--accel must be positive");
+      }
+      const double v = plan.header.speed_mps * sc.speed.value();
+      LinkOptions lo;
+      lo.baud = o->baud;
+      lo.ramp_s = accel && v > 0 ? v / *accel : 0.0;
+
+      nlohmann::ordered_json j;
+      j["tape"] = o->tape;
+      j["speed_scale"] = to_string(sc.speed);
+      j["size_scale"] = to_string(sc.size);
+      j["angle_offset"] = sc.angle_offset;
+      j["start_node"] = {plan.start[0], plan.start[1]};
+      j["end_node_expected"] = {plan.end[0], plan.end[1]};
+
+      if (o->simulate) {
+        const uint64_t tick_ps = static_cast<uint64_t>(o->tick_ns * 1000 + 0.5);
+        Schedule s = compress_schedule(plan, tick_ps);
+        struct Log : StepMonitor {
+          std::string csv = "t_ns,axis,dir\n";
+          bool on = false;
+          void on_step(const ExecutedStep& e) override {
+            if (!on) return;
+            char b[64];
+            int n = std::snprintf(b, sizeof b, "%llu,%s,%+d\n", static_cast<unsigned long long>(e.t_ns), e.axis == 0 ? "r" : "theta", e.dir);
+            csv.append(b, static_cast<size_t>(n));
+          }
+        } log;
+        log.on = !o->log.empty();
+        SimResult r = simulate_playback(plan, s, machine ? *machine : machine_from_header(plan.header), &log);
+        if (log.on) write_file_atomic(o->log, log.csv);
+        std::string bytes;
+        ItemCodec codec;
+        for (const QueueItem& it : s.items) codec.encode(it, bytes);
+        j["mode"] = "simulate";
+        j["tick_ns"] = o->tick_ns;
+        j["steps_total"] = r.steps_expected;
+        j["steps_executed"] = r.steps;
+        j["steps_mismatched"] = r.mismatched;
+        j["max_time_error_ns"] = r.max_time_error_ns;
+        j["duration_s"] = r.duration_s;
+        j["end_node"] = {r.end[0], r.end[1]};
+        j["runs"] = s.runs;
+        j["queue_bytes"] = bytes.size();
+        j["queue_bytes_per_step"] = r.steps ? static_cast<double>(bytes.size()) / static_cast<double>(r.steps) : 0.0;
+        if (o->json) {
+          std::cout << j.dump(2) << "\n";
+        } else {
+          std::ostringstream os;
+          os << "polarcam play " << o->tape << " (simulated machine, tick " << o->tick_ns << " ns)\n"
+             << "  scale     speed x" << to_string(sc.speed) << ", size " << to_string(sc.size) << ", angle offset " << sc.angle_offset << "\n"
+             << "  steps     " << thousands(r.steps) << " of " << thousands(r.steps_expected) << " executed, " << r.mismatched
+             << " out of order, max time error " << r.max_time_error_ns << " ns\n"
+             << "  time      " << r.duration_s << " s, end node [" << r.end[0] << ", " << r.end[1] << "]\n"
+             << "  schedule  " << thousands(s.runs) << " runs in " << thousands(bytes.size()) << " bytes ("
+             << j["queue_bytes_per_step"].get<double>() << " bytes/step)\n";
+          std::cout << os.str();
+        }
+        return r.mismatched == 0 && r.steps == r.steps_expected ? 0 : 1;
+      }
+
+      SerialTransport port_io(o->port, o->baud, o->flow);
+      HostLink link(port_io, lo);
+      proto::Ident id = link.identify();
+      Schedule s = compress_schedule(plan, id.tick_ps);
+      const bool tty = ::isatty(2);
+      if (tty) link.on_progress = progress_bar;
+      g_stop.store(false);
+      auto old = std::signal(SIGINT, on_sigint);
+      auto old1 = std::signal(SIGUSR1, on_sigusr1);  // feed hold
+      auto old2 = std::signal(SIGUSR2, on_sigusr2);  // resume
+      link.stop = &g_stop;
+      link.hold_request = &g_hold;
+      link.resume_request = &g_resume;
+      PlayReport rep;
+      std::string error;
+      try {
+        rep = link.play(plan, s);
+      } catch (const PlayError& e) {
+        error = e.what();
+        rep = link.report();
+      }
+      std::signal(SIGINT, old);
+      std::signal(SIGUSR1, old1);
+      std::signal(SIGUSR2, old2);
+      if (tty) std::fprintf(stderr, "\n");
+      j["mode"] = "serial";
+      j["port"] = o->port;
+      j["baud"] = o->baud;
+      j["controller"] = id.name;
+      j["tick_ns"] = static_cast<double>(id.tick_ps) * 1e-3;
+      j["steps_total"] = rep.steps_total;
+      j["steps_sent"] = rep.steps_sent;
+      j["steps_confirmed"] = rep.steps_confirmed;
+      j["retransmissions"] = rep.retransmissions;
+      j["underruns"] = rep.underruns;
+      j["reconnects"] = rep.reconnects;
+      j["frames_sent"] = rep.frames_sent;
+      j["bytes_sent"] = rep.bytes_sent;
+      j["duration_s"] = rep.duration_s;
+      j["wall_s"] = rep.wall_s;
+      j["end_node"] = {rep.end_node[0], rep.end_node[1]};
+      j["completed"] = error.empty();
+      if (!error.empty()) j["error"] = error;
+      if (o->json) {
+        std::cout << j.dump(2) << "\n";
+      } else if (error.empty()) {
+        std::cout << "polarcam play " << o->tape << " on " << port_io.describe() << " (" << id.name << ")\n"
+                  << "  steps     " << thousands(rep.steps_confirmed) << " of " << thousands(rep.steps_total)
+                  << " confirmed, end node [" << rep.end_node[0] << ", " << rep.end_node[1] << "]\n"
+                  << "  time      " << rep.duration_s << " s on the controller, " << rep.wall_s << " s wall\n"
+                  << "  link      " << thousands(rep.bytes_sent) << " bytes in " << thousands(rep.frames_sent) << " frames, "
+                  << rep.retransmissions << " retransmissions, " << rep.underruns << " underruns\n";
+      }
+      std::cout.flush();
+      if (!error.empty()) {
+        std::fprintf(stderr, "polarcam: error: %s\n", error.c_str());
+        return 1;
+      }
+      return 0;
+    };
+  });
+  (void)c;
+}
+
+}  // namespace polarcam::cli

@@ -1,0 +1,35 @@
+#pragma once
+// Speed and size scaling of a step tape, and the floating angular reference (Sec. 3.6, 3.7 and 3.11 of
+// 002_d776f0f2af43efa4.txt; docs/player.md).
+//  - speed scale K = num/den: every interval is divided by K (times t -> t den / num), exactly;
+//  - size scale P/Q: the machine's radial index is N(n) = round(n P / Q), halves rounded up, i.e.
+//    N(n) = floor((2 n P + Q) / (2 Q)), a function of the tape's absolute radial index n (the radial reference is
+//    the pole, fixed); the contour scales by P/Q about the machine pole;
+//  - angle offset M: the machine's angular index is m + M (the angular reference floats).
+#include <cstdint>
+#include <string>
+
+namespace polarcam {
+
+// An exact positive rational, both parts > 0.
+struct Ratio {
+  int64_t num = 1, den = 1;
+  double value() const { return static_cast<double>(num) / static_cast<double>(den); }
+  bool is_one() const { return num == den; }
+};
+
+// "2", "0.25", "1.5", "3/2", "1/2": an exact positive ratio, reduced. `what` names the option in errors.
+// Throws InputError for anything else (zero, negative, non-numeric, too many digits).
+Ratio parse_ratio(const std::string& text, const std::string& what);
+std::string to_string(const Ratio& r);
+
+// Machine radial index for tape radial index n under size scale s (see above).
+int64_t scaled_radial_index(int64_t n, const Ratio& s);
+
+struct PlayScaling {
+  Ratio speed;           // K: intervals divided by K
+  Ratio size;            // P/Q: radial indices scaled about the pole
+  int64_t angle_offset = 0;  // M: added to every angular index
+};
+
+}  // namespace polarcam

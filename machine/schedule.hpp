@@ -1,0 +1,90 @@
+#pragma once
+// The controller's step schedule and its exact compression (docs/controller-protocol.md, "Step schedule").
+//
+// Each axis has its own clock, a 32.32 fixed-point tick count. A run (count n, first interval I, add A; I and A
+// in 1/2^32 ticks) advances it n times: interval_k = I + (k - 1) A, clock += interval_k, and the k-th step fires
+// at tick floor(clock). A wait advances the clock by whole ticks without stepping. The host mirrors this
+// arithmetic bit for bit, so it knows every executed tick in advance; the compressor only emits runs whose
+// every step lands in the step's window: within one controller tick of the tape's exact scaled time, and in the
+// tape's order across axes.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "machine/play_plan.hpp"
+
+namespace polarcam {
+
+inline constexpr int kFracBits = 32;
+inline constexpr int64_t kOneTick = int64_t{1} << kFracBits;
+inline constexpr int64_t kMaxIntervalFx = int64_t{1} << 62;   // 2^30 ticks: longer gaps use a wait
+inline constexpr int64_t kMaxSpanTicks = int64_t{1} << 30;    // a run ends less than 2^30 ticks after it starts
+inline constexpr uint32_t kMaxRunCount = 65535;
+
+enum class ItemKind : uint8_t { run = 0, wait = 1, end = 2 };
+
+struct QueueItem {
+  ItemKind kind = ItemKind::run;
+  uint8_t axis = 0;
+  int8_t dir = 1;            // run
+  uint32_t count = 0;        // run: steps
+  int64_t interval = 0;      // run: first interval, 32.32 ticks
+  int64_t add = 0;           // run: interval change per step, 32.32 ticks
+  uint64_t wait = 0;         // wait: whole ticks
+};
+
+// One axis's clock and the arithmetic every party shares.
+struct AxisClock {
+  uint64_t base = 0;   // whole ticks
+  uint32_t frac = 0;   // 1/2^32 ticks
+  int64_t last_interval = 0;  // last interval of the previous run (the reference of the next run's delta)
+  // Advances by one interval (>= 0) and returns the tick of the step.
+  uint64_t advance(int64_t interval) {
+    uint64_t acc = static_cast<uint64_t>(frac) + static_cast<uint64_t>(interval);
+    base += acc >> kFracBits;
+    frac = static_cast<uint32_t>(acc & 0xffffffffu);
+    return base;
+  }
+};
+
+// Executed tick windows of every machine step: |tick * tick_ctrl - t * tick_tape / K| <= one controller tick, and
+// narrowed where two steps of different axes are so close that they could otherwise swap order.
+struct StepWindow {
+  int64_t lo = 0, hi = 0;
+};
+
+struct Schedule {
+  uint64_t tick_ps = 0;                 // controller tick
+  std::vector<QueueItem> items;         // in sending order (each axis's items in its own order)
+  std::vector<uint64_t> horizon;        // per item: the axis clock (whole ticks) after it
+  std::vector<uint64_t> steps_before;   // per item: machine steps in the items before it (both axes)
+  uint64_t steps[2] = {0, 0};
+  uint64_t last_tick = 0;               // tick of the last step
+  uint64_t runs = 0, waits = 0;
+};
+
+// Windows for every step of the plan at speed scale plan.scaling.speed on a controller of tick `tick_ps`.
+// Throws InputError when two steps are closer than the controller can order (speed scale too high for its tick).
+std::vector<StepWindow> step_windows(const PlayPlan& plan, uint64_t tick_ps);
+
+// Compresses the plan into queue items. Throws InputError when a step cannot be placed (an axis would have to
+// step twice within one tick).
+Schedule compress_schedule(const PlayPlan& plan, uint64_t tick_ps);
+
+// Executes items of one axis and returns the tick of each step (the controller's arithmetic, for tests and the
+// simulated machine).
+std::vector<uint64_t> execute_axis(const std::vector<QueueItem>& items, int axis);
+
+// Wire encoding of items inside QUEUE messages: a tag byte (bit 0 axis, bits 1-2 kind, bit 3 direction +),
+// then for a run: varint count, zigzag varint (I - previous run's last interval on that axis), zigzag varint
+// (A - previous run's add on that axis); for a wait: varint ticks. Encoder and decoder keep the same per-axis
+// references, so they must see the same items in the same order.
+struct ItemCodec {
+  int64_t last_interval[2] = {0, 0};
+  int64_t last_add[2] = {0, 0};
+  void encode(const QueueItem& it, std::string& out);
+  // Decodes one item at `pos`; false (state and pos unchanged) when the bytes are malformed.
+  bool decode(const uint8_t* data, size_t len, size_t& pos, QueueItem& it);
+};
+
+}  // namespace polarcam
