@@ -18,41 +18,69 @@ inline void eval3(const Cheb& c, double t, double& f, double& d1, double& d2) {
   double b1 = 0, b2 = 0, e1 = 0, e2 = 0, h1 = 0, h2 = 0;
   const double tt = 2.0 * t;
   for (int k = c.deg; k >= 1; --k) {
-    const double b0 = c.c[k] + tt * b1 - b2, e0 = 2.0 * b1 + tt * e1 - e2, h0 = 4.0 * e1 + tt * h1 - h2;
+    const double b0 = (c.c[k] - b2) + tt * b1, e0 = (2.0 * b1 - e2) + tt * e1, h0 = (4.0 * e1 - h2) + tt * h1;
     b2 = b1, b1 = b0, e2 = e1, e1 = e0, h2 = h1, h1 = h0;
   }
-  f = c.c[0] + t * b1 - b2;
-  d1 = b1 + t * e1 - e2;
-  d2 = 2.0 * e1 + t * h1 - h2;
+  f = (c.c[0] - b2) + t * b1;
+  d1 = (b1 - e2) + t * e1;
+  d2 = (2.0 * e1 - h2) + t * h1;
 }
 
-// R(t) and Astar(t) in one pass (two independent recurrences interleave).
+// R(t) and Astar(t) in one pass. Each series is split into its even and odd parts, T_2m(t) = T_m(y) and
+// T_2m+1(t) = t V_m(y) with y = 2 t^2 - 1 (V: Chebyshev polynomials of the third kind, same recurrence,
+// V_0 = 1, V_1 = 2y - 1), so four independent Clenshaw recurrences of half the length run side by side: the
+// evaluation is bound by the length of the longest chain, which this halves.
 inline void eval_rA(const Cheb& R, const LongCheb& A, double t, double& r, double& a) {
-  const double tt = 2.0 * t;
-  double b1 = 0, b2 = 0, B1 = 0, B2 = 0;
-  int k = A.deg;
-  for (; k > R.deg; --k) {
-    const double B0 = A.c[k] + tt * B1 - B2;
-    B2 = B1, B1 = B0;
+  const double y = 2.0 * t * t - 1.0, yy = 2.0 * y;
+  double re1 = 0, re2 = 0, ro1 = 0, ro2 = 0, ae1 = 0, ae2 = 0, ao1 = 0, ao2 = 0;
+  const int top = std::max(A.deg, R.deg) / 2 + 1;
+  for (int m = top; m >= 1; --m) {
+    const int ke = 2 * m, ko = 2 * m + 1;
+    const double rce = ke <= R.deg ? R.c[ke] : 0.0, rco = ko <= R.deg ? R.c[ko] : 0.0;
+    const double ace = ke <= A.deg ? A.c[ke] : 0.0, aco = ko <= A.deg ? A.c[ko] : 0.0;
+    const double re0 = (rce - re2) + yy * re1, ro0 = (rco - ro2) + yy * ro1;
+    const double ae0 = (ace - ae2) + yy * ae1, ao0 = (aco - ao2) + yy * ao1;
+    re2 = re1, re1 = re0, ro2 = ro1, ro1 = ro0, ae2 = ae1, ae1 = ae0, ao2 = ao1, ao1 = ao0;
   }
-  for (; k >= 1; --k) {
-    const double B0 = A.c[k] + tt * B1 - B2;
-    B2 = B1, B1 = B0;
-    if (k <= R.deg) {
-      const double b0 = R.c[k] + tt * b1 - b2;
-      b2 = b1, b1 = b0;
+  // even: c_0 + y b_1 - b_2; odd: t (b_0 - b_1) with b_0 = c_1 + 2y b_1 - b_2
+  const double r_even = (R.c[0] - re2) + y * re1, r_odd = t * (((R.deg >= 1 ? R.c[1] : 0.0) - ro2) + (yy - 1.0) * ro1);
+  const double a_even = (A.c[0] - ae2) + y * ae1, a_odd = t * (((A.deg >= 1 ? A.c[1] : 0.0) - ao2) + (yy - 1.0) * ao1);
+  r = r_even + r_odd;
+  a = a_even + a_odd;
+}
+
+// Th(t) and Astar(t) in one pass.
+inline void eval_thA(const Cheb& Th, const LongCheb& A, double t, double& th, double& a) { eval_rA(Th, A, t, th, a); }
+
+// Where r(t) = y on a part of a piece where r is monotone and y lies strictly between r(ta) - r_a and r(tb) - r_a
+// (ya, yb). The area split there is in error by r |dr/dphi| dphi^2 for a crossing misplaced by dphi, so the crossing
+// need not be found to rounding: Newton from the interpolated guess stops once the error left after its step,
+// |R''/(2 R')| dt^2, is below 1e-12 (t on [-1, 1]; far inside the rounding of the area).
+double radius_crossing(const Cheb& R, double y, double ta, double tb, double ya, double yb) {
+  double lo = std::min(ta, tb), hi = std::max(ta, tb);
+  const double chord = (yb - ya) / (tb - ta);
+  double t = ta + (y - ya) / chord;
+  if (!(t > lo && t < hi)) t = 0.5 * (lo + hi);
+  const bool up = chord > 0;  // R - y increases with t
+  for (int it = 0; it < 100; ++it) {
+    double v, d, d2;
+    eval3(R, t, v, d, d2);
+    v -= y;
+    if (v == 0.0) return t;
+    if ((v > 0) == up)
+      hi = t;
+    else
+      lo = t;
+    double tn = d != 0.0 ? t - v / d : 0.5 * (lo + hi);
+    if (!(tn > lo && tn < hi)) {
+      t = 0.5 * (lo + hi);
+      continue;
     }
+    const double dt = tn - t;
+    if (std::abs(d2) * dt * dt <= 2e-12 * std::abs(d) || hi - lo <= 1e-15) return tn;
+    t = tn;
   }
-  // R may be longer than A
-  if (R.deg > A.deg) {
-    b1 = 0, b2 = 0;
-    for (int i = R.deg; i >= 1; --i) {
-      const double b0 = R.c[i] + tt * b1 - b2;
-      b2 = b1, b1 = b0;
-    }
-  }
-  r = R.c[0] + t * b1 - b2;
-  a = A.c[0] + t * B1 - B2;
+  return t;
 }
 
 // Root of f(t) = y in [lo, hi] where f - y changes sign (flo = f(lo) - y), Newton from `guess` safeguarded by
@@ -113,11 +141,15 @@ void PolarAreaMeter::reset(const PolarTrack& track, const Grid& grid) {
 }
 
 uint32_t PolarAreaMeter::key(int64_t j) const {
+  int64_t k = j - j_lo_;
   if (wrap_) {
+    // j_lo_ maps to key_lo_; a few subtractions are cheaper than a 64-bit division
     const int64_t N = grid_.steps_per_rev;
-    return static_cast<uint32_t>(((j % N) + N) % N);
+    k += key_lo_;
+    if (k >= 4 * N) k %= N;
+    while (k >= N) k -= N;
   }
-  return static_cast<uint32_t>(j - j_lo_);
+  return static_cast<uint32_t>(k);
 }
 
 void PolarAreaMeter::close_visit() {
@@ -134,18 +166,21 @@ void PolarAreaMeter::close_visit() {
 
 void PolarAreaMeter::add_sub(const Sub& s, int64_t j) {
   const int8_t sg = s.l1 > s.l0 ? 1 : -1;
-  if (open_ >= 0 && visits_[static_cast<size_t>(open_)].j == j) {
+  const double lo = s.r0 < s.r1 ? s.r0 : s.r1, hi = s.r0 < s.r1 ? s.r1 : s.r0;
+  if (open_ >= 0) {
     Visit& v = visits_[static_cast<size_t>(open_)];
-    if (v.sigma != sg) v.sigma = 0;
-    ++v.count;
-    v.rmin = std::min({v.rmin, s.r0, s.r1});
-    v.rmax = std::max({v.rmax, s.r0, s.r1});
-  } else {
+    if (v.j == j) {
+      if (v.sigma != sg) v.sigma = 0;
+      ++v.count;
+      if (lo < v.rmin) v.rmin = lo;
+      if (hi > v.rmax) v.rmax = hi;
+      subs_.push_back(s);
+      return;
+    }
     close_visit();
-    Visit v{j, static_cast<uint32_t>(subs_.size()), 1, -1, sg, false, std::min(s.r0, s.r1), std::max(s.r0, s.r1)};
-    open_ = static_cast<int>(visits_.size());
-    visits_.push_back(v);
   }
+  open_ = static_cast<int>(visits_.size());
+  visits_.push_back(Visit{j, static_cast<uint32_t>(subs_.size()), 1, -1, sg, false, lo, hi});
   subs_.push_back(s);
 }
 
@@ -243,7 +278,7 @@ void PolarAreaMeter::add_connector(Vec2 a, double ga, Vec2 b, double gb) {
   }
 }
 
-double PolarAreaMeter::fast_visit(const Visit& v, double rho, const sweep::SectorSolver& solver) const {
+double PolarAreaMeter::fast_visit(const Visit& v, double rho) const {
   double s = 0.0;
   const auto& P = track_->pieces();
   for (uint32_t i = v.first; i < v.first + v.count; ++i) {
@@ -251,9 +286,11 @@ double PolarAreaMeter::fast_visit(const Visit& v, double rho, const sweep::Secto
     const double ra = P[b.piece].r_a;
     const double k = 0.5 * (ra - rho) * (ra + rho) * grid_.dtheta;
     if ((b.r0 - rho) * (b.r1 - rho) < 0.0) {
-      const double t = solver.contour_t_at_radius(b.piece, b.t0, b.t1, rho);
-      const double l = solver.lambda_at(b.piece, t, v.j);
-      const double a = areas_[b.piece](t);
+      const TrackPiece& p = P[b.piece];
+      const double t = radius_crossing(p.R, rho - ra, b.t0, b.t1, b.r0 - ra, b.r1 - ra);
+      double th, a;
+      eval_thA(p.Th, areas_[b.piece], t, th, a);
+      const double l = (p.th_a + th + shift_) / grid_.dtheta - static_cast<double>(v.j);
       s += std::abs(a - b.A0 + k * (l - b.l0)) + std::abs(b.A1 - a + k * (b.l1 - l));
     } else {
       s += std::abs(b.A1 - b.A0 + k * (b.l1 - b.l0));
@@ -277,6 +314,7 @@ AreaErrorResult PolarAreaMeter::finish(int64_t n0, int64_t m0) {
   const double th0 = P.front().th_a;
   const double shift = kTwoPi * std::nearbyint((static_cast<double>(m0) * dth - th0) / kTwoPi);
   res.theta_shift = shift;
+  shift_ = shift;
   const sweep::Frame fr{dth, shift};
 
   const int64_t n1 = n0 + n_, m1 = m0 + m_;
@@ -300,6 +338,7 @@ AreaErrorResult PolarAreaMeter::finish(int64_t n0, int64_t m0) {
   if (N > 0 && span >= N) {
     wrap_ = true;
     nkeys_ = N;
+    key_lo_ = ((j_lo_ % N) + N) % N;
   } else {
     if (N == 0 && static_cast<double>(span) * dth >= kTwoPi)
       throw InputError("the area error of a path that turns about the machine pole needs a whole number of angular "
@@ -356,8 +395,18 @@ AreaErrorResult PolarAreaMeter::finish(int64_t n0, int64_t m0) {
   std::vector<int32_t> vs, as;
   std::vector<sweep::Strand> strands;
   for (size_t k = 0; k < nk; ++k) {
-    if (visit_head_[k] < 0 && arc_head_[k] < 0 && extra_head_[k] < 0) continue;
+    const int32_t vh = visit_head_[k], ah = arc_head_[k];
+    if (vh < 0 && ah < 0 && extra_head_[k] < 0) continue;
     ++res.sectors;
+    if (!force_general_ && !forced_[k] && vh >= 0 && ah >= 0) {
+      // the common case: one pass of the contour and one arc
+      const Visit& v = visits_[static_cast<size_t>(vh)];
+      const ArcRec& a = arcs_[static_cast<size_t>(ah)];
+      if (v.next < 0 && a.next < 0 && v.full && v.sigma == a.dir) {
+        total.add(fast_visit(v, static_cast<double>(a.n) * dr));
+        continue;
+      }
+    }
     vs.clear();
     as.clear();
     for (int32_t v = visit_head_[k]; v >= 0; v = visits_[static_cast<size_t>(v)].next) vs.push_back(v);
@@ -386,7 +435,7 @@ AreaErrorResult PolarAreaMeter::finish(int64_t n0, int64_t m0) {
     if (fast) {
       for (size_t i = 0; i < vs.size(); ++i)
         total.add(fast_visit(visits_[static_cast<size_t>(vs[i])],
-                             static_cast<double>(arcs_[static_cast<size_t>(as[i])].n) * dr, solver));
+                             static_cast<double>(arcs_[static_cast<size_t>(as[i])].n) * dr));
       continue;
     }
     ++res.general_sectors;

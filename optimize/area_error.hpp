@@ -74,7 +74,7 @@ class PolarAreaMeter final : public StepSink {
   void add_sub(const Sub& s, int64_t j);
   void close_visit();
   void add_connector(Vec2 a, double ga, Vec2 b, double gb);
-  double fast_visit(const Visit& v, double rho, const sweep::SectorSolver& solver) const;
+  double fast_visit(const Visit& v, double rho) const;
 
   const PolarTrack* track_ = nullptr;
   Grid grid_;
@@ -85,7 +85,8 @@ class PolarAreaMeter final : public StepSink {
   bool force_general_ = false;
 
   // per finish()
-  int64_t j_lo_ = 0, j_hi_ = 0, nkeys_ = 0;
+  int64_t j_lo_ = 0, j_hi_ = 0, nkeys_ = 0, key_lo_ = 0;
+  double shift_ = 0.0;
   bool wrap_ = false;
   std::vector<int32_t> arc_head_, visit_head_;
   std::vector<uint8_t> forced_;

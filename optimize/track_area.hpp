@@ -22,11 +22,11 @@ struct LongCheb {
     double b1 = 0.0, b2 = 0.0;
     const double tt = 2.0 * t;
     for (int k = deg; k >= 1; --k) {
-      double b0 = c[k] + tt * b1 - b2;
+      const double b0 = (c[k] - b2) + tt * b1;  // c - b2 is off the critical path
       b2 = b1;
       b1 = b0;
     }
-    return c[0] + t * b1 - b2;
+    return (c[0] - b2) + t * b1;
   }
 };
 
