@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "app/job_contour.hpp"
+#include "app/job_optimize.hpp"
 #include "app/toml_section.hpp"
 #include "cam/error.hpp"
 
@@ -212,6 +213,10 @@ Job load_job(const std::string& path) {
     pmo["start_parameter"] = *sp;
   }
   mo.finish();
+
+  // [optimize]: read and checked here so that a job file has one set of keys for every command
+  Section op = top.subsection("optimize");
+  job.optimize = jobfile::parse_optimize(op);
 
   top.finish();
   job.provenance = std::move(prov);

@@ -12,6 +12,7 @@
 #include "digitizer/digitize.hpp"
 #include "digitizer/grid.hpp"
 #include "digitizer/speed_profile.hpp"
+#include "optimize/placement.hpp"
 
 namespace polarcam {
 
@@ -32,6 +33,7 @@ struct Job {
   Placement placement;
   ToolSpec tool;
   MotionSpec motion;
+  PlacementOptions optimize;             // [optimize]: options of `polarcam optimize` (not part of the provenance)
   nlohmann::ordered_json provenance;     // canonical description of the job (SI values, no paths)
 };
 
