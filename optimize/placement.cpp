@@ -41,7 +41,7 @@ int default_threads() {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-constexpr double kBig = 1e6;     // objective where nothing can be evaluated (the path runs through the pole)
+constexpr double kBig = 1e6;     // objective where nothing can be evaluated, before any value is known
 constexpr double kLambda = 1.0;  // penalty per mm outside the work area (mm^2 of area, or F1)
 constexpr int kStencil = 2;      // evaluations averaged per smoothed area value
 
@@ -169,6 +169,15 @@ class Search {
   }
 
   // the smoothed value (mean of the stencil for the area) and mean margin (mm); false if not computable
+  // Where nothing can be evaluated (the path too close to the machine pole), the global stage sees twice the mean of
+  // the values seen so far: a huge constant there would hide the basin around it from DIRECT (the box's centre is
+  // often such a point: the pole on the contour).
+  double unevaluable() const { return ref_n_ > 0 ? 2.0 * ref_sum_ / ref_n_ : kBig; }
+  void seed_reference(double v) {
+    ref_sum_ += v;
+    ++ref_n_;
+  }
+
   bool smoothed(const std::vector<double>& t, double& S, double& M) {
     std::vector<std::vector<double>> ts;
     if (p_.objective == PoleObjective::area) {
@@ -196,6 +205,8 @@ class Search {
     }
     S /= static_cast<double>(v.size());
     M /= static_cast<double>(v.size());
+    ref_sum_ += S;
+    ++ref_n_;
     return true;
   }
 
@@ -227,6 +238,8 @@ class Search {
   bool have_ = false, have_any_ = false;
   PoleValue tightest_;
   int evaluations_ = 0;
+  double ref_sum_ = 0.0;
+  int ref_n_ = 0;
 };
 
 struct NloptCtx {
@@ -246,7 +259,7 @@ struct NloptCtx {
   }
   double objective(const std::vector<double>& t) {
     eval(t);
-    double g = last_ok ? last_S + (penalised ? kLambda * std::max(0.0, -last_M) : 0.0) : kBig;
+    const double g = last_ok ? last_S + (penalised ? kLambda * std::max(0.0, -last_M) : 0.0) : s->unevaluable();
     const double rank = last_ok ? last_S + kLambda * std::max(0.0, -last_M) : kBig;
     if (rank < best) {
       best = rank;
@@ -256,7 +269,7 @@ struct NloptCtx {
   }
   double constraint(const std::vector<double>& t) {
     eval(t);
-    return last_ok ? -last_M : kBig;
+    return last_ok ? -last_M : 1.0;  // 1 mm outside: a path too close to the pole
   }
 };
 
@@ -335,6 +348,7 @@ PlacementResult optimize_placement(const PoleProblem& p, const Placement& start,
   // the job's own placement is a candidate too
   const std::vector<double> t0 = start_t(q, start);
   res.start = s.exact({t0})[0];
+  if (res.start.computed) s.seed_reference(Search::scaled(p, res.start));
 
   if (res.method == PoleMethod::hooke_jeeves) {
     const int budget = o.max_evaluations > 0 ? o.max_evaluations : 400;
