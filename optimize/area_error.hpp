@@ -6,7 +6,7 @@
 //
 // Feed it the steps of any polar tape, whatever rule made it: as a StepSink during digitize(), or from a
 // TapeReader. Steps are recorded relative to the start node; finish() takes the start node and computes.
-// A meter can be reset and reused; it keeps its storage (about 100 bytes per angular step).
+// A meter can be reset and reused; it keeps its storage (about 140 bytes per angular step).
 #include <cstdint>
 #include <vector>
 

@@ -80,3 +80,19 @@ row "Table 4.1, F1 optimum, other" serpentine "5.37 cm" "1.105 rad" "4.563 mm^2"
 optrow "F1 + Hooke-Jeeves from the example's pole" serpentine nearest --objective f1 --method hooke-jeeves
 optrow "exact area + NLopt, nearest rule" serpentine nearest --objective area --method nlopt
 optrow "exact area + NLopt, thesis rule" serpentine thesis --objective area --method nlopt
+
+# The thesis does not state the x-range of its open curves: the area at its poles for x = -6 in .. 6 in
+echo
+echo "### Witch and serpentine at the thesis's poles, x = -15.24 .. 15.24 cm (6 in each side)"
+echo
+echo "| contour | C | beta | area, nearest (mm^2) | area, thesis rule (mm^2) | thesis |"
+echo "|---|---|---|---|---|---|"
+for spec in "witch|15.46 cm|1.236 rad|2.59 mm^2" "serpentine|5.37 cm|4.247 rad|4.563 mm^2"; do
+  IFS='|' read -r base C beta thesis <<< "$spec"
+  for rule in nearest thesis; do
+    job "x_$rule" "$base" "$C" "$beta" "$rule"
+    sed -i -e 's|^x_from = .*|x_from = "-15.24 cm"|' -e 's|^x_to = .*|x_to = "15.24 cm"|' "$tmp/x_$rule.toml"
+  done
+  printf "| %s | %s | %s | %s | %s | %s |\n" "$base" "$C" "$beta" "$(num "$(area "$tmp/x_nearest.toml")" 3)" \
+    "$(num "$(area "$tmp/x_thesis.toml")" 3)" "$thesis"
+done
