@@ -54,7 +54,7 @@ header() {
   echo
   echo "### $1"
   echo
-  echo "| placement | C | beta | F1 | area, nearest (mm^2) | area, thesis rule (mm^2) | thesis |"
+  echo "| placement | C | beta | F1 | area, nearest (mm^2) | area, thesis rule (mm^2) | thesis's area, or the search |"
   echo "|---|---|---|---|---|---|---|"
 }
 
