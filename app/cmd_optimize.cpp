@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <numbers>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -42,6 +43,14 @@ double job_area(const Job& job, const Placement& pl) {
   } catch (const InputError& e) {
     throw InputError(job.file + ": at the optimum: " + e.what());
   }
+}
+
+// The direction of O1 - O, in [0, 2 pi).
+double opposite_beta(const Placement& pl) {
+  if (!(pl.C > 0.0)) return 0.0;
+  double b = std::fmod(pl.beta + std::numbers::pi, 2.0 * std::numbers::pi);
+  if (b < 0.0) b += 2.0 * std::numbers::pi;
+  return b;
 }
 
 }  // namespace
@@ -147,8 +156,9 @@ void register_optimize(CLI::App& app, Action& action) {
         j["beta_rad"] = r.placement.beta;
         j["pole_x_mm"] = r.pole.x * 1e3;  // O - O1
         j["pole_y_mm"] = r.pole.y * 1e3;
-        j["contour_pole_x_mm"] = -r.pole.x * 1e3;  // O1 seen from the machine pole
+        j["contour_pole_x_mm"] = -r.pole.x * 1e3;  // O1 seen from the machine pole (Table 4.1's limacon entries)
         j["contour_pole_y_mm"] = -r.pole.y * 1e3;
+        j["contour_pole_beta_rad"] = opposite_beta(r.placement);
         j["area_error_mm2"] = area * 1e6;
         j["objective"] = objective;
         j["F1"] = r.f1;
@@ -174,6 +184,8 @@ void register_optimize(CLI::App& app, Action& action) {
       os << "  optimum     C = " << fmt(r.placement.C * 1e3, 9) << " mm, beta = " << fmt(r.placement.beta, 9)
          << " rad (machine pole at x = " << fmt(r.pole.x * 1e3) << " mm, y = " << fmt(r.pole.y * 1e3)
          << " mm from the contour pole)\n";
+      os << "             the contour pole seen from the machine pole: beta = " << fmt(opposite_beta(r.placement), 9)
+         << " rad (the description Table 4.1 uses for the limacon)\n";
       os << "  area error  " << fmt(area * 1e6, 6) << " mm^2";
       if (start_area >= 0.0) os << " (job's placement: " << fmt(start_area * 1e6, 6) << " mm^2)";
       os << ", F1 " << fmt(r.f1, 5) << "\n";

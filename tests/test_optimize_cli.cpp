@@ -2,6 +2,8 @@
 // bad input (one line naming the file and key, exit code 2, no output file).
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <numbers>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -128,6 +130,11 @@ TEST(OptimizeCli, JsonWriteJobAndMaps) {
   EXPECT_EQ(o["objective"].get<double>(), o["area_error_mm2"].get<double>());
   EXPECT_LE(o["area_error_mm2"].get<double>(), o["start"]["area_error_mm2"].get<double>());
   EXPECT_LE(o["evaluations"].get<int>(), 80);
+  // the two descriptions of the placement: O - O1 and O1 - O
+  EXPECT_NEAR(std::remainder(o["contour_pole_beta_rad"].get<double>() - o["beta_rad"].get<double>() - std::numbers::pi, 2 * std::numbers::pi), 0.0,
+              1e-12);
+  EXPECT_DOUBLE_EQ(o["contour_pole_x_mm"].get<double>(), -o["pole_x_mm"].get<double>());
+  EXPECT_NEAR(std::hypot(o["pole_x_mm"].get<double>(), o["pole_y_mm"].get<double>()), o["C_mm"].get<double>(), 1e-9);
 
   // the written job (in another directory: its machine file is found) reproduces the reported area exactly
   ASSERT_TRUE(std::filesystem::exists(written));
