@@ -13,5 +13,7 @@ void register_inspect(CLI::App& app, Action& action);
 void register_dda(CLI::App& app, Action& action);
 void register_play(CLI::App& app, Action& action);
 void register_controller_sim(CLI::App& app, Action& action);
+void register_error(CLI::App& app, Action& action);
+void register_optimize(CLI::App& app, Action& action);
 
 }  // namespace polarcam::cli

@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "app/job_contour.hpp"
+#include "app/job_optimize.hpp"
 #include "app/toml_section.hpp"
 #include "cam/error.hpp"
 
@@ -227,6 +228,9 @@ Job load_job(const std::string& path) {
   if (ca.present())
     prov["cartesian"] = {{"resolution_m", cs.resolution}, {"tolerance_m", cs.tolerance},
                          {"interrupt_rate_hz", cs.interrupt_rate}};
+  // [optimize]: read and checked here so that a job file has one set of keys for every command
+  Section op = top.subsection("optimize");
+  job.optimize = jobfile::parse_optimize(op);
 
   top.finish();
   job.provenance = std::move(prov);

@@ -12,6 +12,7 @@
 #include "digitizer/digitize.hpp"
 #include "digitizer/grid.hpp"
 #include "digitizer/speed_profile.hpp"
+#include "optimize/placement.hpp"
 
 namespace polarcam {
 
@@ -41,6 +42,7 @@ struct Job {
   ToolSpec tool;
   MotionSpec motion;
   CartesianSpec cartesian;
+  PlacementOptions optimize;             // [optimize]: options of `polarcam optimize` (not part of the provenance)
   nlohmann::ordered_json provenance;     // canonical description of the job (SI values, no paths)
 };
 

@@ -22,6 +22,8 @@ int main(int argc, char** argv) {
   cli::register_dda(app, action);
   cli::register_play(app, action);
   cli::register_controller_sim(app, action);
+  cli::register_error(app, action);
+  cli::register_optimize(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

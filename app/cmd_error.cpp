@@ -1,0 +1,114 @@
+// polarcam error TAPE --job JOB.toml [--json] [--segments N]
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "app/cli.hpp"
+#include "app/job.hpp"
+#include "cam/error.hpp"
+#include "digitizer/tape.hpp"
+#include "optimize/error_metrics.hpp"
+
+namespace polarcam::cli {
+namespace {
+
+std::string fmt(double v, int prec = 6) {
+  std::ostringstream os;
+  os.precision(prec);
+  os << v;
+  return os.str();
+}
+
+}  // namespace
+
+void register_error(CLI::App& app, Action& action) {
+  struct Opts {
+    std::string tape, job;
+    bool json = false;
+    int segments = 0;
+  };
+  auto o = std::make_shared<Opts>();
+  CLI::App* c = app.add_subcommand("error", "Contouring error of a step tape against its job's tool path: exact area "
+                                            "error, deviation, the thesis's F_sum, F_dif and F1");
+  c->add_option("tape", o->tape, "step tape (any rule)")->required();
+  c->add_option("--job", o->job, "the job the tape was made from (its tool path is the reference)")->required();
+  c->add_flag("--json", o->json, "print the metrics as one JSON object");
+  c->add_option("--segments", o->segments, "segments for F_sum, F_dif, F1 (default: the job's [optimize] segments, 100)")
+      ->check(CLI::Range(1, 100000));
+  c->callback([o, &action] {
+    action = [o] {
+      const Job job = load_job(o->job);
+      const ToolPathPtr path = make_job_path(job);
+      PolarTrack track;
+      try {
+        track = PolarTrack::build(*path);
+      } catch (const InputError& e) {
+        throw InputError(job.file + ": " + e.what());
+      }
+      TapeReader rd(o->tape);
+      const TapeHeader& h = rd.header();
+      if (h.axes != TapeAxes::polar)
+        throw InputError(o->tape + ": a Cartesian tape; the error metrics measure polar staircases");
+      Grid g;
+      g.dr = h.res[0];
+      g.dtheta = h.res[1];
+      g.steps_per_rev = h.steps_per_rev;
+      try {
+        g.validate();
+      } catch (const InputError& e) {
+        throw InputError(o->tape + ": " + e.what());
+      }
+      const int segments = o->segments > 0 ? o->segments : job.optimize.segments;
+      ErrorMeters em;
+      em.reset(*path, track, g, segments);
+      StepRecord r;
+      while (rd.next(r)) em.record(r.axis, r.dir);  // the reader checks totals and checksums at the end
+      ErrorMetrics m;
+      try {
+        m = em.finish(h.start[0], h.start[1]);
+      } catch (const InputError& e) {
+        throw InputError(o->tape + " against " + job.file + ": " + e.what());
+      }
+      if (o->json) {
+        nlohmann::ordered_json j;
+        j["tape"] = o->tape;
+        j["job"] = job.file;
+        j["rule"] = to_string(h.rule);
+        j["area_error_mm2"] = m.area.area_m2 * 1e6;
+        j["deviation_max_mm"] = m.deviation_max_m * 1e3;
+        j["deviation_at_mm"] = {m.deviation_at.x * 1e3, m.deviation_at.y * 1e3};
+        j["deviation_eq41_mm"] = m.deviation_eq41_m * 1e3;
+        j["F_sum"] = m.f_counts.F_sum;
+        j["F_dif"] = m.f_counts.F_dif;
+        j["F1"] = m.f_counts.F1;
+        j["F_sum_chords"] = m.f_chords.F_sum;
+        j["F_dif_chords"] = m.f_chords.F_dif;
+        j["F1_chords"] = m.f_chords.F1;
+        j["segments"] = m.segments;
+        j["steps_radial"] = m.area.radial_steps;
+        j["steps_angular"] = m.area.angular_steps;
+        j["sectors"] = m.area.sectors;
+        j["general_sectors"] = m.area.general_sectors;
+        j["radial_resolution_m"] = g.dr;
+        j["angular_resolution_rad"] = g.dtheta;
+        std::cout << j.dump(2) << "\n";
+        return 0;
+      }
+      std::ostringstream os;
+      os << "polarcam error " << o->tape << " (rule " << to_string(h.rule) << ") against " << job.file << "\n";
+      os << "  area error   " << fmt(m.area.area_m2 * 1e6) << " mm^2 (" << m.area.sectors << " sectors, "
+         << m.area.general_sectors << " by the general sweep)\n";
+      os << "  deviation    " << fmt(m.deviation_max_m * 1e3) << " mm at x = " << fmt(m.deviation_at.x * 1e3)
+         << " mm, y = " << fmt(m.deviation_at.y * 1e3) << " mm; Eq. 4.1 bound " << fmt(m.deviation_eq41_m * 1e3)
+         << " mm\n";
+      os << "  F1 (steps)   " << fmt(m.f_counts.F1) << " = F_dif " << fmt(m.f_counts.F_dif) << " / F_sum "
+         << fmt(m.f_counts.F_sum) << " over " << m.segments << " segments\n";
+      os << "  F1 (chords)  " << fmt(m.f_chords.F1) << " = " << fmt(m.f_chords.F_dif) << " / " << fmt(m.f_chords.F_sum)
+         << " (Eq. 4.15)\n";
+      std::cout << os.str();
+      return 0;
+    };
+  });
+}
+
+}  // namespace polarcam::cli

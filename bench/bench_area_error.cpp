@@ -1,0 +1,92 @@
+// (benchmark::DoNotOptimize is not used on doubles: with GCC 12 and Debian's libbenchmark 1.7 it corrupts them.)
+// Area-error throughput (steps per second, one core) on the Table 4.1 contours at the thesis's resolution
+// (0.001 in, 16000 steps per revolution), each at the thesis's optimum pole:
+//  - BM_AreaError: the meter alone, over a staircase recorded beforehand (reset, record every step, finish);
+//  - BM_AreaError/fine: the same contours on a grid 10x finer in both axes;
+//  - BM_DigitizeAndArea: what one evaluation of the optimiser costs (track, digitize into the meter, finish).
+#include <benchmark/benchmark.h>
+
+#include <numbers>
+#include <vector>
+
+#include "cam/curves.hpp"
+#include "cam/toolpath.hpp"
+#include "digitizer/digitize.hpp"
+#include "optimize/area_error.hpp"
+
+using namespace polarcam;
+
+namespace {
+
+Grid thesis_grid(double finer) {
+  Grid g;
+  g.dr = 0.0254e-3 / finer;
+  g.steps_per_rev = static_cast<int64_t>(16000 * finer);
+  g.dtheta = dtheta_from_steps(g.steps_per_rev);
+  return g;
+}
+
+ToolPathPtr contour(int which) {
+  switch (which) {
+    case 0: return make_tool_path(make_witch(0.2159, -0.2032, 0.2032), Placement{0.1546, 1.236}, {}, {});
+    case 1: return make_tool_path(make_limacon(0.0508, 0.0762), Placement{0.0127, 0.0}, {}, {});
+    default: return make_tool_path(make_serpentine(0.0127, 0.0762, -0.0762, 0.0762), Placement{0.0537, 4.247}, {}, {});
+  }
+}
+const char* kNames[] = {"witch", "limacon", "serpentine"};
+
+struct Step {
+  int8_t axis, dir;
+};
+class Recorder : public StepSink {
+ public:
+  void step(int axis, int dir, int64_t) override { steps.push_back({static_cast<int8_t>(axis), static_cast<int8_t>(dir)}); }
+  std::vector<Step> steps;
+};
+
+void BM_AreaError(benchmark::State& state) {
+  const int which = static_cast<int>(state.range(0));
+  const double finer = static_cast<double>(state.range(1));
+  auto path = contour(which);
+  Grid g = thesis_grid(finer);
+  PolarTrack tr = PolarTrack::build(*path);
+  auto prof = make_constant_speed(0.0152, tr.length());
+  Recorder rec;
+  DigitizeResult d = digitize(tr, g, StepRule::nearest, *prof, &rec);
+  PolarAreaMeter meter;
+  double area = 0;
+  for (auto _ : state) {
+    meter.reset(tr, g);
+    for (const Step& s : rec.steps) meter.record(s.axis, s.dir);
+    area = meter.finish(d.start_n, d.start_m).area_m2;
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * static_cast<int64_t>(rec.steps.size()));
+  state.SetLabel(std::string(kNames[which]) + ", " + std::to_string(rec.steps.size()) + " steps, area " +
+                 std::to_string(area * 1e6) + " mm^2");
+}
+BENCHMARK(BM_AreaError)->ArgsProduct({{0, 1, 2}, {1, 10}})->Unit(benchmark::kMillisecond);
+
+void BM_DigitizeAndArea(benchmark::State& state) {
+  const int which = static_cast<int>(state.range(0));
+  auto path = contour(which);
+  Grid g = thesis_grid(1.0);
+  PolarAreaMeter meter;
+  uint64_t steps = 0;
+  double area = 0;
+  for (auto _ : state) {
+    PolarTrack tr = PolarTrack::build(*path);
+    auto prof = make_constant_speed(0.0152, tr.length());
+    meter.reset(tr, g);
+    DigitizeResult d = digitize(tr, g, StepRule::nearest, *prof, &meter);
+    AreaErrorResult a = meter.finish(d.start_n, d.start_m);
+    steps = a.radial_steps + a.angular_steps;
+    area = a.area_m2;
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * steps));
+  state.SetLabel(std::string(kNames[which]) + ", area " + std::to_string(area * 1e6) + " mm^2");
+}
+BENCHMARK(BM_DigitizeAndArea)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,555 @@
+#include "optimize/placement.hpp"
+
+#include <nlopt.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <numbers>
+#include <sstream>
+#include <thread>
+
+#include "cam/error.hpp"
+#include "optimize/f1.hpp"
+#include "optimize/hooke_jeeves.hpp"
+
+namespace polarcam {
+
+const char* to_string(PoleMethod m) {
+  switch (m) {
+    case PoleMethod::nlopt: return "nlopt";
+    case PoleMethod::hooke_jeeves: return "hooke-jeeves";
+    default: return "automatic";
+  }
+}
+const char* to_string(PoleHold h) {
+  switch (h) {
+    case PoleHold::C: return "C";
+    case PoleHold::beta: return "beta";
+    default: return "none";
+  }
+}
+
+int default_threads() {
+  const unsigned n = std::thread::hardware_concurrency();
+  return n > 0 ? static_cast<int>(n) : 1;
+}
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kBig = 1e6;     // objective where nothing can be evaluated, before any value is known
+constexpr double kLambda = 1.0;  // penalty per mm outside the work area (mm^2 of area, or F1)
+constexpr int kStencil = 2;      // evaluations averaged per smoothed area value
+
+std::string mm(double v) {
+  std::ostringstream os;
+  os.precision(6);
+  os << v * 1e3 << " mm";
+  return os.str();
+}
+
+// Runs fn(i, evaluator) for i in [0, n) on a fixed number of threads, each with its own evaluator; a result
+// depends only on its index, so the scheduling does not matter.
+class Workers {
+ public:
+  Workers(const PoleProblem& p, int threads) : n_(std::max(1, threads)) {
+    for (int t = 0; t < n_; ++t) ev_.push_back(std::make_unique<PoleEvaluator>(p));
+  }
+  template <class Fn>
+  void run(size_t count, Fn fn) {
+    const size_t T = std::min(static_cast<size_t>(n_), count);
+    if (T <= 1) {
+      for (size_t i = 0; i < count; ++i) fn(i, *ev_[0]);
+      return;
+    }
+    std::exception_ptr err;
+    std::mutex m;
+    auto part = [&](size_t t) {
+      try {
+        for (size_t i = t; i < count; i += T) fn(i, *ev_[t]);
+      } catch (...) {
+        std::lock_guard<std::mutex> lk(m);
+        if (!err) err = std::current_exception();
+      }
+    };
+    std::vector<std::thread> th;
+    for (size_t t = 1; t < T; ++t) th.emplace_back(part, t);
+    part(0);
+    for (auto& x : th) x.join();
+    if (err) std::rethrow_exception(err);
+  }
+
+ private:
+  int n_;
+  std::vector<std::unique_ptr<PoleEvaluator>> ev_;
+};
+
+// Search coordinates: (x, y) of the pole, or beta alone (C held), or C alone (beta held).
+struct Param {
+  PoleHold hold = PoleHold::none;
+  double C = 0, beta = 0;
+  std::vector<double> lo, hi;
+  int dim() const { return hold == PoleHold::none ? 2 : 1; }
+  Vec2 pole(const std::vector<double>& t) const {
+    switch (hold) {
+      case PoleHold::C: return {C * std::cos(t[0]), C * std::sin(t[0])};
+      case PoleHold::beta: return {t[0] * std::cos(beta), t[0] * std::sin(beta)};
+      default: return {t[0], t[1]};
+    }
+  }
+  // a length along the search coordinates, in their units
+  double scale(double len) const { return hold == PoleHold::C ? len / C : len; }
+};
+
+Param make_param(const PoleProblem& p, const Placement& start, PoleHold hold, int threads) {
+  Param q;
+  q.hold = hold;
+  q.C = start.C;
+  q.beta = start.beta;
+  SearchBox b = search_box(p);
+  // the global stage searches where the constraints can be met (found from margins alone, without digitizing)
+  if (hold == PoleHold::none) b = feasible_box(p, b, 41, threads);
+  if (hold == PoleHold::none) {
+    q.lo = {b.x0, b.y0};
+    q.hi = {b.x1, b.y1};
+  } else if (hold == PoleHold::C) {
+    if (!(start.C > 0.0)) throw InputError("holding C = 0 leaves nothing to optimise (beta does not move the pole)");
+    q.lo = {start.beta - kPi};
+    q.hi = {start.beta + kPi};
+  } else {
+    // the part of the ray from O1 at angle beta inside the box
+    const double ux = std::cos(start.beta), uy = std::sin(start.beta);
+    double t0 = 0.0, t1 = std::numeric_limits<double>::infinity();
+    auto clip = [&](double u, double a, double b2) {
+      if (std::abs(u) < 1e-15) {
+        if (0.0 < a || 0.0 > b2) t1 = -1.0;
+        return;
+      }
+      double s0 = a / u, s1 = b2 / u;
+      if (s0 > s1) std::swap(s0, s1);
+      t0 = std::max(t0, s0);
+      t1 = std::min(t1, s1);
+    };
+    clip(ux, b.x0, b.x1);
+    clip(uy, b.y0, b.y1);
+    if (!(t1 > t0)) throw InputError("with beta held at " + std::to_string(start.beta) + " rad no pole position can keep "
+                                     "the path within r_max");
+    q.lo = {t0};
+    q.hi = {t1};
+  }
+  return q;
+}
+
+struct Candidate {
+  std::vector<double> t;
+  Vec2 pole;
+  PoleValue v;
+};
+
+class Search {
+ public:
+  Search(const PoleProblem& p, const Param& q, int threads) : p_(p), q_(q), workers_(p, threads) {}
+
+  // exact evaluations of several points, in parallel; offered as candidates in index order
+  std::vector<PoleValue> exact(const std::vector<std::vector<double>>& ts) {
+    std::vector<PoleValue> out(ts.size());
+    workers_.run(ts.size(), [&](size_t i, PoleEvaluator& ev) { out[i] = ev.evaluate(q_.pole(ts[i])); });
+    for (size_t i = 0; i < ts.size(); ++i) offer({ts[i], q_.pole(ts[i]), out[i]});
+    evaluations_ += static_cast<int>(ts.size());
+    return out;
+  }
+
+  // objective in search units: area in mm^2 or F1; margin in mm
+  static double scaled(const PoleProblem& p, const PoleValue& v) {
+    return p.objective == PoleObjective::area ? v.value * 1e6 : v.value;
+  }
+
+  // the smoothed value (mean of the stencil for the area) and mean margin (mm); false if not computable
+  // Where nothing can be evaluated (the path too close to the machine pole), the global stage sees twice the mean of
+  // the values seen so far: a huge constant there would hide the basin around it from DIRECT (the box's centre is
+  // often such a point: the pole on the contour).
+  double unevaluable() const { return ref_n_ > 0 ? 2.0 * ref_sum_ / ref_n_ : kBig; }
+  void seed_reference(double v) {
+    ref_sum_ += v;
+    ++ref_n_;
+  }
+
+  bool smoothed(const std::vector<double>& t, double& S, double& M) {
+    std::vector<std::vector<double>> ts;
+    if (p_.objective == PoleObjective::area) {
+      const double h = q_.scale(0.5 * p_.grid.dr);
+      for (int s : {-1, 1}) {
+        std::vector<double> x = t;
+        if (q_.dim() == 2) {
+          x[0] += s * h * std::numbers::sqrt2 / 2;
+          x[1] += s * h * std::numbers::sqrt2 / 2;
+        } else {
+          x[0] += s * h;
+        }
+        ts.push_back(x);
+      }
+    } else {
+      ts.push_back(t);
+    }
+    const std::vector<PoleValue> v = exact(ts);
+    S = 0.0;
+    M = 0.0;
+    for (const PoleValue& x : v) {
+      if (!x.computed) return false;
+      S += scaled(p_, x);
+      M += std::isfinite(x.margin) ? x.margin * 1e3 : 1e9;
+    }
+    S /= static_cast<double>(v.size());
+    M /= static_cast<double>(v.size());
+    ref_sum_ += S;
+    ++ref_n_;
+    return true;
+  }
+
+  void offer(const Candidate& c) {
+    if (!c.v.feasible()) {
+      if (c.v.computed && (!have_any_ || c.v.margin > tightest_.margin)) {
+        tightest_ = c.v;
+        have_any_ = true;
+      }
+      return;
+    }
+    if (!have_ || c.v.value < best_.v.value) {
+      best_ = c;
+      have_ = true;
+    }
+  }
+
+  bool have() const { return have_; }
+  const Candidate& best() const { return best_; }
+  int evaluations() const { return evaluations_; }
+  const PoleValue& tightest() const { return tightest_; }
+  Workers& workers() { return workers_; }
+
+ private:
+  const PoleProblem& p_;
+  const Param& q_;
+  Workers workers_;
+  Candidate best_;
+  bool have_ = false, have_any_ = false;
+  PoleValue tightest_;
+  int evaluations_ = 0;
+  double ref_sum_ = 0.0;
+  int ref_n_ = 0;
+};
+
+struct NloptCtx {
+  Search* s;
+  const PoleProblem* p;
+  bool penalised;
+  std::vector<double> last_t;
+  double last_S = 0, last_M = 0;
+  bool last_ok = false;
+  double best = std::numeric_limits<double>::infinity();
+  std::vector<double> best_t;
+
+  void eval(const std::vector<double>& t) {
+    if (t == last_t) return;
+    last_t = t;
+    last_ok = s->smoothed(t, last_S, last_M);
+  }
+  double objective(const std::vector<double>& t) {
+    eval(t);
+    const double g = last_ok ? last_S + (penalised ? kLambda * std::max(0.0, -last_M) : 0.0) : s->unevaluable();
+    const double rank = last_ok ? last_S + kLambda * std::max(0.0, -last_M) : kBig;
+    if (rank < best) {
+      best = rank;
+      best_t = t;
+    }
+    return g;
+  }
+  double constraint(const std::vector<double>& t) {
+    eval(t);
+    return last_ok ? -last_M : 1.0;  // 1 mm outside: a path too close to the pole
+  }
+};
+
+double nlopt_objective(const std::vector<double>& t, std::vector<double>&, void* d) {
+  return static_cast<NloptCtx*>(d)->objective(t);
+}
+double nlopt_constraint(const std::vector<double>& t, std::vector<double>&, void* d) {
+  return static_cast<NloptCtx*>(d)->constraint(t);
+}
+
+void run_nlopt(nlopt::opt& opt, std::vector<double>& t) {
+  double f = 0.0;
+  try {
+    opt.optimize(t, f);
+  } catch (const std::bad_alloc&) {
+    throw;
+  } catch (const std::exception&) {
+    // roundoff or a stop: the best point seen is kept by the context
+  }
+}
+
+double normal_angle(double b) {
+  b = std::fmod(b, 2.0 * kPi);
+  if (b < 0.0) b += 2.0 * kPi;
+  if (b >= 2.0 * kPi) b = 0.0;
+  return b;
+}
+
+Placement to_placement(Vec2 pole, const Param& q) {
+  Placement pl;
+  pl.C = q.hold == PoleHold::C ? q.C : norm(pole);
+  pl.beta = q.hold == PoleHold::beta ? normal_angle(q.beta) : (pl.C > 0.0 ? normal_angle(std::atan2(pole.y, pole.x)) : 0.0);
+  return pl;
+}
+
+std::vector<double> start_t(const Param& q, const Placement& start) {
+  if (q.hold == PoleHold::C) return {start.beta};
+  if (q.hold == PoleHold::beta) return {std::clamp(start.C, q.lo[0], q.hi[0])};
+  const Vec2 s = start.pole();
+  return {s.x, s.y};
+}
+
+}  // namespace
+
+SearchBox search_box(const PoleProblem& p) {
+  std::vector<Vec2> pts = segment_points(*p.path0, 2048);
+  double x0 = pts[0].x, x1 = x0, y0 = pts[0].y, y1 = y0;
+  for (const Vec2& v : pts) {
+    x0 = std::min(x0, v.x), x1 = std::max(x1, v.x), y0 = std::min(y0, v.y), y1 = std::max(y1, v.y);
+  }
+  SearchBox b;
+  if (p.grid.r_max) {
+    const double R = *p.grid.r_max;
+    b = {x1 - R, x0 + R, y1 - R, y0 + R};
+    if (!(b.x1 > b.x0) || !(b.y1 > b.y0))
+      throw InputError("the contour cannot fit in the work area: it spans " + mm(x1 - x0) + " by " + mm(y1 - y0) +
+                       ", more than twice r_max = " + mm(R));
+  } else {
+    const double s = std::max({x1 - x0, y1 - y0, 1e-3});
+    b = {x0 - s, x1 + s, y0 - s, y1 + s};
+  }
+  return b;
+}
+
+PlacementResult optimize_placement(const PoleProblem& p, const Placement& start, const PlacementOptions& o) {
+  PlacementResult res;
+  res.method = o.method != PoleMethod::automatic
+                   ? o.method
+                   : (p.objective == PoleObjective::area ? PoleMethod::nlopt : PoleMethod::hooke_jeeves);
+  const int threads = o.threads > 0 ? o.threads : default_threads();
+  const Param q = make_param(p, start, o.hold, threads);
+  Search s(p, q, threads);
+  const double dr = p.grid.dr;
+  const bool area = p.objective == PoleObjective::area;
+
+  // the job's own placement is a candidate too
+  const std::vector<double> t0 = start_t(q, start);
+  res.start = s.exact({t0})[0];
+  if (res.start.computed) s.seed_reference(Search::scaled(p, res.start));
+
+  if (res.method == PoleMethod::hooke_jeeves) {
+    const int budget = o.max_evaluations > 0 ? o.max_evaluations : 400;
+    std::vector<double> x0 = t0;
+    if (!res.start.feasible()) {
+      // a feasible start: the best point of a 7 x 7 (or 49-point) lattice over the search range
+      std::vector<std::vector<double>> ts;
+      for (int i = 0; i < 49; ++i) {
+        if (q.dim() == 2)
+          ts.push_back({q.lo[0] + (q.hi[0] - q.lo[0]) * ((i % 7) + 0.5) / 7, q.lo[1] + (q.hi[1] - q.lo[1]) * ((i / 7) + 0.5) / 7});
+        else
+          ts.push_back({q.lo[0] + (q.hi[0] - q.lo[0]) * (i + 0.5) / 49});
+      }
+      const auto v = s.exact(ts);
+      int bi = -1;
+      for (int i = 0; i < 49; ++i)
+        if (v[static_cast<size_t>(i)].feasible() && (bi < 0 || v[static_cast<size_t>(i)].value < v[static_cast<size_t>(bi)].value)) bi = i;
+      if (bi >= 0) x0 = ts[static_cast<size_t>(bi)];
+      res.stages.push_back({"feasible start (7 x 7 lattice)", 49, bi >= 0 ? Search::scaled(p, v[static_cast<size_t>(bi)]) : 0.0});
+    }
+    HookeJeevesOptions hj;
+    hj.step.assign(static_cast<size_t>(q.dim()), q.scale(o.hj_step));
+    hj.min_step.assign(static_cast<size_t>(q.dim()), q.scale(o.hj_min_step));
+    hj.reduction = o.hj_reduction;
+    hj.acceleration = o.hj_acceleration;
+    hj.max_evaluations = budget;
+    auto f = [&](const std::vector<double>& t) {
+      const PoleValue v = s.exact({t})[0];
+      return v.feasible() ? Search::scaled(p, v) : std::numeric_limits<double>::infinity();
+    };
+    const HookeJeevesResult r = hooke_jeeves(f, x0, hj);
+    for (const auto& b : r.bases) res.path.push_back(q.pole(b));
+    res.stages.push_back({"Hooke-Jeeves", r.evaluations, r.f});
+  } else {
+    // default budget: about 1.6e7 digitized steps in all (deterministic: it depends on the job only)
+    int E = o.max_evaluations;
+    if (E <= 0) {
+      E = area ? 720 : 600;
+      if (area && res.start.computed && res.start.steps > 0)
+        E = static_cast<int>(std::clamp(1.2e7 / static_cast<double>(res.start.steps), 200.0, 4000.0));
+    }
+    const int k = area ? kStencil : 1;
+    const int n1 = std::max(10, static_cast<int>(std::lround((area ? 0.30 : 0.6) * E / k)));
+    const int n2 = std::max(5, static_cast<int>(std::lround((area ? 0.15 : 0.4) * E / k)));
+    const size_t dim = static_cast<size_t>(q.dim());
+
+    // global: DIRECT-L on the smoothed, penalised objective
+    NloptCtx g{&s, &p, true, {}, 0, 0, false, std::numeric_limits<double>::infinity(), {}};
+    {
+      nlopt::opt opt(nlopt::GN_DIRECT_L, static_cast<unsigned>(dim));
+      opt.set_lower_bounds(q.lo);
+      opt.set_upper_bounds(q.hi);
+      opt.set_min_objective(nlopt_objective, &g);
+      opt.set_maxeval(n1);
+      std::vector<double> t(dim);
+      for (size_t i = 0; i < dim; ++i) t[i] = 0.5 * (q.lo[i] + q.hi[i]);
+      const int before = s.evaluations();
+      run_nlopt(opt, t);
+      res.stages.push_back({"DIRECT-L (global)", s.evaluations() - before, g.best});
+    }
+    if (g.best_t.empty()) g.best_t = t0;
+
+    // local: COBYLA from the best global point, the margin as constraint
+    NloptCtx l{&s, &p, false, {}, 0, 0, false, std::numeric_limits<double>::infinity(), {}};
+    std::vector<double> tl = g.best_t;
+    {
+      nlopt::opt opt(nlopt::LN_COBYLA, static_cast<unsigned>(dim));
+      opt.set_lower_bounds(q.lo);
+      opt.set_upper_bounds(q.hi);
+      opt.set_min_objective(nlopt_objective, &l);
+      opt.add_inequality_constraint(nlopt_constraint, &l, 0.0);
+      opt.set_maxeval(n2);
+      double diag = 0.0;
+      for (size_t i = 0; i < dim; ++i) diag += (q.hi[i] - q.lo[i]) * (q.hi[i] - q.lo[i]);
+      diag = std::sqrt(diag);
+      const double step = q.hold == PoleHold::C ? std::clamp(diag / 30, q.scale(1e-3), q.scale(1e-2))
+                                                : std::clamp(diag / 30, 1e-3, 1e-2);
+      opt.set_initial_step(std::vector<double>(dim, step));
+      opt.set_xtol_abs(std::vector<double>(dim, q.scale(dr)));
+      for (size_t i = 0; i < dim; ++i) tl[i] = std::clamp(tl[i], q.lo[i], q.hi[i]);
+      const int before = s.evaluations();
+      run_nlopt(opt, tl);
+      res.stages.push_back({"COBYLA (local)", s.evaluations() - before, l.best});
+      if (!l.best_t.empty()) tl = l.best_t;
+    }
+
+    if (area) {
+      // sampling: a fixed pattern of points in a disc of 20 DeltaR about the local optimum
+      const int left = E - s.evaluations();
+      const int ns = std::max(0, left * 2 / 3);
+      if (ns > 0) {
+        const double rho = q.scale(20.0 * dr);
+        std::vector<std::vector<double>> ts;
+        const double golden = kPi * (3.0 - std::sqrt(5.0));
+        for (int i = 0; i < ns; ++i) {
+          if (dim == 2) {
+            const double r = rho * std::sqrt((i + 0.5) / ns), a = golden * i;
+            ts.push_back({tl[0] + r * std::cos(a), tl[1] + r * std::sin(a)});
+          } else {
+            ts.push_back({tl[0] + rho * (2.0 * (i + 0.5) / ns - 1.0)});
+          }
+        }
+        const int before = s.evaluations();
+        s.exact(ts);
+        res.stages.push_back({"sampling (disc of 20 dR)", s.evaluations() - before,
+                              s.have() ? Search::scaled(p, s.best().v) : 0.0});
+      }
+      // polish: compass search on the exact area from the best point, all 2 x dim polls at once
+      if (s.have()) {
+        std::vector<double> t = s.best().t;
+        double f = s.best().v.value;
+        double h = q.scale(0.5 * dr);
+        const double hmin = q.scale(dr / 1024.0);
+        const int before = s.evaluations();
+        while (h >= hmin && E - s.evaluations() >= static_cast<int>(2 * dim)) {
+          std::vector<std::vector<double>> ts;
+          for (size_t i = 0; i < dim; ++i)
+            for (int sg : {-1, 1}) {
+              std::vector<double> x = t;
+              x[i] += sg * h;
+              ts.push_back(x);
+            }
+          const std::vector<PoleValue> v = s.exact(ts);
+          int bi = -1;
+          for (size_t i = 0; i < v.size(); ++i)
+            if (v[i].feasible() && v[i].value < f && (bi < 0 || v[i].value < v[static_cast<size_t>(bi)].value))
+              bi = static_cast<int>(i);
+          if (bi >= 0) {
+            t = ts[static_cast<size_t>(bi)];
+            f = v[static_cast<size_t>(bi)].value;
+          } else {
+            h *= 0.5;
+          }
+        }
+        res.stages.push_back({"compass polish", s.evaluations() - before, Search::scaled(p, s.best().v)});
+      }
+    }
+  }
+
+  if (!s.have()) {
+    std::string why = s.tightest().why.empty() ? "the path runs through the machine pole" : s.tightest().why;
+    throw InputError("no pole position found that keeps the path inside the work area (the tightest constraint, " +
+                     why + ", is missed by " + mm(-s.tightest().margin) + " at best)");
+  }
+  res.pole = s.best().pole;
+  res.placement = to_placement(res.pole, q);
+  res.at = s.best().v;
+  res.evaluations = s.evaluations();
+  if (!area) {
+    PoleEvaluator ev(p);
+    const PoleValue a = ev.area(res.pole);
+    res.at.area_m2 = a.area_m2;
+    res.at.steps = a.steps;
+  }
+  res.f1 = f1_chords(p.f1_points, res.pole, p.grid.dr, p.grid.dtheta).F1;
+  return res;
+}
+
+SearchBox feasible_box(const PoleProblem& p, const SearchBox& box, int n, int threads) {
+  n = std::max(n, 2);
+  std::vector<char> ok(static_cast<size_t>(n) * static_cast<size_t>(n), 0);
+  Workers w(p, threads > 0 ? threads : default_threads());
+  auto at = [&](int ix, int iy) {
+    return Vec2{box.x0 + (box.x1 - box.x0) * ix / (n - 1), box.y0 + (box.y1 - box.y0) * iy / (n - 1)};
+  };
+  w.run(ok.size(), [&](size_t i, PoleEvaluator& ev) {
+    const int ix = static_cast<int>(i % static_cast<size_t>(n)), iy = static_cast<int>(i / static_cast<size_t>(n));
+    ok[i] = ev.margin(at(ix, iy)).feasible() ? 1 : 0;
+  });
+  int x0 = n, x1 = -1, y0 = n, y1 = -1;
+  for (int iy = 0; iy < n; ++iy)
+    for (int ix = 0; ix < n; ++ix)
+      if (ok[static_cast<size_t>(iy) * static_cast<size_t>(n) + static_cast<size_t>(ix)]) {
+        x0 = std::min(x0, ix), x1 = std::max(x1, ix), y0 = std::min(y0, iy), y1 = std::max(y1, iy);
+      }
+  if (x1 < 0) return box;
+  const Vec2 a = at(std::max(x0 - 1, 0), std::max(y0 - 1, 0)), b = at(std::min(x1 + 1, n - 1), std::min(y1 + 1, n - 1));
+  return {a.x, b.x, a.y, b.y};
+}
+
+ObjectiveMap objective_map(const PoleProblem& p, const SearchBox& box, int nx, int ny, int threads) {
+  if (nx < 2 || ny < 2) throw InputError("a map needs at least 2 x 2 points");
+  ObjectiveMap m;
+  m.box = box;
+  m.nx = nx;
+  m.ny = ny;
+  const size_t n = static_cast<size_t>(nx) * static_cast<size_t>(ny);
+  m.value.assign(n, std::numeric_limits<double>::quiet_NaN());
+  m.area.assign(n, std::numeric_limits<double>::quiet_NaN());
+  m.margin.assign(n, std::numeric_limits<double>::quiet_NaN());
+  Workers w(p, threads > 0 ? threads : default_threads());
+  w.run(n, [&](size_t i, PoleEvaluator& ev) {
+    const int ix = static_cast<int>(i % static_cast<size_t>(nx)), iy = static_cast<int>(i / static_cast<size_t>(nx));
+    const Vec2 pole{box.x0 + (box.x1 - box.x0) * ix / (nx - 1), box.y0 + (box.y1 - box.y0) * iy / (ny - 1)};
+    const PoleValue v = ev.evaluate_feasible(pole);
+    if (!v.computed) return;
+    m.margin[i] = v.margin;
+    if (v.area_m2 >= 0.0) m.area[i] = v.area_m2;
+    if (v.feasible()) m.value[i] = v.value;
+  });
+  return m;
+}
+
+}  // namespace polarcam

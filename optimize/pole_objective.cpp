@@ -1,0 +1,155 @@
+#include "optimize/pole_objective.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "cam/error.hpp"
+#include "optimize/f1.hpp"
+
+namespace polarcam {
+
+const char* to_string(PoleObjective o) { return o == PoleObjective::area ? "area" : "f1"; }
+
+namespace {
+
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+
+class Translated final : public Curve {
+ public:
+  Translated(CurvePtr base, Vec2 off)
+      : Curve(base->u_begin(), base->u_end(), base->closed(), base->name()), base_(std::move(base)), off_(off) {}
+  CurvePoint eval(double u, int order) const override {
+    CurvePoint c = base_->eval(u, order);
+    c.p = c.p + off_;
+    return c;
+  }
+  std::vector<double> breakpoints() const override { return base_->breakpoints(); }
+
+ private:
+  CurvePtr base_;
+  Vec2 off_;
+};
+
+}  // namespace
+
+CurvePtr translated(CurvePtr base, Vec2 offset) { return std::make_shared<Translated>(std::move(base), offset); }
+
+PoleProblem make_pole_problem(CurvePtr path0, const Grid& grid, StepRule rule, PoleObjective objective, int segments,
+                              bool pole_outside) {
+  PoleProblem p;
+  p.path0 = std::move(path0);
+  p.grid = grid;
+  p.rule = rule;
+  p.objective = objective;
+  p.segments = segments;
+  p.f1_points = segment_points(*p.path0, segments);
+  p.polyline = segment_points(*p.path0, 4096);
+  for (const Vec2& v : p.polyline) p.coordinate_scale = std::max(p.coordinate_scale, norm(v));
+  if (pole_outside) {
+    if (!p.path0->closed()) throw InputError("the constraint 'pole outside the contour' needs a closed contour");
+    // the polygon: the path sampled finely (chord error below a micrometre for radii of curvature above 1 cm)
+    std::vector<Vec2> poly;
+    const int n = 4096;
+    for (int i = 0; i < n; ++i)
+      poly.push_back(p.path0->eval(p.path0->u_begin() + (p.path0->u_end() - p.path0->u_begin()) * i / n, 0).p);
+    p.keep_outside = std::make_shared<ContourInside>(std::move(poly));
+  }
+  return p;
+}
+
+double work_area_margin(const PolarTrack& tr, const Grid& g, std::string* why) {
+  double m = std::numeric_limits<double>::infinity();
+  auto take = [&](double v, const char* w) {
+    if (v < m) {
+      m = v;
+      if (why) *why = w;
+    }
+  };
+  const double rmin = tr.r_min().value, rmax = tr.r_max().value;
+  if (g.r_min > 0.0) take(rmin - g.r_min, "r_min");
+  if (g.r_max) take(*g.r_max - rmax, "r_max");
+  if (g.theta_min) {
+    // the whole turns that centre the path's angles in the range are the best branch
+    const double lo = tr.theta_min().value, hi = tr.theta_max().value;
+    const double kc = ((*g.theta_min + *g.theta_max) - (lo + hi)) / (2.0 * kTwoPi);
+    double best = -std::numeric_limits<double>::infinity();
+    for (double k : {std::floor(kc), std::ceil(kc)})
+      best = std::max(best, std::min(lo + kTwoPi * k - *g.theta_min, *g.theta_max - hi - kTwoPi * k));
+    take(best * rmax, "theta range");
+  }
+  return m;
+}
+
+PoleEvaluator::PoleEvaluator(const PoleProblem& p) : p_(p), unlimited_(p.grid) {
+  unlimited_.r_min = 0.0;
+  unlimited_.r_max.reset();
+  unlimited_.theta_min.reset();
+  unlimited_.theta_max.reset();
+}
+
+PoleValue PoleEvaluator::evaluate(Vec2 pole) { return run(pole, p_.objective == PoleObjective::area, true); }
+PoleValue PoleEvaluator::evaluate_feasible(Vec2 pole) {
+  return run(pole, p_.objective == PoleObjective::area, true, true);
+}
+PoleValue PoleEvaluator::area(Vec2 pole) { return run(pole, true, true); }
+PoleValue PoleEvaluator::margin(Vec2 pole) { return run(pole, false, false); }
+
+PoleValue PoleEvaluator::run(Vec2 pole, bool want_area, bool want_value, bool only_feasible) {
+  PoleValue out;
+  if (!std::isfinite(pole.x) || !std::isfinite(pole.y)) {
+    out.why = "not finite";
+    return out;
+  }
+  if (!p_.polyline.empty()) {
+    const double clear = kPoleClearance * (p_.coordinate_scale + norm(pole));
+    double d2 = std::numeric_limits<double>::infinity();
+    for (size_t i = 0; i + 1 < p_.polyline.size(); ++i) {
+      const Vec2 a = p_.polyline[i] - pole, d = p_.polyline[i + 1] - p_.polyline[i];
+      const double l2 = dot(d, d), s = l2 > 0.0 ? std::clamp(-dot(a, d) / l2, 0.0, 1.0) : 0.0;
+      const Vec2 q = a + s * d;
+      d2 = std::min(d2, dot(q, q));
+    }
+    if (d2 < clear * clear) {
+      out.why = "the path passes within " + std::to_string(std::sqrt(d2) * 1e3) + " mm of the machine pole";
+      return out;
+    }
+  }
+  CurvePtr path = translated(p_.path0, -pole);
+  PolarTrack tr;
+  try {
+    tr = PolarTrack::build(*path);
+  } catch (const InputError&) {
+    out.why = "the path runs through the machine pole";
+    return out;
+  }
+  out.margin = work_area_margin(tr, p_.grid, &out.why);
+  if (p_.keep_outside) {
+    const double d = p_.keep_outside->boundary_distance(pole);
+    const double m = p_.keep_outside->inside(pole) ? -d : d;
+    if (m < out.margin) {
+      out.margin = m;
+      out.why = "pole outside the contour";
+    }
+  }
+  if (only_feasible && !(out.margin >= 0.0)) {
+    out.computed = true;
+    return out;
+  }
+  if (want_area) {
+    meter_.reset(tr, unlimited_);
+    auto prof = make_constant_speed(1.0, tr.length());  // step times do not matter here
+    const DigitizeResult d = digitize(tr, unlimited_, p_.rule, *prof, &meter_);
+    const AreaErrorResult a = meter_.finish(d.start_n, d.start_m);
+    out.area_m2 = a.area_m2;
+    out.steps = a.radial_steps + a.angular_steps;
+  }
+  out.computed = true;
+  if (want_value)
+    out.value = p_.objective == PoleObjective::area ? out.area_m2
+                                                     : f1_chords(p_.f1_points, pole, p_.grid.dr, p_.grid.dtheta).F1;
+  return out;
+}
+
+}  // namespace polarcam
