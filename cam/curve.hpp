@@ -31,6 +31,11 @@ class Curve {
   // arcs, seams). Approximation and root finding never straddle them. Sorted, strictly inside (u_begin, u_end).
   virtual std::vector<double> breakpoints() const { return {}; }
 
+  // Size of the numbers a position is computed from, beyond the position itself (metres): a point of a placed
+  // tool path is P + d N - O, so it carries rounding errors of about eps (|P| + |d| + |O|) even where it is
+  // close to the origin. Approximation tolerances use it; 0 for a curve evaluated directly.
+  virtual double rounding_scale() const { return 0.0; }
+
  protected:
   Curve(double u0, double u1, bool closed, std::string name)
       : u0_(u0), u1_(u1), closed_(closed), name_(std::move(name)) {}

@@ -39,6 +39,7 @@ class ToolPath final : public Curve {
   // Derivatives up to order 3 without offset, up to order 2 with an offset (order 3 is then zero).
   CurvePoint eval(double u, int order) const override;
   std::vector<double> breakpoints() const override { return breaks_; }
+  double rounding_scale() const override { return norm(pole_) + std::abs(d_) + contour_->rounding_scale(); }
 
   // Parameter of the underlying contour (before reversal and start shift) for a tool-path parameter.
   double contour_parameter(double u) const;

@@ -15,6 +15,7 @@ constexpr int N = kChebMaxDegree;
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr int kMaxDepth = 48;
+constexpr long kMaxFits = 20'000'000;  // about 2 GB of pieces: beyond this the path is not something to machine
 constexpr double kPoleDistance = 1e-9;  // m: a path this close to the pole passes through it
 
 std::string where(const Curve& c, double u) {
@@ -33,7 +34,7 @@ struct Sample {
 
 class Builder {
  public:
-  explicit Builder(const Curve& c) : c_(c) {}
+  explicit Builder(const Curve& c) : c_(c), scale_(c.rounding_scale()) {}
 
   // Samples the path at u; the angle is unwrapped against `ref_th` (the angle of a nearby sample).
   Sample sample(double u, double ref_th) {
@@ -50,6 +51,9 @@ class Builder {
   // Fits [a, b] with degree 8, then 16; on failure splits and recurses, left first, so pieces come out in order
   // of u. `b.th` is re-unwrapped here; the caller takes the piece's th_b as the next piece's start angle.
   void fit(const Sample& a, const Sample& b, int depth, std::vector<TrackPiece>& out) {
+    if (++fits_ > kMaxFits)
+      throw InputError("cannot resolve the path near " + where(c_, a.u) + ": it needs more than " +
+                       std::to_string(kMaxFits) + " pieces (it passes too close to the machine pole or is not smooth)");
     const auto& tp = cheb_points();  // t_j from +1 (j = 0) to -1 (j = N)
     std::array<Sample, N + 1> s;
     s[N] = a;
@@ -72,7 +76,7 @@ class Builder {
       ok = ok && std::abs(s[j].th - s[j + 1].th) <= kJump && std::abs(s[j].th - s[j - 1].th) <= kJump;
     }
     if (ok && try_fit(s, 1, a, half, pc)) return accept(pc, a, s[0], out);
-    if (depth >= kMaxDepth)
+    if (depth >= kMaxDepth || !(mid > a.u && mid < b.u))
       throw InputError("cannot resolve the path near " + where(c_, mid) +
                        ": it passes too close to the machine pole or is not smooth there");
     const Sample& m = s[N / 2];  // t = 0 is the midpoint
@@ -84,12 +88,15 @@ class Builder {
 
  private:
   // Fits the samples s[0], s[stride], ... (stride 2: degree 8; stride 1: degree 16). True when converged.
-  static bool try_fit(const std::array<Sample, N + 1>& s, int stride, const Sample& a, double half, TrackPiece& pc) {
+  // Tolerances are a few units in the last place of the numbers r and theta come from: r itself and, for a
+  // placed path, the pole distance and tool radius (rounding_scale), which dominate near the pole.
+  bool try_fit(const std::array<Sample, N + 1>& s, int stride, const Sample& a, double half, TrackPiece& pc) const {
     const int n = N / stride;
     std::array<double, N + 1> fr{}, ft{}, fv{};
-    double mr = 0, mt = 0, mv = 0;
+    double mr = 0, mt = 0, mv = 0, rmin = a.r;
     for (int j = 0; j <= n; ++j) {
       const Sample& x = s[j * stride];
+      rmin = std::min(rmin, x.r);
       fr[j] = x.r - a.r;
       ft[j] = x.th - a.th;
       fv[j] = x.v * half;
@@ -100,8 +107,8 @@ class Builder {
     pc.R = cheb_fit(fr.data(), n);
     pc.Th = cheb_fit(ft.data(), n);
     pc.V = cheb_fit(fv.data(), n);
-    const double tol_r = 16 * kEps * (std::abs(a.r) + mr) + 1e-300;
-    const double tol_t = 16 * kEps * (std::abs(a.th) + mt + 1.0) + 1e-300;
+    const double tol_r = 16 * kEps * (std::abs(a.r) + mr + scale_) + 1e-300;
+    const double tol_t = 16 * kEps * (std::abs(a.th) + mt + 1.0 + scale_ / rmin) + 1e-300;
     const double tol_v = 1e-14 * mv + 1e-300;
     if (cheb_tail(pc.R) > tol_r || cheb_tail(pc.Th) > tol_t || cheb_tail(pc.V) > tol_v) return false;
     cheb_chop(pc.R, tol_r);
@@ -125,6 +132,8 @@ class Builder {
   }
 
   const Curve& c_;
+  double scale_;
+  long fits_ = 0;
 };
 
 }  // namespace

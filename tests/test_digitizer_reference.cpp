@@ -64,6 +64,9 @@ std::vector<Case> seed_cases(bool thesis_rule) {
   return {
       {"limacon", make_limacon(0.0508, 0.0762), {C, beta}, limacon_ref(0.0508L, 0.0762L, (LD)C, (LD)beta), 0,
        2 * kPi, 400000},
+      // passing 0.25 mm from the pole (a pole the optimiser once found to hang an earlier track builder)
+      {"limacon_near_pole", make_limacon(0.0508, 0.0762), {0.025647183713040183, 3.144349711381903},
+       limacon_ref(0.0508L, 0.0762L, 0.025647183713040183L, 3.144349711381903L), 0, 2 * kPi, 400000},
       {"limacon_ch5", make_limacon(0.0508, 0.0762), {0.1778, 3 * std::numbers::pi / 4},
        limacon_ref(0.0508L, 0.0762L, 0.1778L, 3 * kPi / 4), 0, 2 * kPi, 200000},
       {"witch", make_witch(0.2159, -0.2032, 0.2032), {0.1546, 1.236}, witch_ref(0.2159L, 0.1546L, 1.236L), -0.2032L,
