@@ -188,7 +188,7 @@ std::vector<StepWindow> step_windows(const PlayPlan& plan, uint64_t tick_ps) {
     for (size_t k = 0; k + 1 < m; ++k) {
       const size_t a = i + k;
       const int d = delta(a);
-      const int64_t half = static_cast<int64_t>(floor_div(X[a] + X[a + 1], 2 * D));
+      const int64_t half = static_cast<int64_t>(floor_div(X[a] + X[a + 1] + (1 - d) * D, 2 * D));
       const int64_t s = std::clamp(half, std::max(from, L[k + 1] - d), std::min(U[k], U[k + 1] - d));
       w[a].lo = from;
       w[a].hi = s;
