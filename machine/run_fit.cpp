@@ -228,12 +228,14 @@ int64_t candidate(double centre_ticks, int64_t predicted, int shift) {
 
 }  // namespace
 
-RunProposal propose_run(const StepWindow* w, uint32_t limit, i128 clock, const RunRef& ref) {
+RunProposal propose_run(const StepWindow* w, uint32_t limit, i128 clock, const RunRef& ref, const RunShape& shape) {
   RunProposal out;
   if (limit == 0) return out;
   const Bands bands(w, limit, clock);
   // grow the run while a cubic still fits every band
   Fit cur;
+  cur.free[0] = shape.offset;
+  cur.free[3] = shape.cubic;
   uint32_t n = 0;
   for (uint32_t k = 1; k <= limit; ++k) {
     if (n > 0 && bands.inside(cur, k)) {
@@ -256,6 +258,7 @@ RunProposal propose_run(const StepWindow* w, uint32_t limit, i128 clock, const R
   const int64_t predicted[kBasis] = {0, ref.interval, ref.add, ref.add2};
   int64_t chosen[kBasis] = {0, 0, 0, 0};
   for (int j = kBasis - 1; j >= 0; --j) {
+    if (!cur.free[j]) continue;  // not in this shape: zero
     const double centre = cur.c[j];
     auto test = [&](int64_t v, Fit& t) {
       t = cur;

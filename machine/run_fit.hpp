@@ -23,7 +23,9 @@ struct RunProposal {
 };
 
 // w[0 .. limit-1]: the windows of the next steps of one axis (same direction); clock: the axis clock (32.32
-// ticks, absolute) before the run; ref: the wire's prediction of the next run (the previous one continued).
-RunProposal propose_run(const StepWindow* w, uint32_t limit, i128 clock, const RunRef& ref);
+// ticks, absolute) before the run; ref: the wire's prediction of the next run (the previous one continued);
+// shape: which coefficients may be used (the others stay zero).
+RunProposal propose_run(const StepWindow* w, uint32_t limit, i128 clock, const RunRef& ref,
+                        const RunShape& shape = RunShape{});
 
 }  // namespace polarcam

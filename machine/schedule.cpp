@@ -50,7 +50,7 @@ uint32_t execute_checked(const QueueItem& it, const StepWindow* w, AxisClock& cl
 }
 
 // Compresses the steps of one axis (their windows, directions and plan indices) into runs and waits.
-void compress_axis(const PlayPlan& plan, uint64_t tick_ps, int axis, std::vector<StepWindow>& w,
+void compress_axis(const PlayPlan& plan, uint64_t tick_ps, const RunShape& shape, int axis, std::vector<StepWindow>& w,
                    const std::vector<int8_t>& dir, const std::vector<size_t>& index, AxisItems& out, Schedule& sc) {
   auto too_close = [&](size_t pos) {
     const PlayStep& s = plan.steps[index[pos]];
@@ -87,7 +87,7 @@ void compress_axis(const PlayPlan& plan, uint64_t tick_ps, int axis, std::vector
            w[pos + limit].hi - static_cast<int64_t>(clk.base) < kMaxSpanTicks)
       ++limit;
     const i128 C = (static_cast<i128>(clk.base) << kFracBits) + clk.frac;
-    const RunProposal p = propose_run(&w[pos], limit, C, ref);
+    const RunProposal p = propose_run(&w[pos], limit, C, ref, shape);
     QueueItem it;
     it.kind = ItemKind::run;
     it.axis = static_cast<uint8_t>(axis);
@@ -203,7 +203,7 @@ std::vector<StepWindow> step_windows(const PlayPlan& plan, uint64_t tick_ps) {
 
 // ------------------------------------------------------------------------------------------- compression
 
-Schedule compress_schedule(const PlayPlan& plan, uint64_t tick_ps) {
+Schedule compress_schedule(const PlayPlan& plan, uint64_t tick_ps, const RunShape& shape) {
   const std::vector<StepWindow> all = step_windows(plan, tick_ps);
   Schedule sc;
   sc.tick_ps = tick_ps;
@@ -218,7 +218,7 @@ Schedule compress_schedule(const PlayPlan& plan, uint64_t tick_ps) {
         dir.push_back(plan.steps[k].dir);
         index.push_back(k);
       }
-    compress_axis(plan, tick_ps, axis, w, dir, index, axes[axis], sc);
+    compress_axis(plan, tick_ps, shape, axis, w, dir, index, axes[axis], sc);
   }
   // sending order: always the axis whose queued schedule ends sooner
   size_t k0 = 0, k1 = 0;

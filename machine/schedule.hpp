@@ -108,9 +108,16 @@ struct Schedule {
 // Throws InputError when two steps are closer than the controller can order (speed scale too high for its tick).
 std::vector<StepWindow> step_windows(const PlayPlan& plan, uint64_t tick_ps);
 
+// The runs the compressor may use: cubic runs with a free offset (the default), or the simpler shapes it was
+// measured against (docs/benchmarks.md): quadratic (add2 = 0), anchored at the previous run's end (offset = 0).
+struct RunShape {
+  bool offset = true;
+  bool cubic = true;
+};
+
 // Compresses the plan into queue items. Throws InputError when a step cannot be placed (an axis would have to
 // step twice within one tick).
-Schedule compress_schedule(const PlayPlan& plan, uint64_t tick_ps);
+Schedule compress_schedule(const PlayPlan& plan, uint64_t tick_ps, const RunShape& shape = RunShape{});
 
 // Executes items of one axis and returns the tick of each step (the controller's arithmetic, for tests and the
 // simulated machine).
