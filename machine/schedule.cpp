@@ -54,11 +54,13 @@ void compress_axis(const PlayPlan& plan, uint64_t tick_ps, const RunShape& shape
                    const std::vector<int8_t>& dir, const std::vector<size_t>& index, AxisItems& out, Schedule& sc) {
   auto too_close = [&](size_t pos) {
     const PlayStep& s = plan.steps[index[pos]];
+    const std::string what = pos == 0 ? ") comes within the first controller tick after the start"
+                                      : std::string(") comes less than one controller tick after the previous ") +
+                                            axis_name(axis) + " step";
     return InputError(plan.tape + ": machine step " + std::to_string(index[pos] + 1) + " (" + axis_name(axis) +
-                      ", from tape record " + std::to_string(s.record) +
-                      ") comes less than one controller tick after the previous " + axis_name(axis) +
-                      " step at speed scale " + to_string(plan.scaling.speed) + " (tick " +
-                      std::to_string(tick_ps / 1000.0) + " ns): use a lower speed scale or a finer tick");
+                      ", from tape record " + std::to_string(s.record) + what + " at speed scale " +
+                      to_string(plan.scaling.speed) + " (tick " + std::to_string(tick_ps / 1000.0) +
+                      " ns): use a lower speed scale or a finer tick");
   };
   // An axis steps at most once a tick, and never at tick 0 (the first interval is at least one tick): every tick
   // sequence in the windows is strictly increasing, so the windows can be narrowed to that first.
