@@ -23,6 +23,38 @@ i128 ceil_div(i128 a, i128 b) {  // b > 0
 
 const char* axis_name(int a) { return a == 0 ? "radial" : "angular"; }
 
+// Plan step i cannot be placed after the previous step of its axis (first: after the start).
+InputError too_close(const PlayPlan& plan, uint64_t tick_ps, size_t i, bool first) {
+  const PlayStep& s = plan.steps[i];
+  const std::string what = first ? ") comes within the first controller tick after the start"
+                                 : std::string(") comes less than one controller tick after the previous ") +
+                                       axis_name(s.axis) + " step";
+  return InputError(plan.tape + ": machine step " + std::to_string(i + 1) + " (" + axis_name(s.axis) +
+                    ", from tape record " + std::to_string(s.record) + what + " at speed scale " +
+                    to_string(plan.scaling.speed) + " (tick " + std::to_string(tick_ps / 1000.0) +
+                    " ns): use a lower speed scale or a finer tick");
+}
+
+// An axis steps at most once a tick, and never at tick 0 (its first interval is at least one tick): every valid
+// tick sequence in the windows is strictly increasing, so the windows of each axis can be narrowed to that.
+// `index` lists the plan steps of one axis in order. The forward pass finds the first step that cannot be placed;
+// after it, the backward pass cannot empty a window.
+void narrow_axis(const PlayPlan& plan, uint64_t tick_ps, std::vector<StepWindow>& w, const std::vector<size_t>& index) {
+  for (size_t k = 0; k < index.size(); ++k) {
+    StepWindow& c = w[index[k]];
+    c.lo = std::max(c.lo, k == 0 ? int64_t{1} : w[index[k - 1]].lo + 1);
+    if (c.lo > c.hi) throw too_close(plan, tick_ps, index[k], k == 0);
+  }
+  for (size_t k = index.size(); k-- > 1;) w[index[k - 1]].hi = std::min(w[index[k - 1]].hi, w[index[k]].hi - 1);
+}
+
+std::vector<size_t> axis_steps(const PlayPlan& plan, int axis) {
+  std::vector<size_t> v;
+  for (size_t k = 0; k < plan.steps.size(); ++k)
+    if (plan.steps[k].axis == axis) v.push_back(k);
+  return v;
+}
+
 struct AxisItems {
   std::vector<QueueItem> items;
   std::vector<uint64_t> horizon, nsteps;
@@ -50,25 +82,9 @@ uint32_t execute_checked(const QueueItem& it, const StepWindow* w, AxisClock& cl
 }
 
 // Compresses the steps of one axis (their windows, directions and plan indices) into runs and waits.
-void compress_axis(const PlayPlan& plan, uint64_t tick_ps, const RunShape& shape, int axis, std::vector<StepWindow>& w,
-                   const std::vector<int8_t>& dir, const std::vector<size_t>& index, AxisItems& out, Schedule& sc) {
-  auto too_close = [&](size_t pos) {
-    const PlayStep& s = plan.steps[index[pos]];
-    const std::string what = pos == 0 ? ") comes within the first controller tick after the start"
-                                      : std::string(") comes less than one controller tick after the previous ") +
-                                            axis_name(axis) + " step";
-    return InputError(plan.tape + ": machine step " + std::to_string(index[pos] + 1) + " (" + axis_name(axis) +
-                      ", from tape record " + std::to_string(s.record) + what + " at speed scale " +
-                      to_string(plan.scaling.speed) + " (tick " + std::to_string(tick_ps / 1000.0) +
-                      " ns): use a lower speed scale or a finer tick");
-  };
-  // An axis steps at most once a tick, and never at tick 0 (the first interval is at least one tick): every tick
-  // sequence in the windows is strictly increasing, so the windows can be narrowed to that first.
-  for (size_t k = 0; k < w.size(); ++k) w[k].lo = std::max(w[k].lo, k == 0 ? int64_t{1} : w[k - 1].lo + 1);
-  for (size_t k = w.size(); k-- > 1;) w[k - 1].hi = std::min(w[k - 1].hi, w[k].hi - 1);
-  for (size_t k = 0; k < w.size(); ++k)
-    if (w[k].lo > w[k].hi) throw too_close(k);
-
+void compress_axis(const PlayPlan& plan, uint64_t tick_ps, const RunShape& shape, int axis,
+                   const std::vector<StepWindow>& w, const std::vector<int8_t>& dir, const std::vector<size_t>& index,
+                   AxisItems& out, Schedule& sc) {
   AxisClock clk;
   RunRef ref;
   size_t pos = 0;
@@ -115,7 +131,7 @@ void compress_axis(const PlayPlan& plan, uint64_t tick_ps, const RunShape& shape
       it.add = 0;
       it.add2 = 0;
       after = clk;
-      if (!run_is_valid(it) || execute_checked(it, &w[pos], after) != 1) throw too_close(pos);
+      if (!run_is_valid(it) || execute_checked(it, &w[pos], after) != 1) throw too_close(plan, tick_ps, index[pos], pos == 0);
       ok = 1;
     }
     if (!run_is_valid(it)) throw std::logic_error("step compression: invalid run");
@@ -150,6 +166,8 @@ std::vector<StepWindow> step_windows(const PlayPlan& plan, uint64_t tick_ps) {
     w[i].lo = static_cast<int64_t>(ceil_div(X[i], D) - 1);
     w[i].hi = static_cast<int64_t>(floor_div(X[i], D) + 1);
   }
+  const std::vector<size_t> on_axis[2] = {axis_steps(plan, 0), axis_steps(plan, 1)};
+  for (const auto& idx : on_axis) narrow_axis(plan, tick_ps, w, idx);
   // Order across axes: consecutive steps of different axes i, i+1 must execute with tick_i < tick_{i+1}, or equal
   // ticks when i is radial and i+1 angular (the controller steps the radial axis first within a tick). Where the
   // windows would allow a swap, the cluster of such steps gets the ranges that keep the order (a forward and a
@@ -200,6 +218,7 @@ std::vector<StepWindow> step_windows(const PlayPlan& plan, uint64_t tick_ps) {
     w[e].hi = U[m - 1];
     i = e + 1;
   }
+  for (const auto& idx : on_axis) narrow_axis(plan, tick_ps, w, idx);  // the split may have moved neighbours
   return w;
 }
 

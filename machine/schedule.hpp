@@ -88,8 +88,9 @@ struct AxisClock {
   }
 };
 
-// Executed tick windows of every machine step: |tick * tick_ctrl - t * tick_tape / K| <= one controller tick, and
-// split where two steps of different axes are so close that they could otherwise swap order.
+// Executed tick windows of every machine step: |tick * tick_ctrl - t * tick_tape / K| <= one controller tick,
+// narrowed so that each axis steps at most once a tick and never at tick 0 (START), and split where two steps of
+// different axes are so close that they could otherwise swap order.
 struct StepWindow {
   int64_t lo = 0, hi = 0;
 };

@@ -340,13 +340,27 @@ TEST(StepCompression, CloseStepsOfTwoAxesSplitTheirWindows) {
   expect_exact(p, compress_schedule(p, 1000000));
 }
 
+TEST(StepCompression, NothingStepsAtTheStartTick) {
+  // radial at 0.2 us, angular at 0.5 us: both must wait for tick 1 (a run's first interval is at least a tick),
+  // where the radial axis steps first; the other order cannot be kept within one tick
+  const PlayPlan p = synthetic_plan({{0, 1, 200}, {1, 1, 500}, {0, 1, 5000}, {1, 1, 7000}});
+  const std::vector<StepWindow> w = step_windows(p, 1000000);
+  EXPECT_EQ(w[0].lo, 1);
+  EXPECT_EQ(w[0].hi, 1);
+  EXPECT_EQ(w[1].lo, 1);
+  expect_exact(p, compress_schedule(p, 1000000));
+  EXPECT_THROW(compress_schedule(synthetic_plan({{1, 1, 200}, {0, 1, 500}}), 1000000), InputError);
+}
+
 TEST(StepCompression, StepsOfOneAxisWithinOneTickAreRefused) {
   const PlayPlan p = synthetic_plan({{0, 1, 10000}, {0, 1, 10300}, {0, 1, 10600}, {0, 1, 10900}});
   try {
     compress_schedule(p, 1000000);
     FAIL();
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("less than one controller tick"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("machine step 4 (radial, from tape record 4) comes less than one controller tick"),
+              std::string::npos)
+        << e.what();
   }
 }
 
