@@ -85,7 +85,7 @@ bool Controller::configure(const Configure& c, std::string* why) {
 }
 
 bool Controller::push(const QueueItem& it) {
-  if (queued_items_ >= spec_.slots) return false;
+  if (queued_items_ >= spec_.slots || !run_is_valid(it)) return false;
   Axis& a = ax_[it.axis & 1];
   if (a.ended_queued) return false;
   a.q.push_back(it);
@@ -94,8 +94,10 @@ bool Controller::push(const QueueItem& it) {
   if (it.kind == ItemKind::wait) {
     a.tail.base += it.wait;
   } else if (it.kind == ItemKind::run) {
+    // offset + n I + C(n,2) A + C(n,3) B
     const i128 n = it.count;
-    const i128 pos = (static_cast<i128>(a.tail.base) << kFracBits) + a.tail.frac + n * it.interval + n * (n - 1) / 2 * it.add;
+    const i128 pos = (static_cast<i128>(a.tail.base) << kFracBits) + a.tail.frac + it.offset + n * it.interval +
+                     n * (n - 1) / 2 * it.add + n * (n - 1) * (n - 2) / 6 * it.add2;
     a.tail.base = static_cast<uint64_t>(pos >> kFracBits);
     a.tail.frac = static_cast<uint32_t>(pos & 0xffffffffu);
   } else {
@@ -210,7 +212,7 @@ void Controller::handle(const Frame& f, uint64_t now) {
           for (Axis& a : ax_) {
             a.q.clear();
             a.has_next = false;
-            a.left = 0;
+            a.run.left = 0;
           }
           queued_items_ = 0;
           started_ = false;
@@ -272,9 +274,8 @@ void Controller::advance(uint64_t now) { run_to(now); }
 
 bool Controller::prepare_next(Axis& a) {
   while (!a.has_next && !a.ended) {
-    if (a.left > 0) {
-      a.next_tick = a.clk.advance(a.iv);
-      --a.left;
+    if (a.run.left > 0) {
+      a.next_tick = a.clk.advance(a.run.next());
       a.has_next = true;
       break;
     }
@@ -287,9 +288,7 @@ bool Controller::prepare_next(Axis& a) {
     } else if (it.kind == ItemKind::end) {
       a.ended = true;
     } else {
-      a.left = it.count;
-      a.iv = it.interval;
-      a.add = it.add;
+      a.run.begin(it);
       a.dir = it.dir;
     }
   }
@@ -312,7 +311,6 @@ void Controller::fire_due() {
     a.node += dir;
     ++a.executed;
     a.has_next = false;
-    if (a.left > 0) a.iv += a.add;
     last_step_ = now_ - start_;
     if (on_step) on_step(last_step_, best, dir);
   }

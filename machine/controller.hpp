@@ -56,9 +56,7 @@ class Controller {
     AxisClock clk;           // execution clock
     AxisClock tail;          // clock at the end of the queued items (for the horizon)
     bool ended_queued = false, ended = false;
-    uint32_t left = 0;       // steps left in the current run
-    int64_t iv = 0;          // next interval of the current run
-    int64_t add = 0;         // its add
+    RunCursor run;           // the current run
     int dir = 1;             // its direction
     bool has_next = false;   // next step computed
     uint64_t next_tick = 0;  // schedule tick of the next step

@@ -13,7 +13,7 @@ namespace polarcam::proto {
 inline constexpr uint8_t kSync = 0x7E;
 inline constexpr size_t kMaxPayload = 240;
 inline constexpr size_t kOverhead = 1 + 2 + 2 + 1 + 4;
-inline constexpr uint8_t kVersion = 1;
+inline constexpr uint8_t kVersion = 2;  // 2: cubic runs with an offset (docs/controller-protocol.md)
 
 enum Type : uint8_t {
   // host -> controller; QUEUE and START are sequenced (exactly once, in order), the others carry a request id

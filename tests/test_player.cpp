@@ -243,8 +243,10 @@ TEST(Schedule, ItemCodecRoundTripsAndRejectsGarbage) {
     EXPECT_EQ(got.axis, it.axis);
     if (it.kind == ItemKind::run) {
       EXPECT_EQ(got.count, it.count);
+      EXPECT_EQ(got.offset, it.offset);
       EXPECT_EQ(got.interval, it.interval);
       EXPECT_EQ(got.add, it.add);
+      EXPECT_EQ(got.add2, it.add2);
       EXPECT_EQ(got.dir, it.dir);
     }
   }
