@@ -10,5 +10,7 @@ using Action = std::function<int()>;
 
 void register_digitize(CLI::App& app, Action& action);
 void register_inspect(CLI::App& app, Action& action);
+void register_analyze(CLI::App& app, Action& action);
+void register_motor(CLI::App& app, Action& action);
 
 }  // namespace polarcam::cli

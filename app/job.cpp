@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "app/job_contour.hpp"
+#include "app/job_dynamics.hpp"
 #include "app/toml_section.hpp"
 #include "cam/error.hpp"
 
@@ -134,6 +135,11 @@ Job load_job(const std::string& path) {
   json& pm = prov["machine"];
   job.grid = parse_grid(machine, pm, job.machine_name);
   if (!job.machine_name.empty()) pm["name"] = job.machine_name;
+  {
+    const toml::node* fm = machine_file_section ? machine_root.get("machine") : nullptr;
+    job.dynamics = jobfile::parse_dynamics(
+        machine, {jm ? jm->as_table() : nullptr, path, fm ? fm->as_table() : nullptr, machine_file_name});
+  }
   machine.finish();
 
   // [contour]
@@ -212,6 +218,10 @@ Job load_job(const std::string& path) {
     pmo["start_parameter"] = *sp;
   }
   mo.finish();
+
+  // [load], [limits]: read by the dynamics (polarcam analyze); they do not change the tape
+  job.load = jobfile::parse_load(top.subsection("load"));
+  job.safety_factor = jobfile::parse_limits(top.subsection("limits"));
 
   top.finish();
   job.provenance = std::move(prov);

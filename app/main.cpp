@@ -19,6 +19,8 @@ int main(int argc, char** argv) {
   cli::Action action;
   cli::register_digitize(app, action);
   cli::register_inspect(app, action);
+  cli::register_analyze(app, action);
+  cli::register_motor(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

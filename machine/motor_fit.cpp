@@ -134,39 +134,52 @@ MotorFitResult fit_electrical_motor(const std::vector<PulloutPoint>& pts, const 
   }
   res.loss_scale = opt.loss_scale.value_or(std::max(2.5 * mad_sigma(r0), 1e-3 * tmax));
 
-  // refine with Ceres; parameters scaled to order one
+  // refine with Ceres; parameters scaled to order one. Without a given loss scale, the scale is re-estimated from
+  // the robust fit's own residuals and the fit repeated (the starting fit's residuals are inflated by the very
+  // outliers the loss is meant to discount).
   const double sKT = KT0, sKV = KT0, sL = L0;
   double x[3] = {1.0, KV0 / sKV, 1.0};
-  ceres::Problem::Options popt;
-  popt.loss_function_ownership = ceres::TAKE_OWNERSHIP;
-  ceres::Problem problem(popt);
-  for (size_t i = 0; i < pts.size(); ++i) {
-    ceres::LossFunction* loss = nullptr;
-    if (opt.loss == RobustLoss::huber) loss = new ceres::HuberLoss(res.loss_scale);
-    if (opt.loss == RobustLoss::cauchy) loss = new ceres::CauchyLoss(res.loss_scale);
-    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<Residual, 1, 3>(
-                                 new Residual{w[i], pts[i].torque, c1V, R, Ns, sKT, sKV, sL}),
-                             loss, x);
+  const int rounds = (opt.loss == RobustLoss::none || opt.loss_scale) ? 1 : 3;
+  for (int round = 0; round < rounds; ++round) {
+    if (round > 0) {
+      std::vector<double> rr(pts.size());
+      for (size_t i = 0; i < pts.size(); ++i) {
+        Basis b = basis(w[i], x[2] * sL, c1V, R, Ns);
+        rr[i] = x[0] * sKT * b.a - x[0] * sKT * x[1] * sKV * b.b - pts[i].torque;
+      }
+      res.loss_scale = std::max(2.5 * mad_sigma(rr), 1e-3 * tmax);
+    }
+    ceres::Problem::Options popt;
+    popt.loss_function_ownership = ceres::TAKE_OWNERSHIP;
+    ceres::Problem problem(popt);
+    for (size_t i = 0; i < pts.size(); ++i) {
+      ceres::LossFunction* loss = nullptr;
+      if (opt.loss == RobustLoss::huber) loss = new ceres::HuberLoss(res.loss_scale);
+      if (opt.loss == RobustLoss::cauchy) loss = new ceres::CauchyLoss(res.loss_scale);
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<Residual, 1, 3>(
+                                   new Residual{w[i], pts[i].torque, c1V, R, Ns, sKT, sKV, sL}),
+                               loss, x);
+    }
+    problem.SetParameterLowerBound(x, 0, 1e-9);
+    problem.SetParameterLowerBound(x, 1, 0.0);
+    problem.SetParameterLowerBound(x, 2, 1e-9);
+    ceres::Solver::Options sopt;
+    sopt.linear_solver_type = ceres::DENSE_QR;
+    sopt.max_num_iterations = 500;
+    sopt.function_tolerance = 1e-15;
+    sopt.gradient_tolerance = 1e-16;
+    sopt.parameter_tolerance = 1e-14;
+    sopt.num_threads = 1;
+    sopt.logging_type = ceres::SILENT;
+    ceres::Solver::Summary summary;
+    ceres::Solve(sopt, &problem, &summary);
+    if (!summary.IsSolutionUsable()) throw InputError("the motor fit failed: " + summary.message);
+    if (round == 0) res.initial_cost = summary.initial_cost;
+    res.report = summary.BriefReport();
+    res.final_cost = summary.final_cost;
+    res.iterations += static_cast<int>(summary.iterations.size());
+    res.converged = summary.termination_type == ceres::CONVERGENCE;
   }
-  problem.SetParameterLowerBound(x, 0, 1e-9);
-  problem.SetParameterLowerBound(x, 1, 0.0);
-  problem.SetParameterLowerBound(x, 2, 1e-9);
-  ceres::Solver::Options sopt;
-  sopt.linear_solver_type = ceres::DENSE_QR;
-  sopt.max_num_iterations = 500;
-  sopt.function_tolerance = 1e-15;
-  sopt.gradient_tolerance = 1e-16;
-  sopt.parameter_tolerance = 1e-14;
-  sopt.num_threads = 1;
-  sopt.logging_type = ceres::SILENT;
-  ceres::Solver::Summary summary;
-  ceres::Solve(sopt, &problem, &summary);
-  res.report = summary.BriefReport();
-  res.initial_cost = summary.initial_cost;
-  res.final_cost = summary.final_cost;
-  res.iterations = static_cast<int>(summary.iterations.size());
-  res.converged = summary.termination_type == ceres::CONVERGENCE;
-  if (!summary.IsSolutionUsable()) throw InputError("the motor fit failed: " + summary.message);
 
   res.motor = known;
   res.motor.K_T = x[0] * sKT;

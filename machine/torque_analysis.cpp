@@ -47,7 +47,7 @@ class Evaluator {
     x.u = t >= 1.0 ? p.ub : (t <= -1.0 ? p.ua : p.u_at(t));
     double u_eval = x.u;
     if (end == End::finish && t >= 1.0) u_eval = std::nextafter(p.ub, p.ua);  // left limit at a path breakpoint
-    x.s = in_.track->s(piece, t);
+    x.s = std::clamp(in_.track->s(piece, t), 0.0, in_.track->length());
     x.theta = in_.track->theta(piece, t) + in_.theta_shift;
     const SpeedProfile& prof = *in_.profile;
     const double V = prof.speed_at(x.s);
