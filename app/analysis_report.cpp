@@ -94,7 +94,7 @@ std::string axis_text(const char* name, const AxisExtremes& e, const AxisDemand 
   const TorqueSample& at = e.ratio.at;
   std::string s = fmt::format("  {:<10} max torque ratio {} at theta = {} rad, r = {}: needs {} N m, pull-out {} N m at {} Hz\n",
                               name, std::isfinite(e.ratio.value) ? g(e.ratio.value) : "inf (no pull-out torque)",
-                              g(at.theta), mm(at.r), g((at.*d).torque), g((at.*d).pullout), g((at.*d).step_rate));
+                              g(at.theta), mm(at.r), g(std::abs((at.*d).torque)), g((at.*d).pullout), g((at.*d).step_rate));
   s += fmt::format("  {:<10} max torque {} N m at theta = {} rad; max step rate {} Hz at theta = {} rad{}\n", "",
                    g(e.torque.value), g(e.torque.at.theta), g(e.step_rate.value), g(e.step_rate.at.theta),
                    m.max_step_rate ? " (limit " + g(*m.max_step_rate) + " Hz)" : "");
@@ -209,7 +209,7 @@ std::string series_csv(const Job& job, const std::vector<CaseResult>& cases) {
   for (size_t k = 0; k < cases.size(); ++k) {
     for (const TorqueSample& x : cases[k].analysis.series) {
       const Vec2 p = contour_point(job, x);
-      const PathState& st = x.st;
+      const SampleKinematics& st = x.st;
       if (several) fmt::format_to(it, "{},", k);
       fmt::format_to(it, "{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},", x.s, x.t,
                      x.theta, x.r, p.x, p.y, st.V, st.a_t, st.gamma, st.kappa);
@@ -283,8 +283,7 @@ plot::Figure torque_ratio_figure(const Job& job, const std::vector<CaseResult>& 
       plot::Panel p;
       p.title = std::string(axis == 0 ? "Radial" : "Angular") + " axis torque ratio";
       if (by_speed) p.title += ", V = " + cms(speeds[static_cast<size_t>(col)]);
-      p.title += " - " + job.contour->name();
-      p.xlabel = "theta (rad)";
+      p.xlabel = "theta (rad)  -  " + job.contour->name();
       p.ylabel = "torque ratio";
       double peak = 0.0;
       int colour = 0;

@@ -101,8 +101,9 @@ int run(const Opts& o) {
     std::cout << "polarcam analyze " << job.file << "\n";
     std::cout << "  contour    " << job.contour->name() << (job.contour->closed() ? " (closed)" : " (open)")
               << ", tool centre " << side << " of the travel\n";
-    std::cout << "  machine    " << (job.machine_name.empty() ? "(unnamed)" : job.machine_name) << "; radial motor "
-              << job.dynamics->radial.describe() << "\n";
+    std::cout << "  machine    " << (job.machine_name.empty() ? "(unnamed)" : job.machine_name) << "\n";
+    std::cout << "  motors     radial: " << job.dynamics->radial.describe() << "\n";
+    std::cout << "             angular: " << job.dynamics->angular.describe() << "\n";
     for (size_t k = 0; k < cases.size(); ++k) {
       if (cases.size() > 1) std::cout << "  case " << k << "\n";
       std::cout << case_text(job, cases[k]);

@@ -64,7 +64,7 @@ class Evaluator {
       throw OutsideCurveError(std::string(e.what()) + " at theta = " + num(x.theta) + " rad, r = " + num(x.r * 1e3) +
                               " mm, " + num(x.s * 1e3) + " mm along the path");
     }
-    x.st = d.st;
+    x.st = SampleKinematics(d.st);
     x.force = d.force;
     x.radial = d.radial;
     x.angular = d.angular;
@@ -113,9 +113,11 @@ TorqueAnalysis analyze_torques(const DynamicsInput& in, const AnalysisOptions& o
   for (double s : in.profile->kinks())
     if (s > 0.0 && s < tr.length()) kinks.push_back(tr.locate(s));
 
+  if (opt.keep_series)
+    res.series.reserve(static_cast<size_t>(std::min(1e8, tr.length() / h)) + pieces.size() * (static_cast<size_t>(min_n) + 1));
   std::array<std::array<Candidate, kCandidates>, kQuantities> cand;
   std::vector<TorqueSample> seg;
-  std::vector<double> ts, cuts;
+  std::vector<double> ts, cuts, qv;
   bool have_prev = false;
   TorqueSample prev;
   for (size_t i = 0; i < pieces.size(); ++i) {
@@ -138,18 +140,24 @@ TorqueAnalysis analyze_torques(const DynamicsInput& in, const AnalysisOptions& o
         seg[static_cast<size_t>(j)] = ev.at(i, ts[static_cast<size_t>(j)], j == 0 ? End::start : (j == n ? End::finish : End::none));
       }
       // local maxima of each quantity (the first sample of a plateau)
+      qv.resize(seg.size() * kQuantities);
+      for (size_t j = 0; j < seg.size(); ++j)
+        for (int q = 0; q < kQuantities; ++q) qv[j * kQuantities + static_cast<size_t>(q)] = quantity(seg[j], q);
       for (int q = 0; q < kQuantities; ++q) {
+        auto& cq = cand[static_cast<size_t>(q)];
+        auto at = [&](int j) { return qv[static_cast<size_t>(j) * kQuantities + static_cast<size_t>(q)]; };
         for (int j = 0; j <= n; ++j) {
-          const double v = quantity(seg[static_cast<size_t>(j)], q);
-          if (j > 0 && !(v > quantity(seg[static_cast<size_t>(j - 1)], q))) continue;
-          if (j < n && v < quantity(seg[static_cast<size_t>(j + 1)], q)) continue;
+          const double v = at(j);
+          if (!(v > cq.back().value)) continue;
+          if (j > 0 && !(v > at(j - 1))) continue;
+          if (j < n && v < at(j + 1)) continue;
           Candidate c;
           c.value = v;
           c.piece = i;
           c.lo = ts[static_cast<size_t>(std::max(0, j - 1))];
           c.hi = ts[static_cast<size_t>(std::min(n, j + 1))];
           c.sample = seg[static_cast<size_t>(j)];
-          offer(cand[static_cast<size_t>(q)], c);
+          offer(cq, c);
         }
       }
       res.samples += seg.size();

@@ -27,12 +27,22 @@ struct AnalysisOptions {
   bool keep_series = true;    // false: maxima only
 };
 
+// The kinematics of a sample (PathState without its unit vectors).
+struct SampleKinematics {
+  double V = 0.0, a_t = 0.0, kappa = 0.0, gamma = 0.0;
+  double r_dot = 0.0, theta_dot = 0.0, r_ddot = 0.0, theta_ddot = 0.0, a_cr = 0.0, a_cn = 0.0;
+  SampleKinematics() = default;
+  explicit SampleKinematics(const PathState& p)
+      : V(p.V), a_t(p.a_t), kappa(p.kappa), gamma(p.gamma), r_dot(p.r_dot), theta_dot(p.theta_dot), r_ddot(p.r_ddot),
+        theta_ddot(p.theta_ddot), a_cr(p.a_cr), a_cn(p.a_cn) {}
+};
+
 // One row of the series.
 struct TorqueSample {
   double s = 0.0, t = 0.0;    // m of path from the start, s from the start
   double u = 0.0;             // path parameter
   double theta = 0.0, r = 0.0;  // rad (machine angle: the track's theta + theta_shift), m
-  PathState st;
+  SampleKinematics st;
   ToolForce force;
   AxisDemand radial, angular;
   double total_torque() const { return std::abs(radial.torque) + std::abs(angular.torque); }
