@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <limits>
 #include <map>
 
 namespace polarcam::cli {
@@ -28,8 +29,8 @@ json place_json(const Job& job, const TorqueSample& x) {
 
 const char* axis_name(int a) { return a == 0 ? "radial" : "angular"; }
 
-json axis_json(const AxisExtremes& e, const AxisVerdict& v, const StepperMotor& motor, const AxisDemand TorqueSample::*d,
-               const Job& job) {
+json axis_json(const AxisExtremes& e, const AxisVerdict& v, const StepperMotor& motor,
+               const AxisDemand TorqueSample::*d, const Job& job) {
   const TorqueSample& at = e.ratio.at;
   json j;
   j["max_torque_ratio"] = num(e.ratio.value);
@@ -82,7 +83,8 @@ std::string load_text(const CaseResult& c) {
   std::string s = to_string(l.kind);
   if (l.mass > 0.0) s += ", " + g(l.mass) + " kg on the carriage";
   if (l.kind == LoadKind::grinding)
-    s += ", depth " + mm(l.grinding.depth) + ", width " + mm(l.grinding.width) + ", K_c " + g(l.grinding.K_c()) + " N s/m";
+    s += ", depth " + mm(l.grinding.depth) + ", width " + mm(l.grinding.width) + ", K_c " + g(l.grinding.K_c()) +
+         " N s/m";
   if ((l.kind == LoadKind::grinding || l.kind == LoadKind::force) && c.speed) {
     const ToolForce f = c.load.force(0.0, *c.speed);
     s += " (tool force " + g(f.tangential) + " N tangential, " + g(f.normal) + " N normal)";
@@ -90,11 +92,13 @@ std::string load_text(const CaseResult& c) {
   return s;
 }
 
-std::string axis_text(const char* name, const AxisExtremes& e, const AxisDemand TorqueSample::*d, const StepperMotor& m) {
+std::string axis_text(const char* name, const AxisExtremes& e, const AxisDemand TorqueSample::*d,
+                      const StepperMotor& m) {
   const TorqueSample& at = e.ratio.at;
-  std::string s = fmt::format("  {:<10} max torque ratio {} at theta = {} rad, r = {}: needs {} N m, pull-out {} N m at {} Hz\n",
-                              name, std::isfinite(e.ratio.value) ? g(e.ratio.value) : "inf (no pull-out torque)",
-                              g(at.theta), mm(at.r), g(std::abs((at.*d).torque)), g((at.*d).pullout), g((at.*d).step_rate));
+  std::string s =
+      fmt::format("  {:<10} max torque ratio {} at theta = {} rad, r = {}: needs {} N m, pull-out {} N m at {} Hz\n",
+                  name, std::isfinite(e.ratio.value) ? g(e.ratio.value) : "inf (no pull-out torque)", g(at.theta),
+                  mm(at.r), g(std::abs((at.*d).torque)), g((at.*d).pullout), g((at.*d).step_rate));
   s += fmt::format("  {:<10} max torque {} N m at theta = {} rad; max step rate {} Hz at theta = {} rad{}\n", "",
                    g(e.torque.value), g(e.torque.at.theta), g(e.step_rate.value), g(e.step_rate.at.theta),
                    m.max_step_rate ? " (limit " + g(*m.max_step_rate) + " Hz)" : "");
@@ -123,8 +127,9 @@ std::string verdict_line(const Job& job, const CaseResult& c) {
     const AxisVerdict& av = v.axis == 0 ? v.radial : v.angular;
     const TorqueSample& w = v.where;
     const Vec2 p = contour_point(job, w);
-    const std::string place = fmt::format("theta = {} rad, r = {}, {} along the path (t = {} s), contour point ({}, {})",
-                                          g(w.theta), mm(w.r), mm(w.s), g(w.t), mm(p.x), mm(p.y));
+    const std::string place =
+        fmt::format("theta = {} rad, r = {}, {} along the path (t = {} s), contour point ({}, {})", g(w.theta), mm(w.r),
+                    mm(w.s), g(w.t), mm(p.x), mm(p.y));
     const AxisDemand& d = v.axis == 0 ? w.radial : w.angular;
     if (v.failure == Failure::step_rate) {
       s = fmt::format("NO-GO: the {} motor must step at {} Hz, above its limit of {} Hz, at {}", axis_name(v.axis),
@@ -133,10 +138,11 @@ std::string verdict_line(const Job& job, const CaseResult& c) {
       s = fmt::format("NO-GO: the {} motor has no pull-out torque left at {} Hz, at {}", axis_name(v.axis),
                       g(d.step_rate), place);
     } else {
-      s = fmt::format("NO-GO: the {} axis needs {} times its motor's pull-out torque ({} of {} N m at {} Hz; limit {}, "
-                      "safety factor {}) at {}; short by {} %",
-                      axis_name(v.axis), g(av.ratio), g(std::abs(d.torque)), g(d.pullout), g(d.step_rate), g(v.limit),
-                      g(v.safety_factor), place, g(-100.0 * av.margin, 3));
+      s = fmt::format(
+          "NO-GO: the {} axis needs {} times its motor's pull-out torque ({} of {} N m at {} Hz; limit {}, "
+          "safety factor {}) at {}; short by {} %",
+          axis_name(v.axis), g(av.ratio), g(std::abs(d.torque)), g(d.pullout), g(d.step_rate), g(v.limit),
+          g(v.safety_factor), place, g(-100.0 * av.margin, 3));
     }
   }
   if (c.search.factor && c.speed) {
@@ -202,10 +208,11 @@ std::string series_csv(const Job& job, const std::vector<CaseResult>& cases) {
   std::string out;
   auto it = std::back_inserter(out);
   if (several) out += "case,";
-  out += "s_m,t_s,theta_rad,r_m,x_m,y_m,speed_mps,accel_mps2,gamma_rad,curvature_1pm,r_dot_mps,theta_dot_radps,"
-         "r_ddot_mps2,theta_ddot_radps2,a_cr_mps2,a_cn_mps2,force_tangential_N,force_normal_N,torque_radial_Nm,"
-         "torque_angular_Nm,step_rate_radial_hz,step_rate_angular_hz,pullout_radial_Nm,pullout_angular_Nm,"
-         "ratio_radial,ratio_angular,total_torque_Nm\n";
+  out +=
+      "s_m,t_s,theta_rad,r_m,x_m,y_m,speed_mps,accel_mps2,gamma_rad,curvature_1pm,r_dot_mps,theta_dot_radps,"
+      "r_ddot_mps2,theta_ddot_radps2,a_cr_mps2,a_cn_mps2,force_tangential_N,force_normal_N,torque_radial_Nm,"
+      "torque_angular_Nm,step_rate_radial_hz,step_rate_angular_hz,pullout_radial_Nm,pullout_angular_Nm,"
+      "ratio_radial,ratio_angular,total_torque_Nm\n";
   for (size_t k = 0; k < cases.size(); ++k) {
     for (const TorqueSample& x : cases[k].analysis.series) {
       const Vec2 p = contour_point(job, x);
@@ -227,8 +234,8 @@ namespace {
 
 // At most about 2 * buckets points, keeping each bucket's lowest and highest value in path order, so that spikes
 // survive.
-void decimate(const std::vector<TorqueSample>& s, const AxisDemand TorqueSample::*axis,
-              plot::Series& out, size_t buckets = 2500) {
+void decimate(const std::vector<TorqueSample>& s, const AxisDemand TorqueSample::*axis, plot::Series& out,
+              size_t buckets = 2500) {
   const size_t n = s.size();
   auto y = [&](size_t i) { return (s[i].*axis).ratio; };
   if (n <= 2 * buckets) {
@@ -311,6 +318,17 @@ plot::Figure torque_ratio_figure(const Job& job, const std::vector<CaseResult>& 
       }
       // the limit is drawn when the curves come near it; otherwise it would flatten them
       if (peak >= 0.25 * limit) p.hlines = {limit, -limit};
+      // room above the curves for the legend (top right)
+      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+      for (const auto& s : p.series)
+        for (double y : s.y)
+          if (std::isfinite(y)) lo = std::min(lo, y), hi = std::max(hi, y);
+      for (double y : p.hlines) lo = std::min(lo, y), hi = std::max(hi, y);
+      if (cases.size() > 1 && hi > lo) {
+        p.ymin = lo - 0.04 * (hi - lo);
+        const double share = 0.04 + 0.08 * static_cast<double>(colour);  // the legend's share of the height
+        p.ymax = hi + 1.1 * share / (1.0 - share) * (hi - lo);
+      }
       f.panels.push_back(std::move(p));
     }
   }

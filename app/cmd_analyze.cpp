@@ -116,15 +116,17 @@ int run(const Opts& o) {
 
 void register_analyze(CLI::App& app, Action& action) {
   auto o = std::make_shared<Opts>();
-  CLI::App* c = app.add_subcommand(
-      "analyze", "Torques, pull-out torques and torque ratios of both axes along a job's path, and GO / NO-GO "
-                 "(exit status 0 GO, 1 NO-GO, 2 bad input)");
+  CLI::App* c =
+      app.add_subcommand("analyze",
+                         "Torques, pull-out torques and torque ratios of both axes along a job's path, and GO / NO-GO "
+                         "(exit status 0 GO, 1 NO-GO, 2 bad input)");
   c->add_option("job", o->job, "job file (TOML) whose machine has dynamics")->required();
   c->add_flag("--json", o->json, "print the result as one JSON object");
   c->add_option("--csv", o->csv, "write the series along the path to this CSV file");
   c->add_option("--plot", o->plot, "draw the torque-ratio plots (Figures 5.8-5.25) to this .png or .svg file");
   c->add_option("--speed", o->speeds, "analyse at this speed instead of the job's (repeatable), e.g. \"0.51 cm/s\"");
-  c->add_option("--mass", o->masses, "analyse with an inertial load of this mass instead of the job's load (repeatable)");
+  c->add_option("--mass", o->masses,
+                "analyse with an inertial load of this mass instead of the job's load (repeatable)");
   c->add_option("--depth", o->depths, "grinding jobs: analyse at this depth of cut instead of the job's (repeatable)");
   c->add_option("--spacing", o->spacing, "largest distance between samples along the path, e.g. \"0.1 mm\"");
   c->add_option("--safety-factor", o->safety_factor, "safety factor instead of the job's [limits] (>= 1)");

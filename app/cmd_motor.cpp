@@ -20,7 +20,7 @@ namespace {
 
 struct FitOpts {
   std::string points, machine, axis = "radial", voltage, resistance, energisation, rate_unit = "Hz",
-                                     torque_unit = "N m", loss = "cauchy", loss_scale, plot, csv;
+                               torque_unit = "N m", loss = "cauchy", loss_scale, plot, csv;
   int rotor_teeth = 0;
   bool json = false;
 };
@@ -50,7 +50,8 @@ int fit(const FitOpts& o) {
     if (o.axis != "radial" && o.axis != "angular") throw InputError("--axis must be radial or angular");
     MachineModel m = load_machine_dynamics(o.machine);
     const StepperMotor& sm = o.axis == "radial" ? m.radial : m.angular;
-    if (!sm.electrical()) throw InputError(o.machine + ": the " + o.axis + " motor is a pull-out curve, not an electrical model");
+    if (!sm.electrical())
+      throw InputError(o.machine + ": the " + o.axis + " motor is a pull-out curve, not an electrical model");
     known = std::get<ElectricalMotor>(sm.model);
   }
   if (!o.voltage.empty()) known.supply_voltage = quantity(o.voltage, dim::voltage, "--supply-voltage");
@@ -139,13 +140,18 @@ int fit(const FitOpts& o) {
     nlohmann::ordered_json j;
     j["points_file"] = o.points;
     j["points"] = pts.size();
-    j["known"] = {{"supply_voltage_V", m.supply_voltage}, {"resistance_ohm", m.R_a}, {"rotor_teeth", m.rotor_teeth},
-                  {"energisation", to_string(m.energisation)}, {"steps_per_rev", m.steps_per_rev()},
-                  {"pullout_coefficient", pullout_coefficient(m.energisation)}};
-    auto sd = [](const std::optional<double>& v) { return v ? nlohmann::ordered_json(*v) : nlohmann::ordered_json(nullptr); };
-    j["fitted"] = {{"torque_constant_NmpA", m.K_T}, {"torque_constant_sd", sd(r.K_T_sd)},
-                   {"voltage_constant_Vsprad", m.K_V}, {"voltage_constant_sd", sd(r.K_V_sd)},
-                   {"inductance_H", m.L_a}, {"inductance_sd", sd(r.L_a_sd)}};
+    j["known"] = {{"supply_voltage_V", m.supply_voltage}, {"resistance_ohm", m.R_a},
+                  {"rotor_teeth", m.rotor_teeth},         {"energisation", to_string(m.energisation)},
+                  {"steps_per_rev", m.steps_per_rev()},   {"pullout_coefficient", pullout_coefficient(m.energisation)}};
+    auto sd = [](const std::optional<double>& v) {
+      return v ? nlohmann::ordered_json(*v) : nlohmann::ordered_json(nullptr);
+    };
+    j["fitted"] = {{"torque_constant_NmpA", m.K_T},
+                   {"torque_constant_sd", sd(r.K_T_sd)},
+                   {"voltage_constant_Vsprad", m.K_V},
+                   {"voltage_constant_sd", sd(r.K_V_sd)},
+                   {"inductance_H", m.L_a},
+                   {"inductance_sd", sd(r.L_a_sd)}};
     j["loss"] = to_string(r.loss);
     j["loss_scale_Nm"] = r.loss_scale;
     j["rms_residual_Nm"] = r.rms;
@@ -170,13 +176,13 @@ int fit(const FitOpts& o) {
     std::cout << j.dump(2) << "\n";
   } else {
     std::cout << "polarcam motor fit " << o.points << " (" << pts.size() << " points)\n";
-    std::cout << "  known      " << g(m.supply_voltage) << " V, R_a " << g(m.R_a) << " ohm, N_s " << m.rotor_teeth << ", "
-              << to_string(m.energisation) << " (" << g(m.steps_per_rev()) << " steps/rev, c1 "
+    std::cout << "  known      " << g(m.supply_voltage) << " V, R_a " << g(m.R_a) << " ohm, N_s " << m.rotor_teeth
+              << ", " << to_string(m.energisation) << " (" << g(m.steps_per_rev()) << " steps/rev, c1 "
               << g(pullout_coefficient(m.energisation)) << ")\n";
     std::cout << "  fitted     K_T " << g(m.K_T) << pm(r.K_T_sd) << " N m/A, K_V " << g(m.K_V) << pm(r.K_V_sd)
               << " V s/rad, L_a " << g(m.L_a) << pm(r.L_a_sd) << " H\n";
-    std::cout << "  residuals  rms " << g(r.rms, 4) << " N m, max " << g(r.max_abs_residual, 4) << " N m over the inliers; "
-              << to_string(r.loss) << " loss, scale " << g(r.loss_scale, 3) << " N m\n";
+    std::cout << "  residuals  rms " << g(r.rms, 4) << " N m, max " << g(r.max_abs_residual, 4)
+              << " N m over the inliers; " << to_string(r.loss) << " loss, scale " << g(r.loss_scale, 3) << " N m\n";
     size_t nout = 0;
     for (size_t i = 0; i < pts.size(); ++i)
       if (r.outlier[i]) {
@@ -209,14 +215,16 @@ void register_motor(CLI::App& app, Action& action) {
       "fit", "Fit the electrical pull-out model (Eq. 5.17) to measured pull-out points: rate,torque per CSV line");
   c->add_option("points", o->points, "CSV file: step rate, pull-out torque per line (header and # comments allowed)")
       ->required();
-  c->add_option("--machine", o->machine, "machine file whose motor gives the known constants (voltage, R_a, N_s, scheme)");
+  c->add_option("--machine", o->machine,
+                "machine file whose motor gives the known constants (voltage, R_a, N_s, scheme)");
   c->add_option("--axis", o->axis, "which motor of --machine: radial (default) or angular");
   c->add_option("--supply-voltage", o->voltage, "supply voltage, e.g. \"24 V\"");
   c->add_option("--resistance", o->resistance, "winding plus drive resistance, e.g. \"6.5 ohm\"");
   c->add_option("--rotor-teeth", o->rotor_teeth, "rotor teeth N_s (50 for a 200-step motor)");
   c->add_option("--energisation", o->energisation, "wave (half step, default), full_one or full_two (Table F.1)");
   c->add_option("--rate-unit", o->rate_unit, "unit of the rate column (default Hz: motor steps per second as driven)");
-  c->add_option("--torque-unit", o->torque_unit, "unit of the torque column (default \"N m\"; e.g. \"ozf in\", \"N cm\")");
+  c->add_option("--torque-unit", o->torque_unit,
+                "unit of the torque column (default \"N m\"; e.g. \"ozf in\", \"N cm\")");
   c->add_option("--loss", o->loss, "robust loss: cauchy (default), huber or none");
   c->add_option("--loss-scale", o->loss_scale, "loss scale as a torque (default from the data's spread)");
   c->add_option("--plot", o->plot, "draw the points and the fitted curve to this .png or .svg file");

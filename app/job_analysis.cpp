@@ -8,7 +8,8 @@ namespace {
 Job with_speed(const Job& job, std::optional<double> speed, double factor) {
   Job j = job;
   if (speed) {
-    if (!j.motion.table.empty()) throw InputError("a speed override needs a job with a constant speed, not a speed_profile");
+    if (!j.motion.table.empty())
+      throw InputError("a speed override needs a job with a constant speed, not a speed_profile");
     if (!(*speed > 0.0)) throw InputError("the speed must be positive");
     j.motion.speed = *speed;
   }
@@ -21,7 +22,8 @@ Job with_speed(const Job& job, std::optional<double> speed, double factor) {
 
 PreparedDynamics prepare_dynamics(const Job& job) {
   if (!job.dynamics)
-    throw InputError(job.file + ": the machine has no dynamics: give carriage_mass, arm_inertia, arm_friction_torque, " +
+    throw InputError(job.file +
+                     ": the machine has no dynamics: give carriage_mass, arm_inertia, arm_friction_torque, " +
                      "worm_factor, screw_factor, screw_lead and [machine.motor] (docs/dynamics.md)");
   PreparedDynamics p;
   p.path = make_job_path(job);

@@ -33,7 +33,7 @@ struct CaseResult {
   Load load;
   TorqueAnalysis analysis;
   Verdict verdict;
-  SpeedSearch search;           // the largest factor on the speed at which the job passes
+  SpeedSearch search;  // the largest factor on the speed at which the job passes
 };
 
 // Throws InputError (with the job file) for a bad override or a step rate outside a motor's pull-out curve.

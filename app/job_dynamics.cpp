@@ -9,8 +9,9 @@
 namespace polarcam::jobfile {
 namespace {
 
-const char* const kTriggers[] = {"carriage_mass", "arm_inertia", "arm_friction_torque", "worm_factor", "screw_factor",
-                                 "worm",          "screw",       "motor",               "radial_motor", "angular_motor"};
+const char* const kTriggers[] = {
+    "carriage_mass", "arm_inertia", "arm_friction_torque", "worm_factor",  "screw_factor", "worm",
+    "screw",         "motor",       "radial_motor",        "angular_motor"};
 
 const toml::table* sub(const toml::table* t, const char* key) {
   if (!t) return nullptr;
@@ -86,9 +87,11 @@ StepperMotor parse_motor(const MachineTables& tables, const std::string& axis, s
       throw InputError(tables.job_file + ": [machine]: no motor for the " + axis +
                        " axis: give [machine.motor] (both axes) or [machine." + per_axis + "]");
     for (const auto& l : all)
-      if (l.t) throw InputError(l.file + ": [" + l.name + "]: the key 'model' is missing (\"electrical\" or \"curve\")");
+      if (l.t)
+        throw InputError(l.file + ": [" + l.name + "]: the key 'model' is missing (\"electrical\" or \"curve\")");
   }
-  const std::set<std::string>* own = *model == "electrical" ? &kElectricalKeys : (*model == "curve" ? &kCurveKeys : nullptr);
+  const std::set<std::string>* own =
+      *model == "electrical" ? &kElectricalKeys : (*model == "curve" ? &kCurveKeys : nullptr);
   Section* top = nullptr;
   for (int i = 3; i >= 0; --i) {
     const RawLayer& l = all[i];
@@ -108,67 +111,70 @@ StepperMotor parse_motor(const MachineTables& tables, const std::string& axis, s
   std::optional<double> max_rate;
   if (m.has("max_step_rate")) max_rate = positive(m, "max_step_rate", dim::frequency);
   if (*model == "electrical") {
-      ElectricalMotor e;
-      if (auto en = m.string("energisation")) {
-        auto p = parse_energisation(*en);
-        if (!p) m.fail("energisation", "must be \"wave\" (half step), \"full_one\" or \"full_two\" (Table F.1)");
-        e.energisation = *p;
-      }
-      e.supply_voltage = positive(m, "supply_voltage", dim::voltage);
-      e.K_T = positive(m, "torque_constant", dim::torque / dim::current);
-      // the voltage constant per rad/s of the shaft: "V s/rad", or "V s" read the same way
-      {
-        const toml::node* n = m.node("voltage_constant");
-        if (!n) throw InputError(m.file() + ": [" + m.name() + "]: the key 'voltage_constant' is missing (V s/rad)");
-        auto str = n->value<std::string>();
-        if (!str) m.fail("voltage_constant", "expected a quantity string such as \"0.068 V s/rad\"");
-        Quantity q;
-        try {
-          q = parse_quantity(*str);
-        } catch (const InputError& err) {
-          m.fail("voltage_constant", err.what());
-        }
-        const Dim per_rad = dim::voltage * dim::time / dim::angle, plain = dim::voltage * dim::time;
-        if (!(q.dim == per_rad || q.dim == plain)) m.fail("voltage_constant", "expected V s/rad, got " + describe(q.dim));
-        if (!(q.value >= 0.0)) m.fail("voltage_constant", "must be zero or positive");
-        e.K_V = q.value;
-      }
-      auto teeth = m.integer("rotor_teeth");
-      if (!teeth) throw InputError(m.file() + ": [" + m.name() + "]: the key 'rotor_teeth' is missing (N_s)");
-      if (*teeth <= 0 || *teeth > 100000) m.fail("rotor_teeth", "must be a positive whole number");
-      e.rotor_teeth = static_cast<int>(*teeth);
-      e.R_a = positive(m, "resistance", dim::resistance);
-      e.L_a = non_negative(m, "inductance", dim::inductance);
-      return make_electrical_motor(e, max_rate);
+    ElectricalMotor e;
+    if (auto en = m.string("energisation")) {
+      auto p = parse_energisation(*en);
+      if (!p) m.fail("energisation", "must be \"wave\" (half step), \"full_one\" or \"full_two\" (Table F.1)");
+      e.energisation = *p;
     }
-    if (*model == "curve") {
-      auto spr = m.number("steps_per_rev");
-      if (!spr)
-        throw InputError(m.file() + ": [" + m.name() + "]: the key 'steps_per_rev' is missing (motor steps per revolution as driven)");
-      if (!(*spr > 0.0)) m.fail("steps_per_rev", "must be positive");
-      const toml::node* n = m.node("pullout_curve");
-      if (!n) throw InputError(m.file() + ": [" + m.name() + "]: the key 'pullout_curve' is missing ([[\"rate\", \"torque\"], ...])");
-      const toml::array* arr = n->as_array();
-      if (!arr) m.fail("pullout_curve", "expected a list of [\"step rate\", \"torque\"] pairs");
-      std::vector<double> rate, torque;
-      for (size_t i = 0; i < arr->size(); ++i) {
-        const toml::array* pr = arr->get(i)->as_array();
-        const std::string row = "point " + std::to_string(i + 1);
-        if (!pr || pr->size() != 2 || !pr->get(0)->is_string() || !pr->get(1)->is_string())
-          m.fail("pullout_curve", row + " is not a pair of quantity strings such as [\"500 Hz\", \"0.3 N m\"]");
-        try {
-          rate.push_back(parse_quantity_as(*pr->get(0)->value<std::string>(), dim::frequency));
-          torque.push_back(parse_quantity_as(*pr->get(1)->value<std::string>(), dim::torque));
-        } catch (const InputError& err) {
-          m.fail("pullout_curve", row + ": " + err.what());
-        }
-      }
+    e.supply_voltage = positive(m, "supply_voltage", dim::voltage);
+    e.K_T = positive(m, "torque_constant", dim::torque / dim::current);
+    // the voltage constant per rad/s of the shaft: "V s/rad", or "V s" read the same way
+    {
+      const toml::node* n = m.node("voltage_constant");
+      if (!n) throw InputError(m.file() + ": [" + m.name() + "]: the key 'voltage_constant' is missing (V s/rad)");
+      auto str = n->value<std::string>();
+      if (!str) m.fail("voltage_constant", "expected a quantity string such as \"0.068 V s/rad\"");
+      Quantity q;
       try {
-        return make_curve_motor(PulloutCurve(rate, torque), *spr, max_rate);
+        q = parse_quantity(*str);
       } catch (const InputError& err) {
-        m.fail("pullout_curve", err.what());
+        m.fail("voltage_constant", err.what());
+      }
+      const Dim per_rad = dim::voltage * dim::time / dim::angle, plain = dim::voltage * dim::time;
+      if (!(q.dim == per_rad || q.dim == plain)) m.fail("voltage_constant", "expected V s/rad, got " + describe(q.dim));
+      if (!(q.value >= 0.0)) m.fail("voltage_constant", "must be zero or positive");
+      e.K_V = q.value;
+    }
+    auto teeth = m.integer("rotor_teeth");
+    if (!teeth) throw InputError(m.file() + ": [" + m.name() + "]: the key 'rotor_teeth' is missing (N_s)");
+    if (*teeth <= 0 || *teeth > 100000) m.fail("rotor_teeth", "must be a positive whole number");
+    e.rotor_teeth = static_cast<int>(*teeth);
+    e.R_a = positive(m, "resistance", dim::resistance);
+    e.L_a = non_negative(m, "inductance", dim::inductance);
+    return make_electrical_motor(e, max_rate);
+  }
+  if (*model == "curve") {
+    auto spr = m.number("steps_per_rev");
+    if (!spr)
+      throw InputError(m.file() + ": [" + m.name() +
+                       "]: the key 'steps_per_rev' is missing (motor steps per revolution as driven)");
+    if (!(*spr > 0.0)) m.fail("steps_per_rev", "must be positive");
+    const toml::node* n = m.node("pullout_curve");
+    if (!n)
+      throw InputError(m.file() + ": [" + m.name() +
+                       "]: the key 'pullout_curve' is missing ([[\"rate\", \"torque\"], ...])");
+    const toml::array* arr = n->as_array();
+    if (!arr) m.fail("pullout_curve", "expected a list of [\"step rate\", \"torque\"] pairs");
+    std::vector<double> rate, torque;
+    for (size_t i = 0; i < arr->size(); ++i) {
+      const toml::array* pr = arr->get(i)->as_array();
+      const std::string row = "point " + std::to_string(i + 1);
+      if (!pr || pr->size() != 2 || !pr->get(0)->is_string() || !pr->get(1)->is_string())
+        m.fail("pullout_curve", row + " is not a pair of quantity strings such as [\"500 Hz\", \"0.3 N m\"]");
+      try {
+        rate.push_back(parse_quantity_as(*pr->get(0)->value<std::string>(), dim::frequency));
+        torque.push_back(parse_quantity_as(*pr->get(1)->value<std::string>(), dim::torque));
+      } catch (const InputError& err) {
+        m.fail("pullout_curve", row + ": " + err.what());
       }
     }
+    try {
+      return make_curve_motor(PulloutCurve(rate, torque), *spr, max_rate);
+    } catch (const InputError& err) {
+      m.fail("pullout_curve", err.what());
+    }
+  }
   m.fail("model", "must be \"electrical\" (Eq. 5.17, from the motor's constants) or \"curve\" (a pull-out curve)");
 }
 
@@ -195,7 +201,8 @@ std::optional<MachineModel> parse_dynamics(Section& machine, const MachineTables
   const double gear_R = machine.number("radial_gear_ratio").value_or(1.0);
   if (!(gear_R > 0.0)) machine.fail("radial_gear_ratio", "must be positive");
   if (!machine.has("screw_lead"))
-    throw InputError(tables.job_file + ": [machine]: the dynamics need 'screw_lead' (carriage travel per screw revolution)");
+    throw InputError(tables.job_file +
+                     ": [machine]: the dynamics need 'screw_lead' (carriage travel per screw revolution)");
   const double lead = positive(machine, "screw_lead", dim::length);
   k.k_R = gear_R / lead;
 
@@ -210,7 +217,8 @@ std::optional<MachineModel> parse_dynamics(Section& machine, const MachineTables
     g.worm_pitch_radius = positive(*worm, "worm_pitch_radius", dim::length);
     g.gear_pitch_radius = positive(*worm, "gear_pitch_radius", dim::length);
     g.pressure_angle = worm->require_quantity("pressure_angle", dim::angle);
-    if (!worm->has("friction")) throw InputError(worm->file() + ": [machine.worm]: the key 'friction' is missing (mu_1)");
+    if (!worm->has("friction"))
+      throw InputError(worm->file() + ": [machine.worm]: the key 'friction' is missing (mu_1)");
     g.friction = *worm->number("friction");
     try {
       k.K1 = worm_factor(g, k.k_theta);
@@ -224,14 +232,16 @@ std::optional<MachineModel> parse_dynamics(Section& machine, const MachineTables
 
   Section* screw = layers.layer("screw", nullptr);
   if (machine.has("screw_factor")) {
-    if (screw->present()) machine.fail("screw_factor", "give either 'screw_factor' or a [machine.screw] table, not both");
+    if (screw->present())
+      machine.fail("screw_factor", "give either 'screw_factor' or a [machine.screw] table, not both");
     k.K2 = positive(machine, "screw_factor", dim::length);
   } else if (screw->present()) {
     ScrewGeometry g;
     g.lead = lead;
     g.mean_radius = positive(*screw, "mean_radius", dim::length);
     g.thread_half_angle = screw->require_quantity("thread_half_angle", dim::angle);
-    if (!screw->has("friction")) throw InputError(screw->file() + ": [machine.screw]: the key 'friction' is missing (mu_2)");
+    if (!screw->has("friction"))
+      throw InputError(screw->file() + ": [machine.screw]: the key 'friction' is missing (mu_2)");
     g.friction = *screw->number("friction");
     try {
       k.K2 = screw_factor(g);

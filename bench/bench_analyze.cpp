@@ -60,8 +60,8 @@ void BM_AnalyzeJobPerStep(benchmark::State& state) {
   }
   state.counters["steps"] = static_cast<double>(steps_of(job));
   state.counters["samples"] = static_cast<double>(samples);
-  state.counters["samples_per_s"] =
-      benchmark::Counter(static_cast<double>(samples) * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["samples_per_s"] = benchmark::Counter(
+      static_cast<double>(samples) * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 
 void BM_Objective(benchmark::State& state) {

@@ -11,14 +11,14 @@
 namespace polarcam {
 
 struct PathState {
-  Vec2 q;                    // m, tool centre about the machine pole
-  double r = 0.0;            // m
-  double V = 0.0;            // m/s, tangential speed
-  double a_t = 0.0;          // m/s^2, tangential acceleration
-  double kappa = 0.0;        // 1/m, signed curvature of the path
-  Vec2 T, N;                 // unit tangent (direction of travel) and left normal
-  Vec2 e_r, e_theta;         // unit radial and angular directions
-  double gamma = 0.0;        // rad in [0, 2 pi): angle from e_r to T
+  Vec2 q;                                 // m, tool centre about the machine pole
+  double r = 0.0;                         // m
+  double V = 0.0;                         // m/s, tangential speed
+  double a_t = 0.0;                       // m/s^2, tangential acceleration
+  double kappa = 0.0;                     // 1/m, signed curvature of the path
+  Vec2 T, N;                              // unit tangent (direction of travel) and left normal
+  Vec2 e_r, e_theta;                      // unit radial and angular directions
+  double gamma = 0.0;                     // rad in [0, 2 pi): angle from e_r to T
   double r_dot = 0.0, theta_dot = 0.0;    // m/s, rad/s
   double r_ddot = 0.0, theta_ddot = 0.0;  // m/s^2, rad/s^2
   double a_cr = 0.0, a_cn = 0.0;          // m/s^2, acceleration along and across the arm

@@ -8,10 +8,14 @@ namespace polarcam {
 
 const char* to_string(LoadKind k) {
   switch (k) {
-    case LoadKind::none: return "none";
-    case LoadKind::inertial: return "inertial";
-    case LoadKind::grinding: return "grinding";
-    case LoadKind::force: return "force";
+    case LoadKind::none:
+      return "none";
+    case LoadKind::inertial:
+      return "inertial";
+    case LoadKind::grinding:
+      return "grinding";
+    case LoadKind::force:
+      return "force";
   }
   return "?";
 }
@@ -35,7 +39,8 @@ Load make_load(const LoadSpec& spec) {
   l.added_mass = spec.mass;
   switch (spec.kind) {
     case LoadKind::none:
-    case LoadKind::inertial: break;
+    case LoadKind::inertial:
+      break;
     case LoadKind::grinding: {
       spec.grinding.validate();
       // F_c = K_c V at alpha_c = atan(c1) to the surface: tangential F_c cos(alpha_c), normal F_c sin(alpha_c)

@@ -32,15 +32,15 @@ struct GrindingSpec {
 // What a job says about its load; turned into a Load for the dynamics.
 struct LoadSpec {
   LoadKind kind = LoadKind::none;
-  double mass = 0.0;          // kg added to the carriage (inertial; optional for the others)
-  GrindingSpec grinding;      // kind grinding
-  ToolForce force;            // kind force: a constant tool force
+  double mass = 0.0;      // kg added to the carriage (inertial; optional for the others)
+  GrindingSpec grinding;  // kind grinding
+  ToolForce force;        // kind force: a constant tool force
 };
 
 struct Load {
-  double added_mass = 0.0;         // kg
-  ToolForce force_const;           // N
-  ToolForce force_per_speed;       // N s/m: the part of the force proportional to the tangential speed
+  double added_mass = 0.0;    // kg
+  ToolForce force_const;      // N
+  ToolForce force_per_speed;  // N s/m: the part of the force proportional to the tangential speed
   // Optional process model (the machining-process models feed this): force at arc length s (m) and speed V (m/s);
   // replaces the linear form above when set.
   std::function<ToolForce(double s, double V)> force_at;

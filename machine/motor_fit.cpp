@@ -22,9 +22,12 @@ std::optional<RobustLoss> parse_robust_loss(const std::string& s) {
 
 const char* to_string(RobustLoss l) {
   switch (l) {
-    case RobustLoss::none: return "none";
-    case RobustLoss::huber: return "huber";
-    case RobustLoss::cauchy: return "cauchy";
+    case RobustLoss::none:
+      return "none";
+    case RobustLoss::huber:
+      return "huber";
+    case RobustLoss::cauchy:
+      return "cauchy";
   }
   return "?";
 }
@@ -82,7 +85,8 @@ MotorFitResult fit_electrical_motor(const std::vector<PulloutPoint>& pts, const 
   double tmax = 0.0;
   for (size_t i = 0; i < pts.size(); ++i) {
     const std::string row = "point " + std::to_string(i + 1) + ": ";
-    if (!(pts[i].rate_hz >= 0.0) || !std::isfinite(pts[i].rate_hz)) throw InputError(row + "the step rate must be zero or positive");
+    if (!(pts[i].rate_hz >= 0.0) || !std::isfinite(pts[i].rate_hz))
+      throw InputError(row + "the step rate must be zero or positive");
     if (!(pts[i].torque > 0.0) || !std::isfinite(pts[i].torque)) throw InputError(row + "the torque must be positive");
     distinct.insert(pts[i].rate_hz);
     tmax = std::max(tmax, pts[i].torque);
@@ -156,9 +160,9 @@ MotorFitResult fit_electrical_motor(const std::vector<PulloutPoint>& pts, const 
       ceres::LossFunction* loss = nullptr;
       if (opt.loss == RobustLoss::huber) loss = new ceres::HuberLoss(res.loss_scale);
       if (opt.loss == RobustLoss::cauchy) loss = new ceres::CauchyLoss(res.loss_scale);
-      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<Residual, 1, 3>(
-                                   new Residual{w[i], pts[i].torque, c1V, R, Ns, sKT, sKV, sL}),
-                               loss, x);
+      problem.AddResidualBlock(
+          new ceres::AutoDiffCostFunction<Residual, 1, 3>(new Residual{w[i], pts[i].torque, c1V, R, Ns, sKT, sKV, sL}),
+          loss, x);
     }
     problem.SetParameterLowerBound(x, 0, 1e-9);
     problem.SetParameterLowerBound(x, 1, 0.0);
@@ -187,8 +191,7 @@ MotorFitResult fit_electrical_motor(const std::vector<PulloutPoint>& pts, const 
   res.motor.L_a = x[2] * sL;
 
   // residuals, outliers (beyond outlier_sigmas robust standard deviations), statistics over the inliers
-  for (size_t i = 0; i < pts.size(); ++i)
-    res.residuals.push_back(res.motor.pullout(w[i]) - pts[i].torque);
+  for (size_t i = 0; i < pts.size(); ++i) res.residuals.push_back(res.motor.pullout(w[i]) - pts[i].torque);
   const double sigma = std::max(mad_sigma(res.residuals), 1e-4 * tmax);
   double ss = 0.0;
   size_t n_in = 0;

@@ -32,18 +32,18 @@ struct MotorFitOptions {
 };
 
 struct MotorFitResult {
-  ElectricalMotor motor;                 // the known constants with the fitted K_T, K_V, L_a
+  ElectricalMotor motor;                         // the known constants with the fitted K_T, K_V, L_a
   std::optional<double> K_T_sd, K_V_sd, L_a_sd;  // approximate standard errors (from the inliers' Jacobian)
-  std::vector<double> residuals;         // N m, model minus measurement, per point
+  std::vector<double> residuals;                 // N m, model minus measurement, per point
   std::vector<bool> outlier;
-  double rms = 0.0;                      // N m, over the inliers
-  double max_abs_residual = 0.0;         // N m, over the inliers
-  double loss_scale = 0.0;               // N m
+  double rms = 0.0;               // N m, over the inliers
+  double max_abs_residual = 0.0;  // N m, over the inliers
+  double loss_scale = 0.0;        // N m
   RobustLoss loss = RobustLoss::cauchy;
   double initial_cost = 0.0, final_cost = 0.0;
   int iterations = 0;
   bool converged = false;
-  std::string report;                    // Ceres' brief report
+  std::string report;  // Ceres' brief report
 };
 
 // `known` supplies supply_voltage, R_a, rotor_teeth and energisation (its K_T, K_V, L_a are ignored). At least

@@ -26,9 +26,12 @@ std::string num(double v, int prec = 6) {
 
 const char* to_string(Energisation e) {
   switch (e) {
-    case Energisation::wave: return "wave";
-    case Energisation::full_one: return "full_one";
-    case Energisation::full_two: return "full_two";
+    case Energisation::wave:
+      return "wave";
+    case Energisation::full_one:
+      return "full_one";
+    case Energisation::full_two:
+      return "full_two";
   }
   return "?";
 }
@@ -45,18 +48,15 @@ const SwitchingSequence& table_f1(Energisation e) {
   constexpr bool I = true, O = false;
   static const SwitchingSequence one{{{O, O, O, I}, {I, O, O, O}, {O, O, I, O}, {O, I, O, O}}};
   static const SwitchingSequence two{{{I, O, O, I}, {I, O, I, O}, {O, I, I, O}, {O, I, O, I}}};
-  static const SwitchingSequence half{{{O, O, O, I},
-                                       {I, O, O, I},
-                                       {I, O, O, O},
-                                       {I, O, I, O},
-                                       {O, O, I, O},
-                                       {O, I, I, O},
-                                       {O, I, O, O},
-                                       {O, I, O, I}}};
+  static const SwitchingSequence half{
+      {{O, O, O, I}, {I, O, O, I}, {I, O, O, O}, {I, O, I, O}, {O, O, I, O}, {O, I, I, O}, {O, I, O, O}, {O, I, O, I}}};
   switch (e) {
-    case Energisation::full_one: return one;
-    case Energisation::full_two: return two;
-    case Energisation::wave: break;
+    case Energisation::full_one:
+      return one;
+    case Energisation::full_two:
+      return two;
+    case Energisation::wave:
+      break;
   }
   return half;
 }
@@ -68,7 +68,8 @@ Fundamental phase_fundamental(const SwitchingSequence& seq, int phase) {
   std::complex<double> sum = 0.0;
   for (int k = 0; k < M; ++k) {
     const auto& sw = seq.steps[static_cast<size_t>(k)];
-    const double v = (sw[static_cast<size_t>(2 * phase)] ? 1.0 : 0.0) - (sw[static_cast<size_t>(2 * phase + 1)] ? 1.0 : 0.0);
+    const double v =
+        (sw[static_cast<size_t>(2 * phase)] ? 1.0 : 0.0) - (sw[static_cast<size_t>(2 * phase + 1)] ? 1.0 : 0.0);
     sum += v * std::polar(1.0, -2.0 * kPi * k / M);
   }
   const std::complex<double> c1 = (1.0 - std::polar(1.0, -2.0 * kPi / M)) / std::complex<double>(0.0, kPi) * sum;
@@ -96,7 +97,9 @@ void ElectricalMotor::validate() const {
   if (!(L_a >= 0.0) || !std::isfinite(L_a)) throw InputError("the winding inductance L_a must be zero or positive");
 }
 
-double ElectricalMotor::steps_per_rev() const { return static_cast<double>(rotor_teeth) * steps_per_cycle(energisation); }
+double ElectricalMotor::steps_per_rev() const {
+  return static_cast<double>(rotor_teeth) * steps_per_cycle(energisation);
+}
 
 double ElectricalMotor::pullout(double omega_e) const {
   const double w = std::abs(omega_e);
@@ -119,7 +122,8 @@ PulloutCurve::PulloutCurve(std::vector<double> rate_hz, std::vector<double> torq
   if (rate_.size() < 2) throw InputError("the pull-out curve needs at least two points");
   for (size_t i = 0; i < rate_.size(); ++i) {
     const std::string row = "pull-out curve point " + std::to_string(i + 1) + ": ";
-    if (!(rate_[i] >= 0.0) || !std::isfinite(rate_[i])) throw InputError(row + "the step rate must be zero or positive");
+    if (!(rate_[i] >= 0.0) || !std::isfinite(rate_[i]))
+      throw InputError(row + "the step rate must be zero or positive");
     if (i > 0 && !(rate_[i] > rate_[i - 1])) throw InputError(row + "step rates must increase");
     if (!(torque_[i] > 0.0) || !std::isfinite(torque_[i])) throw InputError(row + "the torque must be positive");
   }
@@ -134,8 +138,8 @@ PulloutCurve::PulloutCurve(std::vector<double> rate_hz, std::vector<double> torq
 double PulloutCurve::at(double rate_hz) const {
   const double f = std::abs(rate_hz);
   if (!(f >= rate_.front() && f <= rate_.back()))
-    throw OutsideCurveError("step rate " + num(f) + " Hz is outside the pull-out curve (" + num(rate_.front()) + " .. " +
-                            num(rate_.back()) + " Hz)");
+    throw OutsideCurveError("step rate " + num(f) + " Hz is outside the pull-out curve (" + num(rate_.front()) +
+                            " .. " + num(rate_.back()) + " Hz)");
   if (impl_->pchip) return (*impl_->pchip)(f);
   size_t i = 1;
   while (i + 1 < rate_.size() && rate_[i] < f) ++i;
@@ -171,7 +175,8 @@ StepperMotor make_electrical_motor(const ElectricalMotor& m, std::optional<doubl
 }
 
 StepperMotor make_curve_motor(PulloutCurve curve, double steps_per_rev, std::optional<double> max_step_rate) {
-  if (!(steps_per_rev > 0.0) || !std::isfinite(steps_per_rev)) throw InputError("steps per revolution must be positive");
+  if (!(steps_per_rev > 0.0) || !std::isfinite(steps_per_rev))
+    throw InputError("steps per revolution must be positive");
   if (max_step_rate && !(*max_step_rate > 0.0)) throw InputError("the maximum step rate must be positive");
   return StepperMotor{std::move(curve), steps_per_rev, max_step_rate};
 }

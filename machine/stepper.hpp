@@ -52,9 +52,9 @@ struct ElectricalMotor {
   double L_a = 0.0;             // H, winding
   Energisation energisation = Energisation::wave;
 
-  void validate() const;                // throws InputError
-  double steps_per_rev() const;         // N_s * steps_per_cycle
-  double pullout(double omega_e) const; // N m at electrical angular frequency omega_e (rad/s), Eq. 5.17 generalised
+  void validate() const;                 // throws InputError
+  double steps_per_rev() const;          // N_s * steps_per_cycle
+  double pullout(double omega_e) const;  // N m at electrical angular frequency omega_e (rad/s), Eq. 5.17 generalised
   double pullout_at_rate(double step_rate_hz) const;  // omega_e = 2 pi N_s step_rate / steps_per_rev
 };
 
@@ -83,8 +83,8 @@ class PulloutCurve {
 
 struct StepperMotor {
   std::variant<ElectricalMotor, PulloutCurve> model;
-  double steps_per_rev = 0.0;             // motor steps per shaft revolution as driven (step rates are in these)
-  std::optional<double> max_step_rate;    // Hz: the drive's limit, when known
+  double steps_per_rev = 0.0;           // motor steps per shaft revolution as driven (step rates are in these)
+  std::optional<double> max_step_rate;  // Hz: the drive's limit, when known
 
   bool electrical() const { return std::holds_alternative<ElectricalMotor>(model); }
   // Pull-out torque at a step rate (steps per second, >= 0). Throws OutsideCurveError for a curve's range.
@@ -94,6 +94,7 @@ struct StepperMotor {
 };
 
 StepperMotor make_electrical_motor(const ElectricalMotor& m, std::optional<double> max_step_rate = std::nullopt);
-StepperMotor make_curve_motor(PulloutCurve curve, double steps_per_rev, std::optional<double> max_step_rate = std::nullopt);
+StepperMotor make_curve_motor(PulloutCurve curve, double steps_per_rev,
+                              std::optional<double> max_step_rate = std::nullopt);
 
 }  // namespace polarcam

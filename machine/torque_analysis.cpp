@@ -15,14 +15,22 @@ constexpr int kCandidates = 3;  // refined local maxima per quantity
 
 double quantity(const TorqueSample& x, int q) {
   switch (q) {
-    case kRatioR: return std::abs(x.radial.ratio);
-    case kRatioT: return std::abs(x.angular.ratio);
-    case kTorqueR: return std::abs(x.radial.torque);
-    case kTorqueT: return std::abs(x.angular.torque);
-    case kRateR: return x.radial.step_rate;
-    case kRateT: return x.angular.step_rate;
-    case kTotal: return x.total_torque();
-    default: return x.ratio_sum();
+    case kRatioR:
+      return std::abs(x.radial.ratio);
+    case kRatioT:
+      return std::abs(x.angular.ratio);
+    case kTorqueR:
+      return std::abs(x.radial.torque);
+    case kTorqueT:
+      return std::abs(x.angular.torque);
+    case kRateR:
+      return x.radial.step_rate;
+    case kRateT:
+      return x.angular.step_rate;
+    case kTotal:
+      return x.total_torque();
+    default:
+      return x.ratio_sum();
   }
 }
 
@@ -55,8 +63,9 @@ class Evaluator {
     x.t = prof.time_at(x.s);
     const PathState st = path_state(in_.path->eval(u_eval, 2), V, a_t);
     x.r = st.r;
-    const FrictionMode mode = end == End::finish ? FrictionMode::reversal_before
-                                                 : (end == End::start ? FrictionMode::reversal_after : FrictionMode::moving);
+    const FrictionMode mode = end == End::finish
+                                  ? FrictionMode::reversal_before
+                                  : (end == End::start ? FrictionMode::reversal_after : FrictionMode::moving);
     PointDynamics d;
     try {
       d = point_dynamics(st, x.s, *in_.machine, *in_.load, in_.side, mode);
@@ -114,7 +123,8 @@ TorqueAnalysis analyze_torques(const DynamicsInput& in, const AnalysisOptions& o
     if (s > 0.0 && s < tr.length()) kinks.push_back(tr.locate(s));
 
   if (opt.keep_series)
-    res.series.reserve(static_cast<size_t>(std::min(1e8, tr.length() / h)) + pieces.size() * (static_cast<size_t>(min_n) + 1));
+    res.series.reserve(static_cast<size_t>(std::min(1e8, tr.length() / h)) +
+                       pieces.size() * (static_cast<size_t>(min_n) + 1));
   std::array<std::array<Candidate, kCandidates>, kQuantities> cand;
   std::vector<TorqueSample> seg;
   std::vector<double> ts, cuts, qv;
@@ -137,7 +147,8 @@ TorqueAnalysis analyze_torques(const DynamicsInput& in, const AnalysisOptions& o
       seg.resize(ts.size());
       for (int j = 0; j <= n; ++j) {
         ts[static_cast<size_t>(j)] = j == n ? tb : ta + (tb - ta) * j / n;
-        seg[static_cast<size_t>(j)] = ev.at(i, ts[static_cast<size_t>(j)], j == 0 ? End::start : (j == n ? End::finish : End::none));
+        seg[static_cast<size_t>(j)] =
+            ev.at(i, ts[static_cast<size_t>(j)], j == 0 ? End::start : (j == n ? End::finish : End::none));
       }
       // local maxima of each quantity (the first sample of a plateau)
       qv.resize(seg.size() * kQuantities);
@@ -186,7 +197,8 @@ TorqueAnalysis analyze_torques(const DynamicsInput& in, const AnalysisOptions& o
         return std::isfinite(v) ? -v : -std::numeric_limits<double>::max();
       };
       boost::uintmax_t iters = 100;
-      const auto r = boost::math::tools::brent_find_minima(f, c.lo, c.hi, std::numeric_limits<double>::digits / 2, iters);
+      const auto r =
+          boost::math::tools::brent_find_minima(f, c.lo, c.hi, std::numeric_limits<double>::digits / 2, iters);
       if (-r.second > b.value) {
         TorqueSample x = ev.at(c.piece, r.first, End::none);
         b = {quantity(x, q), x};

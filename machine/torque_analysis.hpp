@@ -21,10 +21,10 @@
 namespace polarcam {
 
 struct AnalysisOptions {
-  double spacing = 0.0;       // m between samples along the path; 0: length / target_samples
+  double spacing = 0.0;  // m between samples along the path; 0: length / target_samples
   int target_samples = 4000;
   int min_per_segment = 16;
-  bool keep_series = true;    // false: maxima only
+  bool keep_series = true;  // false: maxima only
 };
 
 // The kinematics of a sample (PathState without its unit vectors).
@@ -33,14 +33,22 @@ struct SampleKinematics {
   double r_dot = 0.0, theta_dot = 0.0, r_ddot = 0.0, theta_ddot = 0.0, a_cr = 0.0, a_cn = 0.0;
   SampleKinematics() = default;
   explicit SampleKinematics(const PathState& p)
-      : V(p.V), a_t(p.a_t), kappa(p.kappa), gamma(p.gamma), r_dot(p.r_dot), theta_dot(p.theta_dot), r_ddot(p.r_ddot),
-        theta_ddot(p.theta_ddot), a_cr(p.a_cr), a_cn(p.a_cn) {}
+      : V(p.V),
+        a_t(p.a_t),
+        kappa(p.kappa),
+        gamma(p.gamma),
+        r_dot(p.r_dot),
+        theta_dot(p.theta_dot),
+        r_ddot(p.r_ddot),
+        theta_ddot(p.theta_ddot),
+        a_cr(p.a_cr),
+        a_cn(p.a_cn) {}
 };
 
 // One row of the series.
 struct TorqueSample {
-  double s = 0.0, t = 0.0;    // m of path from the start, s from the start
-  double u = 0.0;             // path parameter
+  double s = 0.0, t = 0.0;      // m of path from the start, s from the start
+  double u = 0.0;               // path parameter
   double theta = 0.0, r = 0.0;  // rad (machine angle: the track's theta + theta_shift), m
   SampleKinematics st;
   ToolForce force;
@@ -71,13 +79,13 @@ struct TorqueAnalysis {
 
 // A path ready for the dynamics.
 struct DynamicsInput {
-  const Curve* path = nullptr;          // tool-centre path, origin at the machine pole
-  const PolarTrack* track = nullptr;    // its polar track
-  double theta_shift = 0.0;             // rad added to the track's theta (place_on_grid)
+  const Curve* path = nullptr;        // tool-centre path, origin at the machine pole
+  const PolarTrack* track = nullptr;  // its polar track
+  double theta_shift = 0.0;           // rad added to the track's theta (place_on_grid)
   const SpeedProfile* profile = nullptr;
   const MachineModel* machine = nullptr;
   const Load* load = nullptr;
-  int side = 1;                         // +1 tool centre left of the travel, -1 right
+  int side = 1;  // +1 tool centre left of the travel, -1 right
 };
 
 // Throws OutsideCurveError when a step rate leaves a motor's tabulated pull-out curve (naming the axis and place).

@@ -9,10 +9,14 @@ namespace polarcam {
 
 const char* to_string(Failure f) {
   switch (f) {
-    case Failure::none: return "none";
-    case Failure::torque: return "torque";
-    case Failure::no_pullout: return "no_pullout";
-    case Failure::step_rate: return "step_rate";
+    case Failure::none:
+      return "none";
+    case Failure::torque:
+      return "torque";
+    case Failure::no_pullout:
+      return "no_pullout";
+    case Failure::step_rate:
+      return "step_rate";
   }
   return "?";
 }
@@ -23,7 +27,8 @@ namespace {
 AxisVerdict axis_verdict(const AxisExtremes& e, const StepperMotor& motor, double limit, double& over) {
   AxisVerdict v;
   v.ratio = e.ratio.value;
-  v.margin = std::isfinite(v.ratio) ? (v.ratio > 0.0 ? limit / v.ratio - 1.0 : std::numeric_limits<double>::infinity()) : -1.0;
+  v.margin =
+      std::isfinite(v.ratio) ? (v.ratio > 0.0 ? limit / v.ratio - 1.0 : std::numeric_limits<double>::infinity()) : -1.0;
   over = v.ratio / limit;
   if (!std::isfinite(v.ratio)) {
     v.failure = Failure::no_pullout;
@@ -55,8 +60,8 @@ Verdict judge(const TorqueAnalysis& a, const MachineModel& m, double safety_fact
   v.angular = axis_verdict(a.angular, m.angular, v.limit, over_t);
   v.go = v.radial.failure == Failure::none && v.angular.failure == Failure::none;
   if (!v.go) {
-    const bool radial_worse = v.angular.failure == Failure::none ||
-                              (v.radial.failure != Failure::none && !(over_t > over_r));
+    const bool radial_worse =
+        v.angular.failure == Failure::none || (v.radial.failure != Failure::none && !(over_t > over_r));
     v.axis = radial_worse ? 0 : 1;
     const AxisVerdict& av = radial_worse ? v.radial : v.angular;
     const AxisExtremes& e = radial_worse ? a.radial : a.angular;

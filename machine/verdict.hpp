@@ -24,11 +24,11 @@ struct AxisVerdict {
 struct Verdict {
   bool go = true;
   double safety_factor = 1.0;
-  double limit = 1.0;           // 1 / safety_factor
+  double limit = 1.0;  // 1 / safety_factor
   AxisVerdict radial, angular;
-  int axis = -1;                // 0 radial, 1 angular: the failing axis (the one furthest over), -1 for GO
+  int axis = -1;  // 0 radial, 1 angular: the failing axis (the one furthest over), -1 for GO
   Failure failure = Failure::none;
-  TorqueSample where;           // where the failing axis is furthest over its limit
+  TorqueSample where;  // where the failing axis is furthest over its limit
 };
 
 // Throws InputError for a safety factor below 1 or not finite.

@@ -74,8 +74,8 @@ TEST(CliAnalyze, GrindingCircleIsNoGoAndTheOfferedSpeedPasses) {
   EXPECT_EQ(j["failing_axis"], "radial");
   EXPECT_EQ(j["failure"], "torque");
   for (const char* axis : {"radial", "angular"})
-    for (const char* k : {"max_torque_ratio", "theta_at_max_rad", "max_torque_Nm", "pullout_at_max_Nm", "max_step_rate_hz",
-                          "torque_at_max_Nm", "step_rate_at_max_hz"})
+    for (const char* k : {"max_torque_ratio", "theta_at_max_rad", "max_torque_Nm", "pullout_at_max_Nm",
+                          "max_step_rate_hz", "torque_at_max_Nm", "step_rate_at_max_hz"})
       EXPECT_TRUE(j[axis][k].is_number()) << axis << "." << k;
   const double ratio = j["radial"]["max_torque_ratio"];
   EXPECT_GT(ratio, 1.0);
@@ -107,8 +107,10 @@ TEST(CliAnalyze, GrindingCircleIsNoGoAndTheOfferedSpeedPasses) {
   EXPECT_EQ(json::parse(slow.out)["verdict"], "GO");
   // and a safety factor of 2 turns a ratio of ~0.5 into NO-GO
   const double r_slow = json::parse(slow.out)["radial"]["max_torque_ratio"];
-  EXPECT_EQ(run_cli("analyze " + job + " --speed \"0.51 cm/s\" --safety-factor " + std::to_string(1.01 / r_slow)).code, 1);
-  EXPECT_EQ(run_cli("analyze " + job + " --speed \"0.51 cm/s\" --safety-factor " + std::to_string(0.99 / r_slow)).code, 0);
+  EXPECT_EQ(run_cli("analyze " + job + " --speed \"0.51 cm/s\" --safety-factor " + std::to_string(1.01 / r_slow)).code,
+            1);
+  EXPECT_EQ(run_cli("analyze " + job + " --speed \"0.51 cm/s\" --safety-factor " + std::to_string(0.99 / r_slow)).code,
+            0);
 }
 
 TEST(CliAnalyze, CsvAndPlotAgreeWithTheSummaryAndRepeatExactly) {
@@ -159,8 +161,10 @@ TEST(CliAnalyze, CsvAndPlotAgreeWithTheSummaryAndRepeatExactly) {
 TEST(CliAnalyze, SeveralSpeedsAndMasses) {
   Scratch sc;
   const std::string job = sc.write("circle.toml", kCircle);
-  CliResult r = run_cli("analyze " + job + " --json --mass \"14.6 kg\" --mass \"43.8 kg\" --speed \"0.51 cm/s\" "
-                        "--speed \"1.51 cm/s\" --plot " + sc.path("f.svg") + " --csv " + sc.path("f.csv"));
+  CliResult r = run_cli("analyze " + job +
+                        " --json --mass \"14.6 kg\" --mass \"43.8 kg\" --speed \"0.51 cm/s\" "
+                        "--speed \"1.51 cm/s\" --plot " +
+                        sc.path("f.svg") + " --csv " + sc.path("f.csv"));
   ASSERT_EQ(r.code, 0) << r.err;
   const json j = json::parse(r.out);
   ASSERT_EQ(j["cases"].size(), 4u);
@@ -194,28 +198,34 @@ TEST(CliAnalyze, BadInputGivesOneClearLine) {
   expect_bad(sc, replace(kCircle, "k_c = \"6.46e7 kN/m^2\"", "k_c = \"6.46e7 kN\""), "load.k_c");
   expect_bad(sc, replace(kCircle, "safety_factor = 1.0", "safety_factor = 0.5"), "limits.safety_factor");
   expect_bad(sc, replace(kCircle, "[limits]", "[limits]\nmargin = 3"), "unknown key 'limits.margin'");
-  expect_bad(sc, replace(kCircle, "file = \"machines/fahim1983.toml\"", "file = \"machines/fahim1983.toml\"\ncarriage_mass = \"-1 kg\""),
+  expect_bad(sc,
+             replace(kCircle, "file = \"machines/fahim1983.toml\"",
+                     "file = \"machines/fahim1983.toml\"\ncarriage_mass = \"-1 kg\""),
              "machine.carriage_mass");
   expect_bad(sc, replace(kCircle, "file = \"machines/fahim1983.toml\"", "file = \"machines/fahim1983.toml\"\nworm = 3"),
              "machine.worm");
-  expect_bad(sc, replace(kCircle, "[contour]", "[machine.radial_motor]\nmodel = \"magic\"\n[contour]"), "radial_motor.model");
+  expect_bad(sc, replace(kCircle, "[contour]", "[machine.radial_motor]\nmodel = \"magic\"\n[contour]"),
+             "radial_motor.model");
   expect_bad(sc, replace(kCircle, "[contour]", "[machine.motor]\ntorque_constant = \"0.0759 N m\"\n[contour]"),
              "machine.motor.torque_constant");
-  expect_bad(sc, replace(kCircle, "[contour]", "[machine.motor]\nwinding = 2\n[contour]"), "unknown key 'machine.motor.winding'");
+  expect_bad(sc, replace(kCircle, "[contour]", "[machine.motor]\nwinding = 2\n[contour]"),
+             "unknown key 'machine.motor.winding'");
   expect_bad(sc, replace(kCircle, "[contour]", "[machine.angular_motor]\nsteps_per_rev = 400\n[contour]"),
              "'machine.angular_motor.steps_per_rev' does not apply to a motor of model \"electrical\"");
   // a tabulated curve that stops short of the radial motor's step rate: named, not extrapolated
   expect_bad(sc,
              replace(kCircle, "[contour]",
                      "[machine.radial_motor]\nmodel = \"curve\"\nsteps_per_rev = 400\n"
-                     "pullout_curve = [[\"0 Hz\", \"0.33 N m\"], [\"1000 Hz\", \"0.3 N m\"], [\"2000 Hz\", \"0.25 N m\"]]\n[contour]"),
+                     "pullout_curve = [[\"0 Hz\", \"0.33 N m\"], [\"1000 Hz\", \"0.3 N m\"], [\"2000 Hz\", \"0.25 N "
+                     "m\"]]\n[contour]"),
              "radial motor: step rate");
   expect_bad(sc,
              replace(kCircle, "[contour]",
                      "[machine.radial_motor]\nmodel = \"curve\"\nsteps_per_rev = 400\n"
                      "pullout_curve = [[\"0 Hz\", \"0.33 N m\"], [\"0 Hz\", \"0.3 N m\"]]\n[contour]"),
              "radial_motor.pullout_curve");
-  expect_bad(sc, replace(kCircle, "kind = \"grinding\"", "kind = \"force\"\ntangential = \"3 N\""), "unknown key 'load.");
+  expect_bad(sc, replace(kCircle, "kind = \"grinding\"", "kind = \"force\"\ntangential = \"3 N\""),
+             "unknown key 'load.");
   {
     CliResult r = run_cli("analyze " + sc.write("ok.toml", kCircle) + " --mass \"1 kg\" --depth \"0.1 mm\"");
     EXPECT_EQ(r.code, 2);
@@ -238,12 +248,14 @@ TEST(CliAnalyze, TabulatedCurveCoveringTheRatesIsUsed) {
   }
   curve += "]\n";
   const std::string job = sc.write(
-      "curve.toml", replace(kCircle, "[contour]", "[machine.motor]\nmodel = \"curve\"\nsteps_per_rev = 400\n" + curve + "[contour]"));
+      "curve.toml",
+      replace(kCircle, "[contour]", "[machine.motor]\nmodel = \"curve\"\nsteps_per_rev = 400\n" + curve + "[contour]"));
   CliResult a = run_cli("analyze " + job + " --json");
   CliResult b = run_cli("analyze " + sc.write("model.toml", kCircle) + " --json");
   ASSERT_EQ(a.code, 1) << a.err;
   ASSERT_EQ(b.code, 1) << b.err;
-  const double ra = json::parse(a.out)["radial"]["max_torque_ratio"], rb = json::parse(b.out)["radial"]["max_torque_ratio"];
+  const double ra = json::parse(a.out)["radial"]["max_torque_ratio"],
+               rb = json::parse(b.out)["radial"]["max_torque_ratio"];
   EXPECT_NEAR(ra, rb, 1e-3 * rb);
 }
 
@@ -259,7 +271,8 @@ TEST(CliMotorFit, RecoversTheThesisMotor) {
     csv += row;
   }
   const std::string pts = sc.write("points.csv", csv);
-  CliResult r = run_cli("motor fit " + pts + " --supply-voltage \"24 V\" --resistance \"6.5 ohm\" --rotor-teeth 50 --json --plot " +
+  CliResult r = run_cli("motor fit " + pts +
+                        " --supply-voltage \"24 V\" --resistance \"6.5 ohm\" --rotor-teeth 50 --json --plot " +
                         sc.path("fit.png"));
   ASSERT_EQ(r.code, 0) << r.err;
   const json j = json::parse(r.out);
@@ -275,10 +288,33 @@ TEST(CliMotorFit, RecoversTheThesisMotor) {
   ASSERT_EQ(r2.code, 0) << r2.err;
   EXPECT_EQ(json::parse(r2.out)["fitted"], j["fitted"]);
   // bad input
-  CliResult bad = run_cli("motor fit " + sc.write("bad.csv", "0,0.3\n100,abc\n") + " --machine " + sc.path("machines/fahim1983.toml"));
+  CliResult bad = run_cli("motor fit " + sc.write("bad.csv", "0,0.3\n100,abc\n") + " --machine " +
+                          sc.path("machines/fahim1983.toml"));
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.err.find("bad.csv:2"), std::string::npos) << bad.err;
   CliResult nov = run_cli("motor fit " + pts);
   EXPECT_EQ(nov.code, 2);
   EXPECT_NE(nov.err.find("--supply-voltage"), std::string::npos) << nov.err;
+}
+
+TEST(CliAnalyze, StepRateLimitIsNamedAndTheSpeedFollowsFromIt) {
+  // without load the circle's torques are tiny, but at 2 cm/s the radial motor must step faster than its 5500 Hz:
+  // the radial speed peaks at V where the tangent points along the arm, so the limit is
+  // V = 5500 / (k_R * 400) = 5500 / (787.40 rev/m * 400) = 1.7462 cm/s
+  Scratch sc;
+  std::string bare = kCircle;
+  bare = bare.substr(0, bare.find("[load]"));
+  const std::string job = sc.write("fast.toml", replace(bare, "speed = \"1.52 cm/s\"", "speed = \"2 cm/s\""));
+  CliResult r = run_cli("analyze " + job + " --json");
+  ASSERT_EQ(r.code, 1) << r.err;
+  const json j = json::parse(r.out);
+  EXPECT_EQ(j["failing_axis"], "radial");
+  EXPECT_EQ(j["failure"], "step_rate");
+  EXPECT_EQ(j["radial"]["failure"], "step_rate");
+  EXPECT_LT(j["radial"]["max_torque_ratio"].get<double>(), 0.1);
+  const double k_R = 1.0 / (0.05 * 0.0254);
+  EXPECT_NEAR(j["radial"]["max_step_rate_hz"].get<double>(), k_R * 0.02 * 400, 1e-6 * k_R * 0.02 * 400);
+  const double v = j["max_passing_speed_mps"];
+  EXPECT_LE(v, 5500 / (k_R * 400));
+  EXPECT_GT(v, 5500 / (k_R * 400) * (1 - 2e-4));
 }

@@ -120,7 +120,8 @@ TEST(DynamicsAnalytic, RatioIsTheQuarticOfChapter6) {
       const double L11 = L10 * cR / Ra, L12 = e.K_V * 2 * kPi * Ra * e.K_T * k.k_R * std::abs(cg);
       const double ratio_R = (L8 * V * V + L9 * std::pow(V, 4)) / (std::sqrt(L10 * L10 + L11 * L11 * V * V) - L12 * V);
       EXPECT_LT(rel(p.radial.ratio, ratio_R), 1e-12) << "V " << V << " u " << u;
-      // angular, Eq. 6.4: theta'' = V^2 (kappa cos g / r - sin 2g / r^2), a_cn = V^2 kappa cos g; omega = N_s k_theta theta'
+      // angular, Eq. 6.4: theta'' = V^2 (kappa cos g / r - sin 2g / r^2), a_cn = V^2 kappa cos g; omega = N_s k_theta
+      // theta'
       const double X = k.arm_inertia * (kap * cg / r - std::sin(2 * g) / (r * r)) + Mt * r * kap * cg;
       const double sgn = sg > 0 ? 1.0 : -1.0;
       const double cT = Ns * k.k_theta * La * std::abs(sg) / r;
@@ -128,8 +129,8 @@ TEST(DynamicsAnalytic, RatioIsTheQuarticOfChapter6) {
       const double L15 = Ra * Ra * k.K1 * X + k.K1 * F * sgn * cT * cT;
       const double L16 = k.K1 * X * cT * cT;
       const double L17 = L10 * cT / Ra, L18 = e.K_V * Ra * e.K_T * k.k_theta * std::abs(sg) / r;
-      const double ratio_T = (L14 + L15 * V * V + L16 * std::pow(V, 4)) /
-                             (std::sqrt(L10 * L10 + L17 * L17 * V * V) - L18 * V);
+      const double ratio_T =
+          (L14 + L15 * V * V + L16 * std::pow(V, 4)) / (std::sqrt(L10 * L10 + L17 * L17 * V * V) - L18 * V);
       EXPECT_LT(rel(p.angular.ratio, ratio_T), 1e-12) << "V " << V << " u " << u;
     }
     // Sec. 6.5.1: the radial ratio always increases with V (inertial load)
@@ -218,6 +219,25 @@ TEST(DynamicsAnalytic, GrindingExceedsOneAtTheHigherSpeed) {
       }
     }
   }
+}
+
+TEST(DynamicsAnalytic, NoPulloutLeftIsNoGo) {
+  // a motor whose back-emf term exceeds its drive term above some rate has no pull-out torque there (Eq. 5.17
+  // becomes negative): the ratio is infinite and the verdict names it
+  MachineModel m = thesis_machine();
+  ElectricalMotor e = thesis_motor();
+  e.K_V = 20.0;  // V s/rad: T_p(w) < 0 once K_V w R_a / N_s > c1 V Z
+  m.angular = make_electrical_motor(e);
+  EXPECT_LT(e.pullout_at_rate(200.0), 0.0);
+  Rig s(ch5_circle(), ch5_circle_pole(), 0.0152, inertial(14.6));
+  s.machine = m;
+  const TorqueAnalysis a = s.run();
+  EXPECT_TRUE(std::isinf(a.angular.ratio.value));
+  const Verdict v = judge(a, s.machine, 1.0);
+  EXPECT_FALSE(v.go);
+  EXPECT_EQ(v.axis, 1);
+  EXPECT_EQ(v.failure, Failure::no_pullout);
+  EXPECT_LT(v.where.angular.pullout, 0.0);
 }
 
 TEST(DynamicsAnalytic, PassingSpeedSearch) {

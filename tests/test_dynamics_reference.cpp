@@ -3,11 +3,11 @@
 // tangent angle, Eq. 5.2-5.8, 5.15-5.21 with the units of Eq. 5.18-5.19 sorted out) with the parameters read from
 // the shared reference data (Table 5.1). Also checks that the example machine file carries Table 5.1.
 #include <gtest/gtest.h>
+#include <toml++/toml.h>
 
 #include <cmath>
 #include <filesystem>
 #include <numbers>
-#include <toml++/toml.h>
 
 #include "app/job_dynamics.hpp"
 #include "cam/curves.hpp"
@@ -22,13 +22,15 @@ using LD = long double;
 const LD kPiL = 3.141592653589793238462643383279502884L;
 
 struct Reference {
-  double M_c, J_A, FfLA, K1, K2, k_theta, k_R;                 // Table 5.1 (k_R in rev/m)
+  double M_c, J_A, FfLA, K1, K2, k_theta, k_R;  // Table 5.1 (k_R in rev/m)
   double V_supply, K_V, K_T, R_a, L_a, c_pullout;
   int N_s;
-  double V_tool, width, k_c, c1, depth;                        // grinding
+  double V_tool, width, k_c, c1, depth;  // grinding
 };
 
-double q(const toml::table& t, const char* key, const Dim& d) { return parse_quantity_as(*t[key].value<std::string>(), d); }
+double q(const toml::table& t, const char* key, const Dim& d) {
+  return parse_quantity_as(*t[key].value<std::string>(), d);
+}
 
 std::optional<Reference> read_reference() {
   const std::filesystem::path p = std::filesystem::path(POLARCAM_SHARED_DIR) / "reference" / "fahim1983.toml";
@@ -71,10 +73,10 @@ Expected independent(const Reference& p, LD a, LD b, LD C, LD beta, LD V, LD mas
   const LD phi = th1 + std::atan2(r1, d1);  // direction of the tangent (increasing theta1)
   const LD kappa = (r1 * r1 + 2 * d1 * d1 - r1 * d2) / std::pow(r1 * r1 + d1 * d1, 1.5L);
   const LD g = phi - theta, sg = std::sin(g), cg = std::cos(g);
-  const LD rd = V * cg, thd = V * sg / r;                         // Eq. 5.2, 5.3
+  const LD rd = V * cg, thd = V * sg / r;                          // Eq. 5.2, 5.3
   const LD a_cr = -V * V * kappa * sg, a_cn = V * V * kappa * cg;  // Eq. 5.6-5.8
   const LD thdd = (a_cn - 2 * rd * thd) / r;
-  const LD alpha = std::atan((LD)p.c1);                           // Eq. 5.22, 5.23
+  const LD alpha = std::atan((LD)p.c1);  // Eq. 5.22, 5.23
   const LD Kc = (LD)p.k_c * std::sqrt(1 + (LD)p.c1 * p.c1) * p.depth * p.width / p.V_tool;
   const LD Ft = Kc * V * std::cos(alpha), Fn = Kc * V * std::sin(alpha);
   const LD F_cr = Ft * cg + side * Fn * sg, F_cn = Ft * sg - side * Fn * cg;
@@ -82,9 +84,9 @@ Expected independent(const Reference& p, LD a, LD b, LD C, LD beta, LD V, LD mas
   Expected e;
   e.r = r;
   e.theta_dot = thd;
-  e.T_R = p.K2 * (M * a_cr + F_cr);                                                   // Eq. 5.15
+  e.T_R = p.K2 * (M * a_cr + F_cr);                                                           // Eq. 5.15
   e.T_theta = p.K1 * (p.J_A * thdd + M * r * a_cn + r * F_cn + p.FfLA * (thd > 0 ? 1 : -1));  // Eq. 5.16
-  auto pullout = [&](LD w) {                                                          // Eq. 5.17
+  auto pullout = [&](LD w) {                                                                  // Eq. 5.17
     const LD z2 = (LD)p.R_a * p.R_a + w * w * p.L_a * p.L_a;
     const LD c = 4 / kPiL * std::sin(3 * kPiL / 8);  // = the printed 1.17632
     return c * p.V_supply * p.K_T / std::sqrt(z2) - (LD)p.K_V * w * p.R_a * p.K_T / (p.N_s * z2);
