@@ -54,16 +54,25 @@ CaseResult analyze_case(const Job& job, const PreparedDynamics& prep, const Dyna
     r.analysis = run(j, opt);
     r.verdict = judge(r.analysis, m, job.safety_factor);
     if (search_speed) {
-      AnalysisOptions quick = opt;
+      // The search samples at the default density (its maxima are refined, so they barely depend on it) and
+      // checks its answer at the caller's density; only if that fails does it search again at that density.
+      auto passes = [&](const AnalysisOptions& o) {
+        return [&, o](double f) {
+          if (f == 1.0) return r.verdict.go;
+          try {
+            return judge(run(with_speed(job, c.speed, f), o), m, job.safety_factor).go;
+          } catch (const OutsideCurveError&) {
+            return false;  // beyond the tabulated curve: not known to pass
+          }
+        };
+      };
+      AnalysisOptions quick;
       quick.keep_series = false;
-      r.search = max_passing_speed_factor([&](double f) {
-        if (f == 1.0) return r.verdict.go;
-        try {
-          return judge(run(with_speed(job, c.speed, f), quick), m, job.safety_factor).go;
-        } catch (const OutsideCurveError&) {
-          return false;  // beyond the tabulated curve: not known to pass
-        }
-      });
+      AnalysisOptions full = opt;
+      full.keep_series = false;
+      r.search = max_passing_speed_factor(passes(quick));
+      if (r.search.factor && *r.search.factor != 1.0 && !passes(full)(*r.search.factor))
+        r.search = max_passing_speed_factor(passes(full));
     }
   } catch (const InputError& e) {
     throw InputError(job.file + ": " + e.what());
