@@ -186,6 +186,14 @@ json case_json(const Job& job, const CaseResult& c) {
   j["max_passing_speed_factor"] = c.search.factor ? json(*c.search.factor) : json(nullptr);
   j["max_passing_speed_mps"] = (c.search.factor && c.speed) ? json(*c.search.factor * *c.speed) : json(nullptr);
   j["max_passing_speed_capped"] = c.search.capped;
+  j["corners"] = json::array();
+  for (const Corner& k : a.corners)
+    j["corners"].push_back({{"theta_rad", k.theta},
+                            {"r_m", k.r},
+                            {"s_m", k.s},
+                            {"turn_rad", k.turn},
+                            {"radial_step_rate_jump_hz", k.radial_rate_jump},
+                            {"angular_step_rate_jump_hz", k.angular_rate_jump}});
   j["message"] = verdict_line(job, c);
   return j;
 }
@@ -200,6 +208,14 @@ std::string case_text(const Job& job, const CaseResult& c) {
   s += fmt::format("  {:<10} max |T_R| + |T_theta| = {} N m at theta = {} rad; max sum of ratios {}\n", "total",
                    g(a.total_torque.value), g(a.total_torque.at.theta), g(a.ratio_sum.value));
   s += fmt::format("  {:<10} {}\n", "verdict", verdict_line(job, c));
+  if (!a.corners.empty()) {
+    double jr = 0.0, jt = 0.0;
+    for (const Corner& k : a.corners) jr = std::max(jr, k.radial_rate_jump), jt = std::max(jt, k.angular_rate_jump);
+    s += fmt::format(
+        "  {:<10} the path has {} corner{} where the axis speeds jump (up to {} Hz radial, {} Hz angular); the model "
+        "assumes a smooth path and does not cover them\n",
+        "warning", a.corners.size(), a.corners.size() == 1 ? "" : "s", g(jr), g(jt));
+  }
   return s;
 }
 

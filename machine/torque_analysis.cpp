@@ -5,6 +5,7 @@
 #include <boost/math/tools/minima.hpp>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <sstream>
 
 namespace polarcam {
@@ -125,11 +126,25 @@ TorqueAnalysis analyze_torques(const DynamicsInput& in, const AnalysisOptions& o
   if (opt.keep_series)
     res.series.reserve(static_cast<size_t>(std::min(1e8, tr.length() / h)) +
                        pieces.size() * (static_cast<size_t>(min_n) + 1));
+  auto corner = [&](const TorqueSample& before, const TorqueSample& after) {
+    const double turn = std::remainder(after.st.gamma - before.st.gamma, 2.0 * std::numbers::pi);
+    if (!(after.st.V > 0.0) || !(std::abs(turn) > 1e-6)) return;
+    const Mechanics& mk = in.machine->mech;
+    Corner c;
+    c.s = after.s;
+    c.theta = after.theta;
+    c.r = after.r;
+    c.turn = turn;
+    c.radial_rate_jump = mk.k_R * std::abs(after.st.r_dot - before.st.r_dot) * in.machine->radial.steps_per_rev;
+    c.angular_rate_jump = mk.k_theta * std::abs(after.st.theta_dot - before.st.theta_dot) / (2.0 * std::numbers::pi) *
+                          in.machine->angular.steps_per_rev;
+    res.corners.push_back(c);
+  };
   std::array<std::array<Candidate, kCandidates>, kQuantities> cand;
   std::vector<TorqueSample> seg;
   std::vector<double> ts, cuts, qv;
   bool have_prev = false;
-  TorqueSample prev;
+  TorqueSample prev, first;
   for (size_t i = 0; i < pieces.size(); ++i) {
     const TrackPiece& p = pieces[i];
     cuts.assign({-1.0, 1.0});
@@ -171,16 +186,20 @@ TorqueAnalysis analyze_torques(const DynamicsInput& in, const AnalysisOptions& o
           offer(cq, c);
         }
       }
+      // a corner: the direction of travel jumps between the end of the previous piece and the start of this one
+      if (have_prev && k == 0) corner(prev, seg.front());
       res.samples += seg.size();
       if (opt.keep_series) {
         // a segment start that continues the previous segment's end smoothly is the same point twice
-        size_t first = (have_prev && same_values(prev, seg.front())) ? 1 : 0;
-        res.series.insert(res.series.end(), seg.begin() + static_cast<std::ptrdiff_t>(first), seg.end());
+        const size_t skip = (have_prev && same_values(prev, seg.front())) ? 1 : 0;
+        res.series.insert(res.series.end(), seg.begin() + static_cast<std::ptrdiff_t>(skip), seg.end());
       }
+      if (!have_prev) first = seg.front();
       prev = seg.back();
       have_prev = true;
     }
   }
+  if (tr.closed() && have_prev) corner(prev, first);  // the seam of a closed path
   if (opt.keep_series) res.samples = res.series.size();
 
   // refine each candidate by Brent's method inside its bracket; keep the best

@@ -68,11 +68,21 @@ struct AxisExtremes {
   Extreme step_rate;  // max motor step rate
 };
 
+// A corner of the path: the direction of travel jumps there, so at a non-zero speed the axis speeds jump too (an
+// impulse the quasi-static model of the thesis does not cover).
+struct Corner {
+  double s = 0.0, theta = 0.0, r = 0.0;  // where
+  double turn = 0.0;                     // rad, signed change of the direction of travel (+ left)
+  double radial_rate_jump = 0.0;         // Hz, |change of the radial motor's signed step rate|
+  double angular_rate_jump = 0.0;        // Hz, likewise for the angular motor
+};
+
 struct TorqueAnalysis {
   AxisExtremes radial, angular;
   Extreme total_torque;  // max |T_R| + |T_theta| (T_T, Eq. 6.29, of magnitudes)
   Extreme ratio_sum;     // max |T_R / T_pR| + |T_theta / T_ptheta| (the normalised T_T of Eq. 6.30)
   std::vector<TorqueSample> series;
+  std::vector<Corner> corners;
   size_t samples = 0;
   double length = 0.0, duration = 0.0;  // m, s
 };

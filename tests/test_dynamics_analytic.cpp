@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "cam/curves.hpp"
+#include "cam/path.hpp"
 #include "dynamics_helpers.hpp"
 #include "machine/verdict.hpp"
 
@@ -255,4 +256,26 @@ TEST(DynamicsAnalytic, PassingSpeedSearch) {
   EXPECT_TRUE(s.capped);
   s = max_passing_speed_factor([](double) { return false; });
   EXPECT_FALSE(s.factor);
+}
+
+TEST(DynamicsAnalytic, CornersAreReported) {
+  // two lines meeting at a right angle: at the corner r' jumps from V cos(g1) to V cos(g2), theta' likewise
+  const Vec2 a{0.10, 0.05}, b{0.20, 0.05}, c{0.20, 0.15};
+  std::vector<PathSegment> segs{{PathSegment::Kind::line, a, b, {}, 0.0}, {PathSegment::Kind::line, b, c, {}, 0.0}};
+  const double V = 0.0152;
+  Rig s(make_path(segs, false), Placement{}, V, inertial(0.0));
+  const TorqueAnalysis an = s.run();
+  ASSERT_EQ(an.corners.size(), 1u);
+  const Corner& k = an.corners[0];
+  EXPECT_NEAR(k.turn, kPi / 2, 1e-12);
+  EXPECT_NEAR(k.r, norm(b), 1e-12);
+  EXPECT_NEAR(k.s, 0.1, 1e-12);
+  const Vec2 er = b / norm(b), et = perp(er);
+  const Mechanics& m = s.machine.mech;
+  // before: travel along +x; after: along +y
+  const double rd0 = V * er.x, rd1 = V * er.y, td0 = V * et.x / norm(b), td1 = V * et.y / norm(b);
+  EXPECT_NEAR(k.radial_rate_jump, m.k_R * std::abs(rd1 - rd0) * 400, 1e-9);
+  EXPECT_NEAR(k.angular_rate_jump, m.k_theta * std::abs(td1 - td0) / (2 * kPi) * 400, 1e-9);
+  // a smooth closed curve has none
+  EXPECT_TRUE(Rig(ch5_circle(), ch5_circle_pole(), V, inertial(0.0)).run().corners.empty());
 }
