@@ -177,7 +177,7 @@ int fit(const FitOpts& o) {
   } else {
     std::cout << "polarcam motor fit " << o.points << " (" << pts.size() << " points)\n";
     std::cout << "  known      " << g(m.supply_voltage) << " V, R_a " << g(m.R_a) << " ohm, N_s " << m.rotor_teeth
-              << ", " << to_string(m.energisation) << " (" << g(m.steps_per_rev()) << " steps/rev, c1 "
+              << ", " << to_string(m.energisation) << " (" << g(m.steps_per_rev()) << " steps/rev, c_p "
               << g(pullout_coefficient(m.energisation)) << ")\n";
     std::cout << "  fitted     K_T " << g(m.K_T) << pm(r.K_T_sd) << " N m/A, K_V " << g(m.K_V) << pm(r.K_V_sd)
               << " V s/rad, L_a " << g(m.L_a) << pm(r.L_a_sd) << " H\n";

@@ -217,6 +217,7 @@ std::optional<MachineModel> parse_dynamics(Section& machine, const MachineTables
     g.worm_pitch_radius = positive(*worm, "worm_pitch_radius", dim::length);
     g.gear_pitch_radius = positive(*worm, "gear_pitch_radius", dim::length);
     g.pressure_angle = worm->require_quantity("pressure_angle", dim::angle);
+    g.lead_angle = worm->quantity("lead_angle", dim::angle);
     if (!worm->has("friction"))
       throw InputError(worm->file() + ": [machine.worm]: the key 'friction' is missing (mu_1)");
     g.friction = *worm->number("friction");
@@ -240,6 +241,7 @@ std::optional<MachineModel> parse_dynamics(Section& machine, const MachineTables
     g.lead = lead;
     g.mean_radius = positive(*screw, "mean_radius", dim::length);
     g.thread_half_angle = screw->require_quantity("thread_half_angle", dim::angle);
+    g.helix_angle = screw->quantity("helix_angle", dim::angle);
     if (!screw->has("friction"))
       throw InputError(screw->file() + ": [machine.screw]: the key 'friction' is missing (mu_2)");
     g.friction = *screw->number("friction");

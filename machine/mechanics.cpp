@@ -1,6 +1,7 @@
 #include "machine/mechanics.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 #include "cam/error.hpp"
@@ -11,6 +12,21 @@ namespace {
 void positive(double v, const char* what) {
   if (!(v > 0.0) || !std::isfinite(v)) throw InputError(std::string(what) + " must be positive");
 }
+std::string deg(double rad) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.4g deg", rad * 180.0 / std::numbers::pi);
+  return b;
+}
+
+// A given angle that the other dimensions also determine: it must agree with them.
+double agreeing(const std::optional<double>& given, double implied, const char* what, const char* from) {
+  if (!given) return implied;
+  if (!(std::abs(*given - implied) <= 0.01 * implied))
+    throw InputError(std::string("the ") + what + " " + deg(*given) + " disagrees with the " + deg(implied) + " that " +
+                     from + " give");
+  return *given;
+}
+
 void non_negative(double v, const char* what) {
   if (!(v >= 0.0) || !std::isfinite(v)) throw InputError(std::string(what) + " must be zero or positive");
 }
@@ -34,7 +50,9 @@ double worm_factor(const WormGeometry& w, double k_theta) {
   non_negative(w.friction, "the worm's friction coefficient");
   if (!(w.pressure_angle >= 0.0 && w.pressure_angle < 0.5 * std::numbers::pi))
     throw InputError("the worm's pressure angle must be between 0 and 90 degrees");
-  const double lambda = std::atan(w.gear_pitch_radius / (k_theta * w.worm_pitch_radius));
+  const double lambda =
+      agreeing(w.lead_angle, std::atan(w.gear_pitch_radius / (k_theta * w.worm_pitch_radius)), "worm's lead angle",
+               "the pitch radii and the reduction (tan lambda = R_g / (k_theta R_w))");
   const double cz = std::cos(w.pressure_angle), sl = std::sin(lambda), cl = std::cos(lambda);
   const double den = cz * cl - w.friction * sl;
   if (!(den > 0.0))
@@ -49,7 +67,8 @@ double screw_factor(const ScrewGeometry& s) {
   if (!(s.thread_half_angle >= 0.0 && s.thread_half_angle < 0.5 * std::numbers::pi))
     throw InputError("the screw's thread half-angle must be between 0 and 90 degrees");
   constexpr double kTwoPi = 2.0 * std::numbers::pi;
-  const double psi = std::atan(s.lead / (kTwoPi * s.mean_radius));
+  const double psi = agreeing(s.helix_angle, std::atan(s.lead / (kTwoPi * s.mean_radius)), "screw's helix angle",
+                              "its lead and mean radius (tan psi = l / (2 pi R_s))");
   const double sx = std::sin(s.thread_half_angle), sp = std::sin(psi);
   const double sec_n = std::sqrt(1.0 - sp * sp * sx * sx) / std::cos(s.thread_half_angle);
   const double den = kTwoPi * s.mean_radius - s.friction * s.lead * sec_n;

@@ -3,6 +3,7 @@
 // about the pole by a motor through a worm and worm gear, a carriage driven along the arm by a second motor
 // through a power screw and split nut; every part rigid, the reducers transformers with friction losses only.
 // docs/dynamics.md gives the equations with units and the corrections made to the printed ones.
+#include <optional>
 #include <string>
 
 namespace polarcam {
@@ -23,10 +24,11 @@ struct Mechanics {
 
 // A worm and worm gear, for K1 by Eq. 5.12.
 struct WormGeometry {
-  double worm_pitch_radius = 0.0;  // R_w, m
-  double gear_pitch_radius = 0.0;  // R_g, m
-  double pressure_angle = 0.0;     // zeta, rad (normal pressure angle)
-  double friction = 0.0;           // mu_1, worm on gear
+  double worm_pitch_radius = 0.0;    // R_w, m
+  double gear_pitch_radius = 0.0;    // R_g, m
+  double pressure_angle = 0.0;       // zeta, rad (normal pressure angle)
+  double friction = 0.0;             // mu_1, worm on gear
+  std::optional<double> lead_angle;  // lambda, rad: optional, must agree (1 %) with tan lambda = R_g / (k_theta R_w)
 };
 
 // K1 = (R_w / R_g) (cos zeta sin lambda + mu_1 cos lambda) / (cos zeta cos lambda - mu_1 sin lambda), Eq. 5.12 with
@@ -37,10 +39,11 @@ double worm_factor(const WormGeometry& w, double k_theta);
 
 // A power screw and nut, for K2 by Eq. 5.14.
 struct ScrewGeometry {
-  double lead = 0.0;               // l, m of travel per screw revolution
-  double mean_radius = 0.0;        // R_s, m
-  double thread_half_angle = 0.0;  // xi, rad: half the included thread angle (Acme 14.5 deg, square 0)
-  double friction = 0.0;           // mu_2, nut on screw
+  double lead = 0.0;                  // l, m of travel per screw revolution
+  double mean_radius = 0.0;           // R_s, m
+  double thread_half_angle = 0.0;     // xi, rad: half the included thread angle (Acme 14.5 deg, square 0)
+  double friction = 0.0;              // mu_2, nut on screw
+  std::optional<double> helix_angle;  // psi, rad: optional, must agree (1 %) with tan psi = l / (2 pi R_s)
 };
 
 // K2 = R_s (l + 2 pi R_s mu_2 sec xi_n) / (2 pi R_s - mu_2 l sec xi_n), sec xi_n = sec xi (1 - sin^2 psi

@@ -3,7 +3,7 @@
 // as Appendix F.3 of 002_d776f0f2af43efa4.txt compares the model with measurements. The supply voltage, winding
 // resistance, rotor teeth and energisation are known (nameplate, ohmmeter); the fit finds the torque constant K_T,
 // the voltage constant K_V and the inductance L_a (the three combinations the curve determines: the low-speed
-// torque c1 V K_T / R_a, the time constant L_a / R_a and the back-emf term K_V K_T / (N_s R_a)).
+// torque c_p V K_T / R_a, the time constant L_a / R_a and the back-emf term K_V K_T / (N_s R_a)).
 // The start comes from a scan over L_a with K_T and K_T K_V solved by linear least squares (the model is linear in
 // them for a fixed L_a); Ceres then minimises a robust loss (Cauchy by default) of the torque residuals, so a few
 // bad readings do not drag the curve. Everything is in SI: step rates in Hz (motor steps per second as driven),

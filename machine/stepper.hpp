@@ -3,8 +3,8 @@
 // rate. Two models:
 //  - electrical (Eq. 5.17 = F.6 of 002_d776f0f2af43efa4.txt): from the supply voltage, the torque and voltage
 //    constants, the rotor teeth and the winding's resistance and inductance,
-//      T_p(w) = c1 V K_T / sqrt(R^2 + w^2 L^2) - K_V w R K_T / (N_s (R^2 + w^2 L^2)),
-//    w the electrical angular frequency (N_s times the shaft's rad/s). c1 is the amplitude of the fundamental of
+//      T_p(w) = c_p V K_T / sqrt(R^2 + w^2 L^2) - K_V w R K_T / (N_s (R^2 + w^2 L^2)),
+//    w the electrical angular frequency (N_s times the shaft's rad/s). c_p is the amplitude of the fundamental of
 //    one phase's voltage per unit supply voltage, computed from the switching sequence of Table F.1: 1.17632 for
 //    the wave (half-step) scheme the thesis uses, 4/pi for full step with two windings on, 2 sqrt(2)/pi with one.
 //  - curve: a datasheet's pull-out curve (torque against step rate), interpolated monotonically (PCHIP); a rate
@@ -38,7 +38,7 @@ struct Fundamental {
   double amplitude, phase;
 };
 Fundamental phase_fundamental(const SwitchingSequence& seq, int phase /*0 = A, 1 = B*/);
-// c1 of the pull-out formula for a scheme: the amplitude of its phase fundamental.
+// c_p of the pull-out formula for a scheme: the amplitude of its phase fundamental.
 double pullout_coefficient(Energisation e);
 // Motor steps per rotor-tooth pitch (one electrical cycle): 8 for wave, 4 for the full-step schemes.
 int steps_per_cycle(Energisation e);

@@ -279,3 +279,20 @@ TEST(DynamicsAnalytic, CornersAreReported) {
   // a smooth closed curve has none
   EXPECT_TRUE(Rig(ch5_circle(), ch5_circle_pole(), V, inertial(0.0)).run().corners.empty());
 }
+
+TEST(DynamicsAnalytic, ToolRadiusMovesTheCarriageOnTheOffsetPath) {
+  // a circle of radius R about the pole cut with a tool of radius R_r outside it: the carriage runs on the circle
+  // of radius R + R_r (at the job's speed, the tool centre's), so T_R = -K2 M V^2 / (R + R_r)
+  const double R = 0.15, Rr = 0.01, V = 0.0152, m = 14.6;
+  const MachineModel M = thesis_machine();
+  const Load load = inertial(m);
+  auto path = make_tool_path(make_circle({0, 0}, R), Placement{}, ToolSpec{Rr, ToolSide::outside}, TravelSpec{});
+  const PolarTrack track = PolarTrack::build(*path);
+  auto prof = make_constant_speed(V, track.length());
+  const TorqueAnalysis a = analyze_torques({path.get(), &track, 0.0, prof.get(), &M, &load, 1});
+  const double T_R = -M.mech.K2 * (M.mech.carriage_mass + m) * V * V / (R + Rr);
+  for (const auto& x : a.series) {
+    ASSERT_NEAR(x.r, R + Rr, 1e-12);
+    ASSERT_NEAR(x.radial.torque, T_R, 1e-10 * std::abs(T_R));
+  }
+}

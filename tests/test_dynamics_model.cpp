@@ -21,7 +21,7 @@ constexpr double kPi = std::numbers::pi;
 TEST(Mechanics, WormFactorWithoutFrictionIsTheReduction) {
   for (double k : {10.0, 40.0, 60.0})
     for (double rw : {0.005, 0.012}) {
-      WormGeometry w{rw, 0.04, 14.5 * kPi / 180, 0.0};
+      WormGeometry w{rw, 0.04, 14.5 * kPi / 180, 0.0, {}};
       EXPECT_NEAR(worm_factor(w, k), 1.0 / k, 1e-15) << k << " " << rw;
     }
 }
@@ -32,26 +32,37 @@ TEST(Mechanics, WormFactorMatchesTheEfficiencyForm) {
   const double lambda = std::atan(rg / (k * rw));
   for (double f : {0.02, 0.05, 0.1}) {
     const double e = (std::cos(phi) - f * std::tan(lambda)) / (std::cos(phi) + f / std::tan(lambda));
-    EXPECT_NEAR(worm_factor({rw, rg, phi, f}, k), 1.0 / (k * e), 1e-14) << f;
+    EXPECT_NEAR(worm_factor({rw, rg, phi, f, {}}, k), 1.0 / (k * e), 1e-14) << f;
   }
+  // a lead angle given as well must agree with the radii and the reduction
+  WormGeometry g{rw, rg, phi, 0.05, {}};
+  g.lead_angle = lambda;
+  EXPECT_DOUBLE_EQ(worm_factor(g, k), worm_factor({rw, rg, phi, 0.05, {}}, k));
+  g.lead_angle = 1.05 * lambda;
+  EXPECT_THROW(worm_factor(g, k), InputError);
   // a friction high enough to lock the drive is refused
-  EXPECT_THROW(worm_factor({rw, rg, phi, 50.0}, 1.0), InputError);
-  EXPECT_THROW(worm_factor({0.0, rg, phi, 0.1}, k), InputError);
+  EXPECT_THROW(worm_factor({rw, rg, phi, 50.0, {}}, 1.0), InputError);
+  EXPECT_THROW(worm_factor({0.0, rg, phi, 0.1, {}}, k), InputError);
 }
 
 TEST(Mechanics, ScrewFactorMatchesThePowerScrewTorque) {
   const double l = 0.00127, rs = 0.006;
-  EXPECT_NEAR(screw_factor({l, rs, 0.0, 0.0}), l / (2 * kPi), 1e-18);
-  EXPECT_NEAR(screw_factor({l, rs, 14.5 * kPi / 180, 0.0}), l / (2 * kPi), 1e-18);
+  EXPECT_NEAR(screw_factor({l, rs, 0.0, 0.0, {}}), l / (2 * kPi), 1e-18);
+  EXPECT_NEAR(screw_factor({l, rs, 14.5 * kPi / 180, 0.0, {}}), l / (2 * kPi), 1e-18);
   // torque to raise a load F: T = F d_m/2 (l + pi f d_m sec a_n) / (pi d_m - f l sec a_n), tan a_n = tan a cos lambda
   const double dm = 2 * rs, lambda = std::atan(l / (kPi * dm));
   for (double a : {0.0, 14.5 * kPi / 180, 30.0 * kPi / 180})
     for (double f : {0.08, 0.15}) {
       const double an = std::atan(std::tan(a) * std::cos(lambda)), sec = 1.0 / std::cos(an);
       const double expect = dm / 2 * (l + kPi * f * dm * sec) / (kPi * dm - f * l * sec);
-      EXPECT_NEAR(screw_factor({l, rs, a, f}), expect, 1e-15) << a << " " << f;
+      EXPECT_NEAR(screw_factor({l, rs, a, f, {}}), expect, 1e-15) << a << " " << f;
     }
-  EXPECT_THROW(screw_factor({l, rs, 0.0, -0.1}), InputError);
+  EXPECT_THROW(screw_factor({l, rs, 0.0, -0.1, {}}), InputError);
+  ScrewGeometry sg{l, rs, 14.5 * kPi / 180, 0.1, {}};
+  sg.helix_angle = 1.001 * lambda;
+  EXPECT_NEAR(screw_factor(sg), screw_factor({l, rs, 14.5 * kPi / 180, 0.1, {}}), 1e-6 * screw_factor(sg));
+  sg.helix_angle = 2 * lambda;
+  EXPECT_THROW(screw_factor(sg), InputError);
 }
 
 TEST(Stepper, TableF1Coefficients) {
