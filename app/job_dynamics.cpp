@@ -1,7 +1,6 @@
 #include "app/job_dynamics.hpp"
 
 #include <deque>
-#include <numbers>
 #include <set>
 
 #include "cam/error.hpp"
@@ -19,15 +18,14 @@ const toml::table* sub(const toml::table* t, const char* key) {
   return n ? n->as_table() : nullptr;
 }
 
-// Sections of sub-tables of [machine], layered so that a key is looked up in the job's table, then the machine
-// file's (and, for the motors, the per-axis tables before the shared [machine.motor]). Addresses stay stable.
+// A sub-table of [machine] ([machine.worm], [machine.screw]) with the job's keys over the machine file's. The
+// sections stay at stable addresses (each refers to the one below it).
 class Layers {
  public:
   explicit Layers(const MachineTables& t) : t_(t) {}
-  // job over file for one sub-table, over `below`
-  Section* layer(const char* key, const Section* below) {
+  Section* layer(const char* key) {
     const std::string name = std::string("machine.") + key;
-    Section& f = store_.emplace_back(sub(t_.file, key), t_.machine_file, name, below);
+    Section& f = store_.emplace_back(sub(t_.file, key), t_.machine_file, name, nullptr);
     return &store_.emplace_back(sub(t_.job, key), t_.job_file, name, &f);
   }
 
@@ -207,7 +205,7 @@ std::optional<MachineModel> parse_dynamics(Section& machine, const MachineTables
   k.k_R = gear_R / lead;
 
   Layers layers(tables);
-  Section* worm = layers.layer("worm", nullptr);
+  Section* worm = layers.layer("worm");
   if (machine.has("worm_factor")) {
     if (worm->present()) machine.fail("worm_factor", "give either 'worm_factor' or a [machine.worm] table, not both");
     k.K1 = *machine.number("worm_factor");
@@ -231,7 +229,7 @@ std::optional<MachineModel> parse_dynamics(Section& machine, const MachineTables
     throw InputError(tables.job_file + ": [machine]: give 'worm_factor' (K1) or a [machine.worm] table (Eq. 5.12)");
   }
 
-  Section* screw = layers.layer("screw", nullptr);
+  Section* screw = layers.layer("screw");
   if (machine.has("screw_factor")) {
     if (screw->present())
       machine.fail("screw_factor", "give either 'screw_factor' or a [machine.screw] table, not both");

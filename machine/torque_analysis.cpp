@@ -8,6 +8,8 @@
 #include <numbers>
 #include <sstream>
 
+#include "cam/error.hpp"
+
 namespace polarcam {
 namespace {
 
@@ -116,6 +118,10 @@ TorqueAnalysis analyze_torques(const DynamicsInput& in, const AnalysisOptions& o
   res.duration = in.profile->total_time();
   const double h = opt.spacing > 0.0 ? opt.spacing : tr.length() / std::max(1, opt.target_samples);
   const int min_n = std::max(2, opt.min_per_segment);
+  constexpr double kMaxSamples = 5e7;
+  if (!(h > 0.0) || tr.length() / h > kMaxSamples)
+    throw InputError("a sample spacing of " + num(h * 1e3) + " mm would need " + num(tr.length() / h) +
+                     " samples along the " + num(tr.length() * 1e3) + " mm path, more than " + num(kMaxSamples));
   Evaluator ev(in);
 
   // speed-profile kinks, as (piece, t)

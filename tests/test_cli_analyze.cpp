@@ -231,6 +231,7 @@ TEST(CliAnalyze, BadInputGivesOneClearLine) {
     EXPECT_EQ(r.code, 2);
     EXPECT_NE(r.err.find("--mass or --depth"), std::string::npos) << r.err;
   }
+  expect_bad(sc, kCircle, "samples along", "--spacing \"1 nm\"");
   // a machine without dynamics
   sc.write("machines/bare.toml", "[machine]\nradial_resolution = \"0.001 in\"\nangular_steps_per_rev = 16000\n");
   expect_bad(sc, replace(kCircle, "machines/fahim1983.toml", "machines/bare.toml"), "no dynamics");
