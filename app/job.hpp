@@ -1,6 +1,6 @@
 #pragma once
-// A polarcam job: the machine grid (and dynamics), the contour, its placement, the tool, the motion and the load, read from a TOML job
-// file (docs/job-format.md). Quantities are strings with units; the code works in SI. The CLI commands build
+// A polarcam job: the machine grid (and dynamics), the contour, its placement, the tool, the motion and the load,
+// read from a TOML job file (docs/job-format.md). Quantities are strings with units; the code works in SI. The CLI commands build
 // everything from a Job, so they contain no geometry or physics of their own.
 #include <nlohmann/json.hpp>
 #include <optional>

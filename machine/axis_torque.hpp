@@ -21,10 +21,11 @@ struct MachineModel {
 };
 
 // How the Coulomb friction of the arm support acts at a point. Where the arm turns: F_f L_A sgn(theta'), always.
-// Where it does not (theta' = 0 to rounding): if theta'' != 0 the arm is reversing or starting, and the mode picks
-// the one-sided limit: reversal_before, the arm still turning against theta''; otherwise turning with it. If
-// theta'' = 0 too, static friction holds the arm and takes up to F_f L_A of the other torque.
-enum class FrictionMode { moving, reversal_before, reversal_after };
+// Where it does not (theta' = 0 to rounding) and theta'' != 0, the arm is reversing or starting from rest: `moving`
+// takes the limit after that instant (the arm turning with theta''), `reversal_before` the limit before it (still
+// turning against theta''). Where theta'' = 0 too, static friction holds the arm and takes up to F_f L_A of the
+// other torque.
+enum class FrictionMode { moving, reversal_before };
 
 struct AxisDemand {
   double torque = 0.0;     // N m, signed: + drives the axis towards +r / +theta

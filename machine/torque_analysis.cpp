@@ -44,9 +44,10 @@ std::string num(double v) {
   return os.str();
 }
 
-// Where a sample is evaluated: piece and t, and whether it is the end of a segment (evaluated as the limit from
-// below, so that a jump at the segment boundary shows on both sides) or its start.
-enum class End { none, start, finish };
+// Whether a sample is the end of a segment, evaluated as the limit from below (path geometry, acceleration of the
+// speed profile, friction before a reversal), so that a jump at the boundary shows on both sides; every other
+// sample, the segment's start included, is the limit from above.
+enum class End { none, finish };
 
 class Evaluator {
  public:
@@ -66,9 +67,7 @@ class Evaluator {
     x.t = prof.time_at(x.s);
     const PathState st = path_state(in_.path->eval(u_eval, 2), V, a_t);
     x.r = st.r;
-    const FrictionMode mode = end == End::finish
-                                  ? FrictionMode::reversal_before
-                                  : (end == End::start ? FrictionMode::reversal_after : FrictionMode::moving);
+    const FrictionMode mode = end == End::finish ? FrictionMode::reversal_before : FrictionMode::moving;
     PointDynamics d;
     try {
       d = point_dynamics(st, x.s, *in_.machine, *in_.load, in_.side, mode);
@@ -169,7 +168,7 @@ TorqueAnalysis analyze_torques(const DynamicsInput& in, const AnalysisOptions& o
       for (int j = 0; j <= n; ++j) {
         ts[static_cast<size_t>(j)] = j == n ? tb : ta + (tb - ta) * j / n;
         seg[static_cast<size_t>(j)] =
-            ev.at(i, ts[static_cast<size_t>(j)], j == 0 ? End::start : (j == n ? End::finish : End::none));
+            ev.at(i, ts[static_cast<size_t>(j)], j == n ? End::finish : End::none);
       }
       // local maxima of each quantity (the first sample of a plateau)
       qv.resize(seg.size() * kQuantities);

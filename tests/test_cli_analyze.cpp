@@ -42,13 +42,6 @@ wheel_speed = "16.62 m/s"
 safety_factor = 1.0
 )";
 
-std::string replace(std::string s, const std::string& from, const std::string& to) {
-  auto p = s.find(from);
-  EXPECT_NE(p, std::string::npos) << from;
-  if (p != std::string::npos) s.replace(p, from.size(), to);
-  return s;
-}
-
 void expect_bad(const Scratch& sc, const std::string& job_text, const std::string& must_mention,
                 const std::string& extra = "") {
   SCOPED_TRACE("expecting: " + must_mention);
