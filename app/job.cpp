@@ -6,6 +6,7 @@
 
 #include "app/job_contour.hpp"
 #include "app/job_optimize.hpp"
+#include "app/job_dynamics.hpp"
 #include "app/toml_section.hpp"
 #include "cam/error.hpp"
 
@@ -135,6 +136,11 @@ Job load_job(const std::string& path) {
   json& pm = prov["machine"];
   job.grid = parse_grid(machine, pm, job.machine_name);
   if (!job.machine_name.empty()) pm["name"] = job.machine_name;
+  {
+    const toml::node* fm = machine_file_section ? machine_root.get("machine") : nullptr;
+    job.dynamics = jobfile::parse_dynamics(
+        machine, {jm ? jm->as_table() : nullptr, path, fm ? fm->as_table() : nullptr, machine_file_name});
+  }
   machine.finish();
 
   // [contour]
@@ -231,6 +237,9 @@ Job load_job(const std::string& path) {
   // [optimize]: read and checked here so that a job file has one set of keys for every command
   Section op = top.subsection("optimize");
   job.optimize = jobfile::parse_optimize(op);
+  // [load], [limits]: read by the dynamics (polarcam analyze); they do not change the tape
+  job.load = jobfile::parse_load(top.subsection("load"));
+  job.safety_factor = jobfile::parse_limits(top.subsection("limits"));
 
   top.finish();
   job.provenance = std::move(prov);

@@ -1,6 +1,6 @@
 #pragma once
-// A polarcam job: the machine grid, the contour, its placement, the tool and the motion, read from a TOML job
-// file (docs/job-format.md). Quantities are strings with units; the code works in SI. The CLI commands build
+// A polarcam job: the machine grid (and dynamics), the contour, its placement, the tool, the motion and the load,
+// read from a TOML job file (docs/job-format.md). Quantities are strings with units; the code works in SI. The CLI commands build
 // everything from a Job, so they contain no geometry or physics of their own.
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -13,6 +13,8 @@
 #include "digitizer/grid.hpp"
 #include "digitizer/speed_profile.hpp"
 #include "optimize/placement.hpp"
+#include "machine/axis_torque.hpp"
+#include "machine/load.hpp"
 
 namespace polarcam {
 
@@ -43,6 +45,9 @@ struct Job {
   MotionSpec motion;
   CartesianSpec cartesian;
   PlacementOptions optimize;             // [optimize]: options of `polarcam optimize` (not part of the provenance)
+  std::optional<MachineModel> dynamics;  // mechanics and motors, when the machine describes them (docs/dynamics.md)
+  LoadSpec load;                         // [load]
+  double safety_factor = 1.0;            // [limits]
   nlohmann::ordered_json provenance;     // canonical description of the job (SI values, no paths)
 };
 

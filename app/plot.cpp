@@ -115,10 +115,12 @@ void draw_panel(plstream& pls, const Panel& p) {
 
   pls.col0(1);
   pls.width(1.0);
+  pls.syax(6, 0);  // enough digits for the tick labels of a narrow range far from zero (-1.0725)
   pls.box("bcnst", 0.0, 0, "bcnstv", 0.0, 0);
   std::string title = p.title;
   if (!band_note.empty()) title += "  " + band_note;
-  pls.lab(p.xlabel.c_str(), p.ylabel.c_str(), title.c_str());
+  pls.lab(p.xlabel.c_str(), "", title.c_str());
+  pls.mtex("l", 7.0, 0.5, 0.5, p.ylabel.c_str());  // clear of tick labels up to seven characters long
   for (double h : p.hlines) {
     PLFLT x[2] = {xmin, xmax}, y[2] = {h, h};
     pls.col0(2);

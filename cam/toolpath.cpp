@@ -83,6 +83,20 @@ FoldCheck offset_speed_factor_min(const Curve& c, double d) {
   return best;
 }
 
+int tool_side_sign(const Curve& contour, const ToolSpec& tool, const TravelSpec& travel) {
+  switch (tool.side) {
+    case ToolSide::left: return 1;
+    case ToolSide::right: return -1;
+    case ToolSide::outside:
+    case ToolSide::inside: break;
+  }
+  if (!contour.closed()) throw InputError("tool side 'outside'/'inside' needs a closed contour; use 'left' or 'right'");
+  double area = signed_area(contour);
+  if (travel.reverse) area = -area;
+  const bool ccw = area > 0.0;  // then the left normal points inside
+  return ((tool.side == ToolSide::inside) == ccw) ? 1 : -1;
+}
+
 ToolPathPtr make_tool_path(CurvePtr contour, const Placement& placement, const ToolSpec& tool,
                            const TravelSpec& travel) {
   if (!std::isfinite(placement.C) || !std::isfinite(placement.beta)) throw InputError("the placement must be finite");
@@ -91,22 +105,7 @@ ToolPathPtr make_tool_path(CurvePtr contour, const Placement& placement, const T
   if (travel.start_parameter && !std::isfinite(*travel.start_parameter)) throw InputError("the start parameter must be finite");
 
   // signed offset relative to the direction of travel (+ left)
-  double d = 0.0;
-  if (tool.radius > 0.0) {
-    switch (tool.side) {
-      case ToolSide::left: d = tool.radius; break;
-      case ToolSide::right: d = -tool.radius; break;
-      case ToolSide::outside:
-      case ToolSide::inside: {
-        if (!contour->closed()) throw InputError("tool side 'outside'/'inside' needs a closed contour; use 'left' or 'right'");
-        double area = signed_area(*contour);
-        if (travel.reverse) area = -area;
-        bool ccw = area > 0.0;  // then the left normal points inside
-        d = ((tool.side == ToolSide::inside) == ccw) ? tool.radius : -tool.radius;
-        break;
-      }
-    }
-  }
+  const double d = tool.radius > 0.0 ? tool_side_sign(*contour, tool, travel) * tool.radius : 0.0;
   if (d == 0.0) return std::make_shared<ToolPath>(std::move(contour), placement, 0.0, travel);
 
   const double dc = travel.reverse ? -d : d;  // side relative to the contour's own direction

@@ -59,6 +59,11 @@ class ToolPath final : public Curve {
 
 using ToolPathPtr = std::shared_ptr<const ToolPath>;
 
+// Side of the tool centre relative to the direction of travel, +1 left or -1 right, also for a tool of zero
+// radius (process forces need to know which side the material is on). Throws InputError for 'outside'/'inside'
+// on an open contour.
+int tool_side_sign(const Curve& contour, const ToolSpec& tool, const TravelSpec& travel);
+
 // Builds the tool-centre path. Throws InputError for an offset that folds, a corner that a round tool cannot
 // follow, a start parameter on an open curve, and the like.
 ToolPathPtr make_tool_path(CurvePtr contour, const Placement& placement, const ToolSpec& tool,

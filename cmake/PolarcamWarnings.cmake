@@ -8,4 +8,8 @@ endif()
 if(POLARCAM_SANITIZE)
   target_compile_options(polarcam_options INTERFACE -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
   target_link_options(polarcam_options INTERFACE -fsanitize=address,undefined)
+  # Debian's Ceres is a static library built without sanitizers, with Eigen assuming malloc aligns to 16 bytes;
+  # Eigen drops that assumption under ASan, and the two halves would then free each other's blocks with the wrong
+  # function. glibc's and ASan's malloc both align to 16 bytes on 64-bit targets: keep the assumption everywhere.
+  target_compile_definitions(polarcam_options INTERFACE EIGEN_MALLOC_ALREADY_ALIGNED=1)
 endif()

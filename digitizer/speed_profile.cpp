@@ -14,6 +14,7 @@ class Constant final : public SpeedProfile {
   Constant(double v, double L) : SpeedProfile(L), v_(v) {}
   double time_at(double s) const override { return s / v_; }
   double speed_at(double) const override { return v_; }
+  double accel_at(double) const override { return 0.0; }
 
  private:
   double v_;
@@ -43,6 +44,18 @@ class Trapezoid final : public SpeedProfile {
     if (s <= L - sa_) return v_;
     return std::sqrt(2.0 * a_ * std::max(L - s, 0.0));
   }
+  double accel_at(double s) const override {
+    const double L = length();
+    if (s < sa_) return a_;
+    return s < L - sa_ ? 0.0 : -a_;
+  }
+  std::vector<double> kinks() const override {
+    const double L = length();
+    std::vector<double> k;
+    if (sa_ > 0.0 && sa_ < L) k.push_back(sa_);
+    if (L - sa_ > sa_ && L - sa_ < L) k.push_back(L - sa_);
+    return k;
+  }
 
  private:
   double a_, v_, sa_, ta_, tc_;
@@ -67,6 +80,17 @@ class Table final : public SpeedProfile {
     size_t i = seg(s);
     double f = (s - st_[i].s) / (st_[i + 1].s - st_[i].s);
     return st_[i].v + f * (st_[i + 1].v - st_[i].v);
+  }
+  double accel_at(double s) const override {
+    if (s < st_.front().s || s >= st_.back().s) return 0.0;
+    size_t i = seg(s);
+    return speed_at(s) * (st_[i + 1].v - st_[i].v) / (st_[i + 1].s - st_[i].s);
+  }
+  std::vector<double> kinks() const override {
+    std::vector<double> k;
+    for (const auto& p : st_)
+      if (p.s > 0.0 && p.s < length()) k.push_back(p.s);
+    return k;
   }
 
  private:

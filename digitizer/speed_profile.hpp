@@ -16,6 +16,10 @@ class SpeedProfile {
   virtual ~SpeedProfile() = default;
   virtual double time_at(double s) const = 0;   // s
   virtual double speed_at(double s) const = 0;  // m/s
+  // Tangential acceleration dV/dt = V dV/ds at s (m/s^2); one-sided (from above) where it jumps.
+  virtual double accel_at(double s) const = 0;
+  // Arc lengths strictly inside (0, length) where the acceleration jumps (ramp ends, table stations), sorted.
+  virtual std::vector<double> kinks() const { return {}; }
   double length() const { return length_; }     // m, the path length the profile was made for
   double total_time() const { return time_at(length_); }
 

@@ -1,5 +1,6 @@
 #pragma once
 // Runs the polarcam executable for end-to-end tests.
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -33,6 +34,15 @@ inline CliResult run_cli(const std::string& args) {
   std::remove((base + ".out").c_str());
   std::remove((base + ".err").c_str());
   return r;
+}
+
+// `s` with the first occurrence of `from` replaced by `to` (a failed expectation when `from` is missing): the bad
+// job files of the CLI tests are a good one with one thing changed.
+inline std::string replace(std::string s, const std::string& from, const std::string& to) {
+  auto p = s.find(from);
+  EXPECT_NE(p, std::string::npos) << from;
+  if (p != std::string::npos) s.replace(p, from.size(), to);
+  return s;
 }
 
 // A scratch directory with the examples' machine file, removed at the end of the test.

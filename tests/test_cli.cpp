@@ -33,13 +33,6 @@ speed = "1.52 cm/s"
 rule = "nearest"
 )";
 
-std::string replace(std::string s, const std::string& from, const std::string& to) {
-  auto p = s.find(from);
-  EXPECT_NE(p, std::string::npos) << from;
-  if (p != std::string::npos) s.replace(p, from.size(), to);
-  return s;
-}
-
 void expect_bad(const Scratch& sc, const std::string& job_text, const std::string& must_mention) {
   SCOPED_TRACE("expecting: " + must_mention);
   std::string job = sc.write("bad.toml", job_text), tape = sc.path("bad.tape");
