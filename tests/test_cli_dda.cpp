@@ -33,12 +33,6 @@ tolerance = "0.001 mm"
 interrupt_rate = "5 kHz"
 )";
 
-std::string replace(std::string s, const std::string& from, const std::string& to) {
-  auto p = s.find(from);
-  EXPECT_NE(p, std::string::npos) << from;
-  if (p != std::string::npos) s.replace(p, from.size(), to);
-  return s;
-}
 
 void expect_bad(const Scratch& sc, const std::string& job_text, const std::string& args, const std::string& must_mention,
                 bool names_file = true) {

@@ -40,12 +40,6 @@ max_evaluations = 80
 threads = 2
 )";
 
-std::string replace(std::string s, const std::string& from, const std::string& to) {
-  auto p = s.find(from);
-  EXPECT_NE(p, std::string::npos) << from;
-  if (p != std::string::npos) s.replace(p, from.size(), to);
-  return s;
-}
 
 void expect_one_line_error(const CliResult& r, const std::string& mention) {
   EXPECT_EQ(r.code, 2) << r.out << r.err;
