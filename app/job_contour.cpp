@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "cam/curves.hpp"
+#include "cam/dxf_import.hpp"
 #include "cam/error.hpp"
 #include "cam/expr_curves.hpp"
 #include "cam/path.hpp"
@@ -173,6 +174,34 @@ CurvePtr parse_path(Section& s, nlohmann::ordered_json& prov) {
   }
 }
 
+CurvePtr parse_dxf(Section& s, const std::string& base_dir, nlohmann::ordered_json& prov) {
+  std::string file = s.require_string("file");
+  DxfOptions o;
+  o.unit_m = unit_of(s);
+  if (auto layer = s.string("layer")) {
+    o.layer = *layer;
+    prov["layer"] = *layer;
+  }
+  if (auto tol = s.quantity("join_tolerance", dim::length)) {
+    if (!(*tol > 0)) s.fail("join_tolerance", "must be a positive length");
+    o.join_tolerance = *tol / o.unit_m;
+  }
+  DxfPath d = read_dxf_path(resolve(base_dir, file), o);
+  auto closed = s.boolean("closed");
+  if (closed && *closed && !d.closed) s.fail("closed", "the drawing's chain does not end where it starts");
+  bool is_closed = closed.value_or(d.closed);
+  prov["unit_m"] = o.unit_m;
+  prov["entities"] = d.entities;
+  prov["closed"] = is_closed;
+  std::vector<Vec2> ends;
+  for (const auto& seg : d.segments) {
+    ends.push_back(seg.to);
+    if (seg.kind == PathSegment::Kind::arc) ends.push_back(seg.center);
+  }
+  prov["segments_crc32"] = points_crc(ends);
+  return make_path(std::move(d.segments), is_closed);
+}
+
 }  // namespace
 
 CurvePtr parse_contour(Section& s, const std::string& base_dir, nlohmann::ordered_json& prov, std::string& kind) {
@@ -277,11 +306,13 @@ CurvePtr parse_contour(Section& s, const std::string& base_dir, nlohmann::ordere
       if (!closed && closed_auto(*c)) c = make_parametric_expr(x, y, *t0, *t1, true, unit, k);
     } else if (kind == "points") {
       c = parse_points(s, base_dir, prov);
+    } else if (kind == "dxf") {
+      c = parse_dxf(s, base_dir, prov);
     } else if (kind == "path") {
       c = parse_path(s, prov);
     } else {
       s.fail("kind", "unknown contour kind '" + kind +
-                         "' (circle, line, limacon, witch, serpentine, spiral, rose, polar, cartesian, parametric, points, path)");
+                         "' (circle, line, limacon, witch, serpentine, spiral, rose, polar, cartesian, parametric, points, path, dxf)");
     }
   } catch (const InputError& e) {
     std::string msg = e.what();

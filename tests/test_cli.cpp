@@ -154,7 +154,7 @@ TEST(Cli, HelpAndUsage) {
 }
 
 TEST(Cli, EveryExampleDigitizes) {
-  for (const char* ex : {"limacon", "witch", "serpentine", "circle"}) {
+  for (const char* ex : {"limacon", "witch", "serpentine", "circle", "plate"}) {
     CliResult r = run_cli(std::string("digitize ") + POLARCAM_SOURCE_DIR + "/examples/" + ex + ".toml --json");
     EXPECT_EQ(r.code, 0) << ex << ": " << r.err;
   }
