@@ -15,5 +15,6 @@ void register_play(CLI::App& app, Action& action);
 void register_controller_sim(CLI::App& app, Action& action);
 void register_error(CLI::App& app, Action& action);
 void register_optimize(CLI::App& app, Action& action);
+void register_compare(CLI::App& app, Action& action);
 
 }  // namespace polarcam::cli

@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
   cli::register_controller_sim(app, action);
   cli::register_error(app, action);
   cli::register_optimize(app, action);
+  cli::register_compare(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
