@@ -218,8 +218,8 @@ void polar_side(const Job& job, const CompareOptions& opt, Comparison& c, const 
     have_track = false;
     sz.note = e.what();
   }
-  ErrorMeters em;
-  if (have_track) em.reset(*scaled, strack, g, 1);
+  PolarAreaMeter em;  // the area alone: the deviation of a scaled tape adds nothing the area does not show
+  if (have_track) em.reset(strack, g);
   int64_t start[2];
   {
     TapeReader rd(tape.path());
@@ -234,10 +234,9 @@ void polar_side(const Job& job, const CompareOptions& opt, Comparison& c, const 
   replay(tape.path(), all, start);
   for (int a = 0; a < 2; ++a) s.rates[a] = rates.axis(a);
   if (have_track) try {
-      const ErrorMetrics sm = em.finish(scaled_radial_index(start[0], opt.size_scale), start[1]);
+      const AreaErrorResult sm = em.finish(scaled_radial_index(start[0], opt.size_scale), start[1]);
       sz.measured = true;
-      sz.area_m2 = sm.area.area_m2;
-      sz.deviation_m = sm.deviation_max_m;
+      sz.area_m2 = sm.area_m2;
     } catch (const InputError& e) {
       sz.note = e.what();  // the scaled staircase could not be measured against the scaled path
     }
@@ -333,8 +332,8 @@ void cartesian_side(const Job& job, const CompareOptions& opt, Comparison& c, co
   } catch (const InputError& e) {
     why_not = e.what();
   }
-  CartesianErrorMeters em;
-  if (why_not.empty()) em.reset(*scaled, strack, blu);
+  CartesianAreaMeter em;
+  if (why_not.empty()) em.reset(strack, blu);
   NodeBox box_xy(false, blu, blu, sx, sy);
   FanOut both_out(why_not.empty() ? std::vector<StepSink*>{&em, &box_xy} : std::vector<StepSink*>{&box_xy});
   ScaledAxisSink scale_y(both_out, kAxisY, q, start[1]);
@@ -359,10 +358,9 @@ void cartesian_side(const Job& job, const CompareOptions& opt, Comparison& c, co
   two.wanted = wanted;
   two.note = why_not;
   if (why_not.empty()) try {
-      const CartesianErrorMetrics sm = em.finish(sx, sy);
+      const CartesianAreaResult sm = em.finish(sx, sy);
       two.measured = true;
-      two.area_m2 = sm.area.area_m2;
-      two.deviation_m = sm.deviation_max_m;
+      two.area_m2 = sm.area_m2;
     } catch (const InputError& e) {
       two.note = e.what();
     }
@@ -645,7 +643,6 @@ nlohmann::ordered_json side_json(const MachineSide& s, const Comparison& c) {
     x["wanted_mm"] = {f.wanted.x * 1e3, f.wanted.y * 1e3};
     if (f.measured) {
       x["area_error_mm2"] = f.area_m2 * 1e6;
-      x["deviation_max_mm"] = f.deviation_m * 1e3;
     } else if (!f.note.empty()) {
       x["not_measured"] = f.note;
     }

@@ -39,9 +39,9 @@ struct SpeedScalingFact {
 struct SizeScalingFact {
   double factor = 1.0;
   std::string axes;            // "r", "x", "x and y"
-  bool measured = false;       // area and deviation against the scaled contour (not for a distorted result)
+  bool measured = false;       // area error against the scaled contour (not for a distorted result)
   std::string note;            // why not, when it could not be measured
-  double area_m2 = 0.0, deviation_m = 0.0;
+  double area_m2 = 0.0;
   Vec2 size;                   // bounding box of the scaled staircase's nodes (m)
   Vec2 wanted;                 // bounding box of the contour scaled by P/Q (m)
 };

@@ -51,6 +51,12 @@ double FootTracker::find(Vec2 p, double guess, double reach) {
     hi = std::min(best_u + h, closed_ ? best_u + h : u1_);
     break;
   }
+  // Newton on the stationarity condition g(u) = (C(u) - p) . C'(u) = 0 from the best sample, kept inside the
+  // bracket; where it does not settle quickly (a corner of the path, a point on its medial axis), golden section
+  if (newton(p, lo, hi, best_u, best)) {
+    dist_ = std::sqrt(best);
+    return wrap(best_u);
+  }
   double x1 = hi - kGolden * (hi - lo), x2 = lo + kGolden * (hi - lo), f1 = d2(x1, p), f2 = d2(x2, p);
   for (int it = 0; it < 40; ++it) {
     if (f1 < f2) {
@@ -63,6 +69,28 @@ double FootTracker::find(Vec2 p, double guess, double reach) {
   if (d < best) best_u = u, best = d;
   dist_ = std::sqrt(best);
   return wrap(best_u);
+}
+
+bool FootTracker::newton(Vec2 p, double lo, double hi, double& u_io, double& d2_io) const {
+  double u = u_io;
+  for (int it = 0; it < 8; ++it) {
+    const CurvePoint c = c_.eval(wrap(u), 2);
+    const Vec2 q = c.p - p;
+    const double g = dot(q, c.d1), dg = dot(c.d1, c.d1) + dot(q, c.d2);
+    if (!(dg > 0.0)) return false;  // not a minimum nearby
+    const double du = -g / dg, un = u + du;
+    if (!(un > lo && un < hi)) return false;
+    u = un;
+    // converged once the step is far below the parameter's resolution of the distance (its effect on the
+    // distance is second order in it)
+    if (std::abs(du) * std::sqrt(dot(c.d1, c.d1)) <= 1e-9 * std::sqrt(dot(q, q)) + 1e-15) {
+      const double dn = d2(u, p);
+      if (!(dn <= d2_io * (1.0 + 1e-12) + 1e-30)) return false;  // another, worse minimum: search instead
+      if (dn < d2_io) u_io = u, d2_io = dn;
+      return true;
+    }
+  }
+  return false;
 }
 
 DeviationMeter::DeviationMeter(const Curve& path)

@@ -33,7 +33,8 @@ struct StairPiece {
 
 // Foot points of a moving point on a curve: the parameter of the nearest point of the curve, searched near the
 // previous one. The window (`reach` of path either side) is sampled, moved on while the nearest sample is at its
-// edge, and the best sample's neighbourhood refined by golden-section search.
+// edge, and the best sample refined by Newton's method on (C(u) - p) . C'(u) = 0 within its neighbourhood, or by
+// golden-section search where Newton does not settle (at a corner of the path).
 class FootTracker {
  public:
   explicit FootTracker(const Curve& c);
@@ -44,6 +45,7 @@ class FootTracker {
  private:
   double wrap(double u) const;
   double d2(double u, Vec2 p) const;
+  bool newton(Vec2 p, double lo, double hi, double& u, double& d2) const;
   const Curve& c_;
   double u0_, u1_;
   bool closed_;
