@@ -8,8 +8,6 @@ namespace {
 constexpr double kGolden = 0.6180339887498949;
 }  // namespace
 
-FootTracker::FootTracker(const Curve& c) : c_(c), u0_(c.u_begin()), u1_(c.u_end()), closed_(c.closed()) {}
-
 double FootTracker::wrap(double u) const {
   if (!closed_) return std::clamp(u, u0_, u1_);
   const double span = u1_ - u0_;
@@ -23,7 +21,58 @@ double FootTracker::d2(double u, Vec2 p) const {
   return dot(q, q);
 }
 
+FootTracker::FootTracker(const Curve& c, bool)
+    : c_(c), u0_(c.u_begin()), u1_(c.u_end()), closed_(c.closed()), breaks_(c.breakpoints()) {}
+
+bool FootTracker::corner_in(double lo, double hi) const {
+  if (closed_) {
+    const double span = u1_ - u0_;
+    if (hi - lo >= span) return true;
+    // the seam of a closed path may be a corner (a polygon starting at a vertex)
+    const double a = wrap(lo), b = a + (hi - lo);
+    if (b >= u1_) return true;
+    lo = a, hi = b;
+  }
+  const auto it = std::upper_bound(breaks_.begin(), breaks_.end(), lo);
+  return it != breaks_.end() && *it < hi;
+}
+
+bool FootTracker::track(Vec2 p, double guess, double reach, double& u_out) {
+  CurvePoint c = c_.eval(wrap(guess), 2);
+  const double speed = norm(c.d1);
+  if (!(speed > 0.0)) return false;
+  const double w = reach / speed, lo = guess - w, hi = guess + w;
+  if (!closed_ && (lo < u0_ || hi > u1_)) return false;  // near an end the nearest point may be the end itself
+  if (corner_in(lo, hi)) return false;
+  double u = guess;
+  for (int it = 0; it < 8; ++it) {
+    if (it > 0) c = c_.eval(wrap(u), 2);
+    const Vec2 q = c.p - p;
+    const double s2 = dot(c.d1, c.d1), g = dot(q, c.d1), dg = s2 + dot(q, c.d2);
+    if (!(dg > 0.0)) return false;
+    const double du = -g / dg, un = u + du;
+    if (!(un > lo && un < hi)) return false;
+    u = un;
+    if (std::abs(du) * std::sqrt(s2) <= 1e-9 * norm(q) + 1e-15) {
+      // the window's only minimum: the squared distance along the arc length has the second derivative
+      // 2 (1 - kappa d) > 0 throughout when |kappa| (d + reach) <= 1/2
+      const double kappa = std::abs(cross(c.d1, c.d2)) / (s2 * std::sqrt(s2));
+      const double d = norm(c_.eval(wrap(u), 0).p - p);
+      if (!(kappa * (d + reach) <= 0.5)) return false;
+      dist_ = d;
+      u_out = wrap(u);
+      return true;
+    }
+  }
+  return false;
+}
+
 double FootTracker::find(Vec2 p, double guess, double reach) {
+  if (tracking_ && !full_) {
+    double u;
+    if (track(p, guess, reach, u)) return u;
+  }
+  tracking_ = true;
   const double span = u1_ - u0_;
   double speed = norm(c_.eval(wrap(guess), 1).d1);
   double w = speed > 0.0 ? reach / speed : span;

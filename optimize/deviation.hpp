@@ -11,6 +11,7 @@
 // stretches of the path (a corner of the path between them, where the distance may have a kink), unless even the
 // Lipschitz bound (the distance changes at most as fast as the point moves) cannot beat the largest value found
 // so far.
+#include <cstdint>
 #include <vector>
 
 #include "cam/curve.hpp"
@@ -35,20 +36,33 @@ struct StairPiece {
 // previous one. The window (`reach` of path either side) is sampled, moved on while the nearest sample is at its
 // edge, and the best sample refined by Newton's method on (C(u) - p) . C'(u) = 0 within its neighbourhood, or by
 // golden-section search where Newton does not settle (at a corner of the path).
+//
+// Once it has found a first foot it tracks: Newton's method straight from the previous foot, accepted when the
+// window holds no corner of the path (a breakpoint, or the seam of a closed path), stays away from the ends of an
+// open path, and the path's curvature at the foot is small enough (|kappa| (d + reach) <= 1/2) that the squared
+// distance is convex across the window, so that the stationary point Newton finds is the window's only minimum.
+// Otherwise, the window search.
 class FootTracker {
  public:
-  explicit FootTracker(const Curve& c);
+  explicit FootTracker(const Curve& c) : FootTracker(c, true) {}
   // Parameter of the point of the curve nearest p, near `guess`; distance() is then |p - curve(u)|.
   double find(Vec2 p, double guess, double reach);
   double distance() const { return dist_; }
+  // Testing: always the window search.
+  void set_full_search(bool on) { full_ = on; }
 
  private:
+  FootTracker(const Curve& c, bool);
   double wrap(double u) const;
   double d2(double u, Vec2 p) const;
   bool newton(Vec2 p, double lo, double hi, double& u, double& d2) const;
+  bool track(Vec2 p, double guess, double reach, double& u);
+  bool corner_in(double lo, double hi) const;
   const Curve& c_;
   double u0_, u1_;
   bool closed_;
+  std::vector<double> breaks_;
+  bool tracking_ = false, full_ = false;
   double dist_ = 0.0;
 };
 
@@ -64,6 +78,7 @@ class DeviationMeter {
   double max() const { return max_; }
   Vec2 at() const { return at_; }  // the point of the machine path where the largest distance is
   uint64_t refined() const { return refined_; }  // pieces searched for an inside maximum
+  void set_full_search(bool on) { ft_.set_full_search(on); }  // testing
 
  private:
   void consider(double d, Vec2 p);

@@ -20,6 +20,7 @@
 #include "machine/dda.hpp"
 #include "optimize/area_check.hpp"
 #include "optimize/cartesian_error.hpp"
+#include "optimize/deviation.hpp"
 
 using namespace polarcam;
 using polarcam::test::RecordingSink;
@@ -267,5 +268,34 @@ TEST(CartesianError, RefusesAStaircaseOfAnotherPath) {
     FAIL() << "accepted a staircase that runs 20 BLU past the path";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("x step 24"), std::string::npos) << e.what();
+  }
+}
+
+// The deviation's foot-point tracking (Newton from the previous foot) gives the same largest distance as the
+// window search at every point, on a smooth closed path with a dimple (a limacon) and on an open one with ends.
+TEST(CartesianError, DeviationTrackingAgreesWithTheWindowSearch) {
+  const double blu = 0.05e-3;
+  for (auto path : {make_limacon(0.0308, 0.0362), make_witch(0.02, -0.03, 0.03)}) {
+    CartesianTrack track = CartesianTrack::build(*path);
+    auto prof = make_constant_speed(0.02, track.length());
+    RecordingSink rec;
+    const CartesianResult res = step_exact(track, blu, *prof, &rec);
+    double dev[2];
+    for (int full = 0; full < 2; ++full) {
+      DeviationMeter dm(*path);
+      dm.set_full_search(full == 1);
+      int64_t node[2] = {res.start[0], res.start[1]};
+      dm.start(cartesian_position(node, blu), 3 * blu);
+      for (const auto& s : rec.steps) {
+        StairPiece piece;
+        piece.a = cartesian_position(node, blu);
+        node[s.axis] += s.dir;
+        piece.b = cartesian_position(node, blu);
+        dm.piece(piece, 3 * blu);
+      }
+      dev[full] = dm.max();
+    }
+    EXPECT_GT(dev[0], 0.5 * blu);
+    EXPECT_NEAR(dev[0], dev[1], 1e-12 * blu) << path->name();
   }
 }
