@@ -424,7 +424,7 @@ void add_verdicts(Comparison& c) {
   std::vector<Verdict>& out = c.verdicts;
 
   {  // Table 3.1: contouring speed
-    Verdict v{"Contouring speed", "mm/s", "", "", "", ""};
+    Verdict v{"Contouring speed", "", "", "", ""};
     auto val = [&](const MachineSide& s) {
       return fmt(s.speed.min_mps * 1e3, 4) + " to " + fmt(s.speed.max_mps * 1e3, 4) + " mm/s, RMS deviation " +
              fmt(s.speed.rms_dev_mps * 1e3, 3) + " mm/s (" + pct(s.speed.rms_dev_mps) + " of " + fmt(V * 1e3, 4) + " mm/s)";
@@ -433,7 +433,8 @@ void add_verdicts(Comparison& c) {
     v.cartesian = val(Q);
     v.winner = smaller(P.speed.rms_dev_mps, Q.speed.rms_dev_mps, 0.1, 1e-3 * V);
     if (v.winner == "tie")
-      v.why = "Both hold the programmed " + mmps(V) + " equally well (RMS deviations within 0.1 % of it or of each other).";
+      v.why = "Both hold the programmed " + mmps(V) + " equally well: their RMS deviations differ by less than 0.1 % "
+              "of it, or by less than a tenth.";
     else {
       const MachineSide& w = v.winner == "polar" ? P : Q;
       const MachineSide& l = v.winner == "polar" ? Q : P;
@@ -445,7 +446,7 @@ void add_verdicts(Comparison& c) {
     out.push_back(v);
   }
   {
-    Verdict v{"Contouring time", "s", fixed(P.duration_s, 3) + " s", fixed(Q.duration_s, 3) + " s", "", ""};
+    Verdict v{"Contouring time", fixed(P.duration_s, 3) + " s", fixed(Q.duration_s, 3) + " s", "", ""};
     v.winner = smaller(P.duration_s, Q.duration_s, 0.01, 1e-3);
     const double ideal = c.path_length_m / V;
     if (v.winner == "tie")
@@ -456,7 +457,7 @@ void add_verdicts(Comparison& c) {
     out.push_back(v);
   }
   {
-    Verdict v{"Area error", "mm²", fmt(P.area_m2 * 1e6, 4) + " mm²", fmt(Q.area_m2 * 1e6, 4) + " mm²", "", ""};
+    Verdict v{"Area error", fmt(P.area_m2 * 1e6, 4) + " mm²", fmt(Q.area_m2 * 1e6, 4) + " mm²", "", ""};
     v.winner = smaller(P.area_m2, Q.area_m2, 0.01, 0.0);
     if (v.winner == "tie")
       v.why = "Both machines' paths enclose the same area with the contour, to within 1 %.";
@@ -468,7 +469,7 @@ void add_verdicts(Comparison& c) {
     out.push_back(v);
   }
   {
-    Verdict v{"Largest deviation", "mm", mm(P.deviation_m), mm(Q.deviation_m), "", ""};
+    Verdict v{"Largest deviation", mm(P.deviation_m), mm(Q.deviation_m), "", ""};
     v.winner = smaller(P.deviation_m, Q.deviation_m, 0.01, 0.0);
     if (v.winner == "tie")
       v.why = "Both stray at most " + mm(std::max(P.deviation_m, Q.deviation_m)) + " from the contour.";
@@ -482,7 +483,7 @@ void add_verdicts(Comparison& c) {
     out.push_back(v);
   }
   {  // Table 3.1: accuracy
-    Verdict v{"Resolution at the worst point", "mm", mm(P.resolution_worst_m) + " (" + P.resolution_where + ")",
+    Verdict v{"Resolution at the worst point", mm(P.resolution_worst_m) + " (" + P.resolution_where + ")",
               mm(Q.resolution_worst_m) + " (" + Q.resolution_where + ")", "", ""};
     v.winner = smaller(P.resolution_worst_m, Q.resolution_worst_m, 0.01, 0.0);
     if (v.winner == "cartesian")
@@ -499,7 +500,7 @@ void add_verdicts(Comparison& c) {
       const int a = s.rates[0].max_rate_hz >= s.rates[1].max_rate_hz ? 0 : 1;
       return fmt(s.max_step_rate_hz(), 5) + " Hz (" + s.axis[a] + ")";
     };
-    Verdict v{"Highest step rate", "Hz", val(P), val(Q), "", ""};
+    Verdict v{"Highest step rate", val(P), val(Q), "", ""};
     v.winner = smaller(P.max_step_rate_hz(), Q.max_step_rate_hz(), 0.01, 1.0);
     if (v.winner == "tie")
       v.why = "The drives of both machines must step at about the same highest rate.";
@@ -510,7 +511,7 @@ void add_verdicts(Comparison& c) {
     out.push_back(v);
   }
   {
-    Verdict v{"Tape size", "bytes", cli::thousands(P.tape_bytes) + " bytes", cli::thousands(Q.tape_bytes) + " bytes", "", ""};
+    Verdict v{"Tape size", cli::thousands(P.tape_bytes) + " bytes", cli::thousands(Q.tape_bytes) + " bytes", "", ""};
     v.winner = smaller(static_cast<double>(P.tape_bytes), static_cast<double>(Q.tape_bytes), 0.01, 0.0);
     v.why = v.winner == "tie" ? "About the same size."
                               : cap(machine_name(v.winner, c)) + "'s tape is smaller (" +
@@ -531,7 +532,7 @@ void add_verdicts(Comparison& c) {
              " of " + fmt(f.factor * V * 1e3, 4) + " mm/s";
       return t;
     };
-    Verdict v{"Speed scaling without reprocessing (x" + fmt(P.speed_scaling.factor, 4) + ")", "", val(P), val(Q), "", ""};
+    Verdict v{"Speed scaling without reprocessing (x" + fmt(P.speed_scaling.factor, 4) + ")", val(P), val(Q), "", ""};
     const bool p = P.speed_scaling.without_reprocessing, q = Q.speed_scaling.without_reprocessing && Q.speed_scaling.possible;
     v.winner = p == q ? "tie" : (p ? "polar" : "cartesian");
     if (v.winner == "tie")
@@ -553,7 +554,7 @@ void add_verdicts(Comparison& c) {
     std::string qv = "no: x indices alone x" + fmt(q1.factor, 4) + " give " + box(q1.size) + "; x and y together give " +
                      box(q2.size);
     if (q2.measured) qv += ", area error " + fmt(q2.area_m2 * 1e6, 4) + " mm²";
-    Verdict v{"Size scaling by one axis (x" + fmt(ps.factor, 4) + ")", "", pv, qv, "polar", ""};
+    Verdict v{"Size scaling by one axis (x" + fmt(ps.factor, 4) + ")", pv, qv, "polar", ""};
     v.why = "Scaling the polar machine's radial axis alone scales the whole part about the pole; scaling one "
             "Cartesian axis only stretches it (" + box(q1.size) + " instead of " + box(q1.wanted) +
             "): both axes must be scaled.";

@@ -70,7 +70,7 @@ struct MachineSide {
 };
 
 struct Verdict {
-  std::string attribute, unit;
+  std::string attribute;
   std::string polar, cartesian;  // the measured values, formatted
   std::string winner;            // "polar", "cartesian" or "tie"
   std::string why;               // one plain sentence

@@ -64,7 +64,7 @@ void draw_panel(plstream& pls, const Panel& p) {
   pls.adv(0);
   pls.vsta();
   if (p.equal_aspect)
-    pls.wind(xmin, xmax, ymin, ymax), pls.vpas(0.1, 0.9, 0.12, 0.9, (ymax - ymin) / (xmax - xmin));
+    pls.wind(xmin, xmax, ymin, ymax), pls.vpas(0.15, 0.9, 0.12, 0.9, (ymax - ymin) / (xmax - xmin));
   pls.wind(xmin, xmax, ymin, ymax);
 
   std::string band_note;  // the colour scale, said in the title (dark = low, light = high)
