@@ -17,5 +17,6 @@ void register_error(CLI::App& app, Action& action);
 void register_optimize(CLI::App& app, Action& action);
 void register_analyze(CLI::App& app, Action& action);
 void register_motor(CLI::App& app, Action& action);
+void register_compare(CLI::App& app, Action& action);
 
 }  // namespace polarcam::cli

@@ -1,10 +1,11 @@
-// polarcam error TAPE --job JOB.toml [--json] [--segments N]
+// polarcam error TAPE --job JOB.toml [--json] [--segments N]: polar or Cartesian tapes
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "app/cli.hpp"
 #include "app/job.hpp"
+#include "app/tape_metrics.hpp"
 #include "cam/error.hpp"
 #include "digitizer/tape.hpp"
 #include "optimize/error_metrics.hpp"
@@ -19,18 +20,51 @@ std::string fmt(double v, int prec = 6) {
   return os.str();
 }
 
+struct Opts {
+  std::string tape, job;
+  bool json = false;
+  int segments = 0;
+};
+
+// A Cartesian tape: area error and deviation (F1 is a polar measure).
+int cartesian(const Opts& o, const Job& job) {
+  if (o.segments > 0) throw InputError("--segments: F_sum, F_dif and F1 apply to polar tapes only");
+  const CartesianTapeMetrics cm = cartesian_tape_metrics(job, o.tape);
+  const CartesianErrorMetrics& m = cm.m;
+  if (o.json) {
+    nlohmann::ordered_json j;
+    j["tape"] = o.tape;
+    j["job"] = job.file;
+    j["axes"] = "cartesian";
+    j["rule"] = to_string(cm.rule);
+    j["area_error_mm2"] = m.area.area_m2 * 1e6;
+    j["deviation_max_mm"] = m.deviation_max_m * 1e3;
+    j["deviation_at_mm"] = {m.deviation_at.x * 1e3, m.deviation_at.y * 1e3};
+    j["steps_x"] = m.area.steps_x;
+    j["steps_y"] = m.area.steps_y;
+    j["strips"] = m.area.strips;
+    j["general_strips"] = m.area.general_strips;
+    j["resolution_m"] = cm.blu;
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  std::ostringstream os;
+  os << "polarcam error " << o.tape << " (Cartesian, " << to_string(cm.rule) << ") against " << job.file << "\n";
+  os << "  area error   " << fmt(m.area.area_m2 * 1e6) << " mm^2 (" << m.area.strips << " strips of x, "
+     << m.area.general_strips << " by the general sweep)\n";
+  os << "  deviation    " << fmt(m.deviation_max_m * 1e3) << " mm at x = " << fmt(m.deviation_at.x * 1e3)
+     << " mm, y = " << fmt(m.deviation_at.y * 1e3) << " mm (contour frame); BLU " << fmt(cm.blu * 1e3) << " mm\n";
+  std::cout << os.str();
+  return 0;
+}
+
 }  // namespace
 
 void register_error(CLI::App& app, Action& action) {
-  struct Opts {
-    std::string tape, job;
-    bool json = false;
-    int segments = 0;
-  };
   auto o = std::make_shared<Opts>();
   CLI::App* c = app.add_subcommand("error", "Contouring error of a step tape against its job's tool path: exact area "
-                                            "error, deviation, the thesis's F_sum, F_dif and F1");
-  c->add_option("tape", o->tape, "step tape (any rule)")->required();
+                                            "error, deviation, and for polar tapes the thesis's F_sum, F_dif and F1");
+  c->add_option("tape", o->tape, "step tape (polar, any rule; or Cartesian)")->required();
   c->add_option("--job", o->job, "the job the tape was made from (its tool path is the reference)")->required();
   c->add_flag("--json", o->json, "print the metrics as one JSON object");
   c->add_option("--segments", o->segments, "segments for F_sum, F_dif, F1 (default: the job's [optimize] segments, 100)")
@@ -38,42 +72,21 @@ void register_error(CLI::App& app, Action& action) {
   c->callback([o, &action] {
     action = [o] {
       const Job job = load_job(o->job);
-      const ToolPathPtr path = make_job_path(job);
-      PolarTrack track;
-      try {
-        track = PolarTrack::build(*path);
-      } catch (const InputError& e) {
-        throw InputError(job.file + ": " + e.what());
+      TapeAxes axes;
+      {
+        TapeReader rd(o->tape);
+        axes = rd.header().axes;
       }
-      TapeReader rd(o->tape);
-      const TapeHeader& h = rd.header();
-      if (h.axes != TapeAxes::polar)
-        throw InputError(o->tape + ": a Cartesian tape; the error metrics measure polar staircases");
-      Grid g;
-      g.dr = h.res[0];
-      g.dtheta = h.res[1];
-      g.steps_per_rev = h.steps_per_rev;
-      try {
-        g.validate();
-      } catch (const InputError& e) {
-        throw InputError(o->tape + ": " + e.what());
-      }
-      const int segments = o->segments > 0 ? o->segments : job.optimize.segments;
-      ErrorMeters em;
-      em.reset(*path, track, g, segments);
-      StepRecord r;
-      while (rd.next(r)) em.record(r.axis, r.dir);  // the reader checks totals and checksums at the end
-      ErrorMetrics m;
-      try {
-        m = em.finish(h.start[0], h.start[1]);
-      } catch (const InputError& e) {
-        throw InputError(o->tape + " against " + job.file + ": " + e.what());
-      }
+      if (axes == TapeAxes::cartesian) return cartesian(*o, job);
+      const PolarTapeMetrics pm = polar_tape_metrics(job, o->tape, o->segments);
+      const ErrorMetrics& m = pm.m;
+      const Grid& g = pm.grid;
       if (o->json) {
         nlohmann::ordered_json j;
         j["tape"] = o->tape;
         j["job"] = job.file;
-        j["rule"] = to_string(h.rule);
+        j["axes"] = "polar";
+        j["rule"] = to_string(pm.rule);
         j["area_error_mm2"] = m.area.area_m2 * 1e6;
         j["deviation_max_mm"] = m.deviation_max_m * 1e3;
         j["deviation_at_mm"] = {m.deviation_at.x * 1e3, m.deviation_at.y * 1e3};
@@ -95,7 +108,7 @@ void register_error(CLI::App& app, Action& action) {
         return 0;
       }
       std::ostringstream os;
-      os << "polarcam error " << o->tape << " (rule " << to_string(h.rule) << ") against " << job.file << "\n";
+      os << "polarcam error " << o->tape << " (rule " << to_string(pm.rule) << ") against " << job.file << "\n";
       os << "  area error   " << fmt(m.area.area_m2 * 1e6) << " mm^2 (" << m.area.sectors << " sectors, "
          << m.area.general_sectors << " by the general sweep)\n";
       os << "  deviation    " << fmt(m.deviation_max_m * 1e3) << " mm at x = " << fmt(m.deviation_at.x * 1e3)

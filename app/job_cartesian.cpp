@@ -29,6 +29,14 @@ double cartesian_interrupt_rate(const Job& job, std::optional<double> override_h
   return f;
 }
 
+ToolPathPtr make_cartesian_job_path(const Job& job) {
+  try {
+    return make_tool_path(job.contour, Placement{}, job.tool, job.motion.travel);
+  } catch (const InputError& e) {
+    throw InputError(job.file + ": " + e.what());
+  }
+}
+
 TapeHeader cartesian_tape_header(const Job& job, CartesianMethod m, double interrupt_rate) {
   TapeHeader h;
   h.axes = TapeAxes::cartesian;
@@ -69,9 +77,8 @@ CartesianRun run_cartesian_job(const Job& job, CartesianMethod m, double interru
   run.blu = job.cartesian.resolution;
   run.nominal_speed = nominal_speed(job);
   run.interrupt_rate = interrupt_rate;
+  run.path = make_cartesian_job_path(job);
   try {
-    // the tool-centre path in the contour's own frame: tool offset and direction apply, the placement does not
-    run.path = make_tool_path(job.contour, Placement{}, job.tool, job.motion.travel);
     if (m == CartesianMethod::exact) {
       CartesianTrack track = CartesianTrack::build(*run.path);
       SpeedProfilePtr profile = make_job_profile(job, track.length());

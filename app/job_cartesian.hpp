@@ -29,6 +29,10 @@ struct CartesianRun {
   PulseSpeedStats speed;     // measured from the pulse rates of the tape (run_cartesian_job_to_tape)
 };
 
+// The tool-centre path in the Cartesian machine's frame (the contour's own frame): tool offset and direction of
+// travel apply, the polar placement does not. Errors name the job file.
+ToolPathPtr make_cartesian_job_path(const Job& job);
+
 // Header fields known before stepping: axes, rule, resolution, speed, provenance (with the Cartesian settings).
 TapeHeader cartesian_tape_header(const Job& job, CartesianMethod m, double interrupt_rate);
 // Fields known after: start/end nodes, duration, closure, path length.

@@ -64,7 +64,7 @@ void draw_panel(plstream& pls, const Panel& p) {
   pls.adv(0);
   pls.vsta();
   if (p.equal_aspect)
-    pls.wind(xmin, xmax, ymin, ymax), pls.vpas(0.1, 0.9, 0.12, 0.9, (ymax - ymin) / (xmax - xmin));
+    pls.wind(xmin, xmax, ymin, ymax), pls.vpas(0.15, 0.9, 0.12, 0.9, (ymax - ymin) / (xmax - xmin));
   pls.wind(xmin, xmax, ymin, ymax);
 
   std::string band_note;  // the colour scale, said in the title (dark = low, light = high)
@@ -167,8 +167,15 @@ void draw_panel(plstream& pls, const Panel& p) {
     for (auto& s : syms) sp.push_back(s.c_str());
     std::vector<PLINT> tcol(texts.size(), 1);
     PLFLT lwid, lhei;
-    pls.legend(&lwid, &lhei, PL_LEGEND_BACKGROUND | PL_LEGEND_BOUNDING_BOX, PL_POSITION_TOP | PL_POSITION_RIGHT |
-                   PL_POSITION_INSIDE, 0.02, 0.02, 0.08, 0, 1, 1, 0, 0, static_cast<PLINT>(texts.size()), opts.data(),
+    PLINT where = PL_POSITION_INSIDE;
+    switch (p.legend) {
+      case Panel::Corner::top_right: where |= PL_POSITION_TOP | PL_POSITION_RIGHT; break;
+      case Panel::Corner::top_left: where |= PL_POSITION_TOP | PL_POSITION_LEFT; break;
+      case Panel::Corner::bottom_right: where |= PL_POSITION_BOTTOM | PL_POSITION_RIGHT; break;
+      case Panel::Corner::bottom_left: where |= PL_POSITION_BOTTOM | PL_POSITION_LEFT; break;
+    }
+    pls.legend(&lwid, &lhei, PL_LEGEND_BACKGROUND | PL_LEGEND_BOUNDING_BOX, where, 0.02, 0.02, 0.08, 0, 1, 1, 0, 0,
+               static_cast<PLINT>(texts.size()), opts.data(),
                1.0, 0.8, 2.0, 0.0, tcol.data(), tp.data(), nullptr, nullptr, nullptr, nullptr, lcol.data(),
                lsty.data(), lw.data(), scol.data(), sscale.data(), snum.data(), sp.data());
   }

@@ -42,6 +42,8 @@ struct Panel {
   bool equal_aspect = false;
   std::optional<double> xmin, xmax, ymin, ymax;  // default: the data's extent with a margin
   std::vector<double> hlines;                    // horizontal reference lines (dashed grey)
+  enum class Corner : unsigned char { top_right, top_left, bottom_right, bottom_left };
+  Corner legend = Corner::top_right;             // where the legend goes (inside the frame)
 };
 
 struct Figure {

@@ -3,7 +3,10 @@
 // (0.001 in, 16000 steps per revolution), each at the thesis's optimum pole:
 //  - BM_AreaError: the meter alone, over a staircase recorded beforehand (reset, record every step, finish);
 //  - BM_AreaError/fine: the same contours on a grid 10x finer in both axes;
-//  - BM_DigitizeAndArea: what one evaluation of the optimiser costs (track, digitize into the meter, finish).
+//  - BM_DigitizeAndArea: what one evaluation of the optimiser costs (track, digitize into the meter, finish);
+//  - BM_CartesianAreaError: the Cartesian meter (optimize/cartesian_error.hpp) alone over the exact Cartesian
+//    generator's staircase of the same contours in their own frames, BLU = 0.001 in and 10x finer;
+//  - BM_CartesianDeviation: the deviation of the same staircases (DeviationMeter: three foot points a step).
 #include <benchmark/benchmark.h>
 
 #include <numbers>
@@ -12,7 +15,9 @@
 #include "cam/curves.hpp"
 #include "cam/toolpath.hpp"
 #include "digitizer/digitize.hpp"
+#include "machine/cartesian_exact.hpp"
 #include "optimize/area_error.hpp"
+#include "optimize/cartesian_error.hpp"
 
 using namespace polarcam;
 
@@ -86,6 +91,63 @@ void BM_DigitizeAndArea(benchmark::State& state) {
   state.SetLabel(std::string(kNames[which]) + ", area " + std::to_string(area * 1e6) + " mm^2");
 }
 BENCHMARK(BM_DigitizeAndArea)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
+
+ToolPathPtr own_frame(int which) {
+  switch (which) {
+    case 0: return make_tool_path(make_witch(0.2159, -0.2032, 0.2032), Placement{}, {}, {});
+    case 1: return make_tool_path(make_limacon(0.0508, 0.0762), Placement{}, {}, {});
+    default: return make_tool_path(make_serpentine(0.0127, 0.0762, -0.0762, 0.0762), Placement{}, {}, {});
+  }
+}
+
+struct CartesianStairs {
+  ToolPathPtr path;
+  CartesianTrack track;
+  CartesianResult res;
+  Recorder rec;
+};
+
+CartesianStairs cartesian_stairs(int which, double blu) {
+  CartesianStairs c;
+  c.path = own_frame(which);
+  c.track = CartesianTrack::build(*c.path);
+  auto prof = make_constant_speed(0.0152, c.track.length());
+  c.res = step_exact(c.track, blu, *prof, &c.rec);
+  return c;
+}
+
+void BM_CartesianAreaError(benchmark::State& state) {
+  const int which = static_cast<int>(state.range(0));
+  const double blu = 0.0254e-3 / static_cast<double>(state.range(1));
+  CartesianStairs c = cartesian_stairs(which, blu);
+  CartesianAreaMeter meter;
+  double area = 0;
+  for (auto _ : state) {
+    meter.reset(c.track, blu);
+    for (const Step& s : c.rec.steps) meter.record(s.axis, s.dir);
+    area = meter.finish(c.res.start[0], c.res.start[1]).area_m2;
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * static_cast<int64_t>(c.rec.steps.size()));
+  state.SetLabel(std::string(kNames[which]) + ", " + std::to_string(c.rec.steps.size()) + " steps, area " +
+                 std::to_string(area * 1e6) + " mm^2");
+}
+BENCHMARK(BM_CartesianAreaError)->ArgsProduct({{0, 1, 2}, {1, 10}})->Unit(benchmark::kMillisecond);
+
+void BM_CartesianDeviation(benchmark::State& state) {
+  const int which = static_cast<int>(state.range(0));
+  const double blu = 0.0254e-3;
+  CartesianStairs c = cartesian_stairs(which, blu);
+  CartesianErrorMeters em;
+  double dev = 0;
+  for (auto _ : state) {
+    em.reset(*c.path, c.track, blu);
+    for (const Step& s : c.rec.steps) em.record(s.axis, s.dir);
+    dev = em.finish(c.res.start[0], c.res.start[1]).deviation_max_m;
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * static_cast<int64_t>(c.rec.steps.size()));
+  state.SetLabel(std::string(kNames[which]) + ", deviation " + std::to_string(dev * 1e3) + " mm");
+}
+BENCHMARK(BM_CartesianDeviation)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

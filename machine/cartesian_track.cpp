@@ -129,6 +129,7 @@ CartesianTrack CartesianTrack::build(const Curve& c) {
     P.back().y_b = P.front().y_a;
   }
 
+  tr.bounds_ = Bounds{P.front().x_a, P.front().x_a, P.front().y_a, P.front().y_a};
   double s = 0.0, comp = 0.0;  // compensated summation of the arc length
   std::vector<double> roots;
   for (auto& pc : P) {
@@ -148,10 +149,16 @@ CartesianTrack CartesianTrack::build(const Curve& c) {
       last = r;
     }
     pc.ext_end = static_cast<uint32_t>(tr.extrema_.size());
-    tr.max_abs_ = std::max({tr.max_abs_, std::abs(pc.x_a), std::abs(pc.y_a), std::abs(pc.x_b), std::abs(pc.y_b)});
+    auto see = [&](double px, double py) {
+      tr.max_abs_ = std::max({tr.max_abs_, std::abs(px), std::abs(py)});
+      Bounds& bx = tr.bounds_;
+      bx.x0 = std::min(bx.x0, px), bx.x1 = std::max(bx.x1, px), bx.y0 = std::min(bx.y0, py), bx.y1 = std::max(bx.y1, py);
+    };
+    see(pc.x_a, pc.y_a);
+    see(pc.x_b, pc.y_b);
     for (uint32_t k = pc.ext_begin; k < pc.ext_end; ++k) {
       const double te = tr.extrema_[k];
-      tr.max_abs_ = std::max({tr.max_abs_, std::abs(pc.x_a + pc.X(te)), std::abs(pc.y_a + pc.Y(te))});
+      see(pc.x_a + pc.X(te), pc.y_a + pc.Y(te));
     }
   }
   tr.length_ = s;

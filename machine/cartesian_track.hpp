@@ -38,12 +38,18 @@ class CartesianTrack {
   double s(size_t piece, double t) const { return pieces_[piece].s0 + pieces_[piece].S(t); }
   // Largest |x| and |y| on the path (for range checks).
   double max_abs_coordinate() const { return max_abs_; }
+  // The path's bounding box (its ends and the extrema of x and y).
+  struct Bounds {
+    double x0 = 0, x1 = 0, y0 = 0, y1 = 0;
+  };
+  Bounds bounds() const { return bounds_; }
 
  private:
   std::vector<XYPiece> pieces_;
   std::vector<double> extrema_;
   double length_ = 0;
   double max_abs_ = 0;
+  Bounds bounds_;
   bool closed_ = false;
 };
 

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <limits>
 
+#include "cam/error.hpp"
 #include "machine/replay.hpp"
 
 namespace polarcam {
@@ -45,7 +46,7 @@ bool Intervals::next(Interval& iv) {
   return true;
 }
 
-void add_samples(PulseSource& a, PulseSource& b, double nominal, Sums& sums) {
+void add_samples(PulseSource& a, PulseSource& b, double nominal, Sums& sums, SpeedTrace* trace) {
   Intervals A(a), B(b);
   Interval ib, first, last, ia;
   const bool have_b = B.next(ib);
@@ -75,6 +76,7 @@ void add_samples(PulseSource& a, PulseSource& b, double nominal, Sums& sums) {
     sums.swv += w * v;
     sums.swd += w * (v - nominal) * (v - nominal);
     ++sums.n;
+    if (trace) trace->add(static_cast<double>(m2) * 0.5e-9, v, w);
   }
 }
 
@@ -91,6 +93,31 @@ PulseSpeedStats finish(const Sums& s, double nominal) {
 }
 
 }  // namespace pulse_speed_detail
+
+SpeedTrace::SpeedTrace(int bins, double t_end) : t_end_s(t_end) {
+  const size_t n = static_cast<size_t>(std::max(bins, 1));
+  vmin.assign(n, std::numeric_limits<double>::quiet_NaN());
+  vmax.assign(n, std::numeric_limits<double>::quiet_NaN());
+  sw.assign(n, 0.0);
+  swv.assign(n, 0.0);
+}
+
+void SpeedTrace::add(double t_s, double v, double w) {
+  const int n = bins();
+  int i = t_end_s > 0.0 ? static_cast<int>(std::floor(t_s / t_end_s * n)) : 0;
+  i = std::clamp(i, 0, n - 1);
+  const size_t k = static_cast<size_t>(i);
+  if (!(sw[k] > 0.0)) vmin[k] = vmax[k] = v;
+  vmin[k] = std::min(vmin[k], v);
+  vmax[k] = std::max(vmax[k], v);
+  sw[k] += w;
+  swv[k] += w * v;
+}
+
+double SpeedTrace::mean(int i) const {
+  const size_t k = static_cast<size_t>(i);
+  return sw[k] > 0.0 ? swv[k] / sw[k] : std::numeric_limits<double>::quiet_NaN();
+}
 
 namespace {
 
@@ -111,7 +138,7 @@ class VectorSource final : public PulseSource {
 // One axis of a tape, read through its own reader.
 class TapeSource final : public PulseSource {
  public:
-  TapeSource(const std::string& path, int axis) : rd_(path), rp_(rd_), axis_(axis) {
+  TapeSource(const std::string& path, int axis, double speed_scale) : rd_(path), rp_(rd_), axis_(axis), k_(speed_scale) {
     const TapeHeader& h = rd_.header();
     polar_ = h.axes == TapeAxes::polar;
     res_[0] = h.res[0];
@@ -122,8 +149,9 @@ class TapeSource final : public PulseSource {
     MachineStep s;
     while (rp_.next(s)) {
       if (s.axis != axis_) continue;
-      p.t_ns = ps_per_tick_ == 1000 ? static_cast<int64_t>(s.t_ticks)
-                                    : std::llround(static_cast<double>(s.t_ticks) * static_cast<double>(ps_per_tick_) * 1e-3);
+      p.t_ns = ps_per_tick_ == 1000 && k_ == 1.0
+                   ? static_cast<int64_t>(s.t_ticks)
+                   : std::llround(static_cast<double>(s.t_ticks) * static_cast<double>(ps_per_tick_) * 1e-3 / k_);
       p.dir = s.dir;
       // an angular step moves the tool r DeltaTheta, r = n DeltaR (n is not changed by angular steps)
       p.length_m = (polar_ && axis_ == 1) ? static_cast<double>(std::llabs(s.node[0])) * res_[0] * res_[1] : res_[axis_];
@@ -136,6 +164,7 @@ class TapeSource final : public PulseSource {
   TapeReader rd_;
   TapeReplay rp_;
   int axis_;
+  double k_ = 1.0;
   bool polar_ = false;
   double res_[2] = {0, 0};
   uint64_t ps_per_tick_ = 1000;
@@ -143,8 +172,11 @@ class TapeSource final : public PulseSource {
 
 }  // namespace
 
-PulseSpeedStats measure_tape_speed(const std::string& tape_path, double nominal_mps) {
-  return measure_pulse_speed([&](int axis) { return std::make_unique<TapeSource>(tape_path, axis); }, nominal_mps);
+PulseSpeedStats measure_tape_speed(const std::string& tape_path, double nominal_mps, double speed_scale,
+                                   SpeedTrace* trace) {
+  if (!(speed_scale > 0.0) || !std::isfinite(speed_scale)) throw InputError("a speed scale must be a number above zero");
+  return measure_pulse_speed([&](int axis) { return std::make_unique<TapeSource>(tape_path, axis, speed_scale); },
+                             nominal_mps, trace);
 }
 
 PulseSpeedMeter::PulseSpeedMeter(double step0_m, double step1_m) : len_{step0_m, step1_m} {}

@@ -35,6 +35,17 @@ struct PulseSpeedStats {
   double nominal_mps = 0.0;
 };
 
+// The samples binned in time, for plotting the speed along the path: each bin keeps the smallest and the largest
+// sample whose interval's middle falls in it and their duration-weighted mean (NaN where a bin holds none).
+struct SpeedTrace {
+  SpeedTrace(int bins, double t_end_s);
+  void add(double t_s, double v, double w);
+  int bins() const { return static_cast<int>(vmin.size()); }
+  double t_end_s = 0.0;
+  std::vector<double> vmin, vmax, sw, swv;
+  double mean(int i) const;
+};
+
 struct Pulse {
   int64_t t_ns = 0;
   int dir = 1;
@@ -51,12 +62,14 @@ class PulseSource {
 // Statistics of the pulses of axes 0 and 1. `make(axis)` returns a std::unique_ptr<PulseSource> over a fresh
 // pass of that axis's pulses; each axis is read twice. All zero when no axis has two pulses.
 template <class MakeSource>
-PulseSpeedStats measure_pulse_speed(MakeSource make, double nominal_mps);
+PulseSpeedStats measure_pulse_speed(MakeSource make, double nominal_mps, SpeedTrace* trace = nullptr);
 
 // Statistics of a step tape (either kind): on a Cartesian tape a step is one resolution of its axis; on a polar
-// tape a radial step is DeltaR and an angular step r DeltaTheta with r = n DeltaR at the step. Throws InputError
-// for an unreadable or damaged tape.
-PulseSpeedStats measure_tape_speed(const std::string& tape_path, double nominal_mps);
+// tape a radial step is DeltaR and an angular step r DeltaTheta with r = n DeltaR at the step. `speed_scale` K
+// plays the tape with every time divided by K (the player's speed scaling, Sec. 3.6). Throws InputError for an
+// unreadable or damaged tape.
+PulseSpeedStats measure_tape_speed(const std::string& tape_path, double nominal_mps, double speed_scale = 1.0,
+                                   SpeedTrace* trace = nullptr);
 
 // In memory: records a stream (as a StepSink) with fixed step lengths per axis and measures it. For tests and
 // short streams; memory grows with the stream (use measure_tape_speed for tapes).
@@ -98,18 +111,18 @@ struct Sums {
   double sw = 0, swv = 0, swd = 0, vmin = 0, vmax = 0;
   uint64_t n = 0;
 };
-void add_samples(PulseSource& a, PulseSource& b, double nominal, Sums& sums);
+void add_samples(PulseSource& a, PulseSource& b, double nominal, Sums& sums, SpeedTrace* trace);
 PulseSpeedStats finish(const Sums& s, double nominal);
 
 }  // namespace pulse_speed_detail
 
 template <class MakeSource>
-PulseSpeedStats measure_pulse_speed(MakeSource make, double nominal_mps) {
+PulseSpeedStats measure_pulse_speed(MakeSource make, double nominal_mps, SpeedTrace* trace) {
   pulse_speed_detail::Sums sums;
   for (int a = 0; a < 2; ++a) {
     auto sa = make(a);
     auto sb = make(1 - a);
-    pulse_speed_detail::add_samples(*sa, *sb, nominal_mps, sums);
+    pulse_speed_detail::add_samples(*sa, *sb, nominal_mps, sums, trace);
   }
   return pulse_speed_detail::finish(sums, nominal_mps);
 }

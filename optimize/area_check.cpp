@@ -42,48 +42,81 @@ RPoint unit(double phi) {
   return p;
 }
 
+using XCurves = std::vector<Traits::X_monotone_curve_2>;
+
+// Adds the x-monotone parts of a curve, each with +1 when the cycle runs along it from left to right.
+void add_curve(XCurves& xcvs, const Base::Curve_2& c) {
+  Base base;
+  std::vector<boost::variant<Base::Point_2, Base::X_monotone_curve_2>> parts;
+  base.make_x_monotone_2_object()(c, std::back_inserter(parts));
+  for (auto& p : parts)
+    if (const auto* x = boost::get<Base::X_monotone_curve_2>(&p)) xcvs.emplace_back(*x, x->is_directed_right() ? 1 : -1);
+}
+
+void add_segment(XCurves& xcvs, const K::Point_2& a, const K::Point_2& b) {
+  if (a != b) add_curve(xcvs, Base::Curve_2(K::Segment_2(a, b)));
+}
+
+K::Point_2 exact_point(const Vec2& v) { return K::Point_2(FT(v.x), FT(v.y)); }
+
+// The integral of |winding number| of the cycle made of the curves.
+double winding_area(XCurves& xcvs);
+
 }  // namespace
 
 double area_error_cgal(const std::vector<Vec2>& polyline, const std::vector<StairNode>& nodes, double dr,
                        double dtheta, int64_t steps_per_rev) {
   if (polyline.size() < 2 || nodes.empty()) throw std::invalid_argument("area_error_cgal: empty input");
-  Base base;
-  std::vector<Traits::X_monotone_curve_2> xcvs;
-  auto add = [&](const Base::Curve_2& c) {
-    std::vector<boost::variant<Base::Point_2, Base::X_monotone_curve_2>> parts;
-    base.make_x_monotone_2_object()(c, std::back_inserter(parts));
-    for (auto& p : parts)
-      if (const auto* x = boost::get<Base::X_monotone_curve_2>(&p)) xcvs.emplace_back(*x, x->is_directed_right() ? 1 : -1);
-  };
-  auto kp = [](const Vec2& v) { return K::Point_2(FT(v.x), FT(v.y)); };
+  XCurves xcvs;
   auto node = [&](const StairNode& s) {
     const int64_t m = steps_per_rev > 0 ? ((s.m % steps_per_rev) + steps_per_rev) % steps_per_rev : s.m;
     const RPoint u = unit(static_cast<double>(m) * dtheta);
     const FT rho = FT(dr) * FT(static_cast<double>(s.n));
     return K::Point_2(rho * u.x, rho * u.y);
   };
-  auto segment = [&](const K::Point_2& a, const K::Point_2& b) {
-    if (a != b) add(Base::Curve_2(K::Segment_2(a, b)));
-  };
 
-  for (size_t i = 0; i + 1 < polyline.size(); ++i) segment(kp(polyline[i]), kp(polyline[i + 1]));
-  segment(kp(polyline.back()), node(nodes.back()));
+  for (size_t i = 0; i + 1 < polyline.size(); ++i) add_segment(xcvs, exact_point(polyline[i]), exact_point(polyline[i + 1]));
+  add_segment(xcvs, exact_point(polyline.back()), node(nodes.back()));
   for (size_t k = nodes.size() - 1; k > 0; --k) {
     const StairNode& a = nodes[k];
     const StairNode& b = nodes[k - 1];
     const K::Point_2 pa = node(a), pb = node(b);
     if (a.m == b.m || pa == pb) {
-      segment(pa, pb);
+      add_segment(xcvs, pa, pb);
     } else {
       if (a.n != b.n) throw std::invalid_argument("area_error_cgal: consecutive nodes differ in both axes");
       if (a.n == 0) continue;  // at the pole
       const FT rho = FT(dr) * FT(static_cast<double>(a.n));
       const K::Circle_2 circ(K::Point_2(0, 0), rho * rho, b.m > a.m ? CGAL::COUNTERCLOCKWISE : CGAL::CLOCKWISE);
-      add(Base::Curve_2(circ, Base::Point_2(pa.x(), pa.y()), Base::Point_2(pb.x(), pb.y())));
+      add_curve(xcvs, Base::Curve_2(circ, Base::Point_2(pa.x(), pa.y()), Base::Point_2(pb.x(), pb.y())));
     }
   }
-  segment(node(nodes.front()), kp(polyline.front()));
+  add_segment(xcvs, node(nodes.front()), exact_point(polyline.front()));
+  return winding_area(xcvs);
+}
 
+double area_error_cgal_cartesian(const std::vector<Vec2>& polyline, const std::vector<XYNode>& nodes, double blu) {
+  if (polyline.size() < 2 || nodes.empty()) throw std::invalid_argument("area_error_cgal_cartesian: empty input");
+  XCurves xcvs;
+  const FT b(blu);
+  auto node = [&](const XYNode& s) {
+    return K::Point_2(b * FT(static_cast<double>(s.i)), b * FT(static_cast<double>(s.j)));
+  };
+  for (size_t i = 0; i + 1 < polyline.size(); ++i) add_segment(xcvs, exact_point(polyline[i]), exact_point(polyline[i + 1]));
+  add_segment(xcvs, exact_point(polyline.back()), node(nodes.back()));
+  for (size_t k = nodes.size() - 1; k > 0; --k) {
+    const XYNode& p = nodes[k];
+    const XYNode& q = nodes[k - 1];
+    if (p.i != q.i && p.j != q.j) throw std::invalid_argument("area_error_cgal_cartesian: a diagonal step");
+    add_segment(xcvs, node(p), node(q));
+  }
+  add_segment(xcvs, node(nodes.front()), exact_point(polyline.front()));
+  return winding_area(xcvs);
+}
+
+namespace {
+
+double winding_area(XCurves& xcvs) {
   Arr arr;
   CGAL::insert(arr, xcvs.begin(), xcvs.end());
 
@@ -146,4 +179,5 @@ double area_error_cgal(const std::vector<Vec2>& polyline, const std::vector<Stai
   return total;
 }
 
+}  // namespace
 }  // namespace polarcam

@@ -1,5 +1,6 @@
 #pragma once
-// An independent, exact and slow computation of the area error with CGAL, for tests and cross-checks.
+// An independent, exact and slow computation of the area error with CGAL, for tests and cross-checks, of a polar
+// staircase (below) or a Cartesian one (area_error_cgal_cartesian).
 //
 // The cycle is: the polyline from its first to its last point, a straight segment to the staircase's last node,
 // the staircase backwards (radial segments, and arcs of circles about the machine pole at r = n dR), and a
@@ -22,5 +23,12 @@ struct StairNode {
 // `steps_per_rev` > 0 makes rays m and m + steps_per_rev identical.
 double area_error_cgal(const std::vector<Vec2>& polyline, const std::vector<StairNode>& nodes, double dr,
                        double dtheta, int64_t steps_per_rev);
+
+// The same for a Cartesian staircase (optimize/cartesian_error.hpp): nodes (i, j) at (i blu, j blu), consecutive
+// nodes differing in one axis; every staircase segment is a line segment.
+struct XYNode {
+  int64_t i = 0, j = 0;
+};
+double area_error_cgal_cartesian(const std::vector<Vec2>& polyline, const std::vector<XYNode>& nodes, double blu);
 
 }  // namespace polarcam

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
@@ -26,7 +27,7 @@ inline void eval3(const Cheb& c, double t, double& f, double& d1, double& d2) {
   d2 = (2.0 * e1 - h2) + t * h1;
 }
 
-// R(t) and Astar(t) in one pass. Each series is split into its even and odd parts, T_2m(t) = T_m(y) and
+// H(t) and Astar(t) in one pass. Each series is split into its even and odd parts, T_2m(t) = T_m(y) and
 // T_2m+1(t) = t V_m(y) with y = 2 t^2 - 1 (V: Chebyshev polynomials of the third kind, same recurrence,
 // V_0 = 1, V_1 = 2y - 1), so four independent Clenshaw recurrences of half the length run side by side: the
 // evaluation is bound by the length of the longest chain, which this halves.
@@ -49,11 +50,11 @@ inline void eval_rA(const Cheb& R, const LongCheb& A, double t, double& r, doubl
   a = a_even + a_odd;
 }
 
-// Th(t) and Astar(t) in one pass.
-inline void eval_thA(const Cheb& Th, const LongCheb& A, double t, double& th, double& a) { eval_rA(Th, A, t, th, a); }
+// G(t) and Astar(t) in one pass.
+inline void eval_gA(const Cheb& G, const LongCheb& A, double t, double& g, double& a) { eval_rA(G, A, t, g, a); }
 
-// Where r(t) = y on a part of a piece where r is monotone and y lies strictly between r(ta) - r_a and r(tb) - r_a
-// (ya, yb). The area split there is in error by r |dr/dphi| dphi^2 for a crossing misplaced by dphi, so the crossing
+// Where h(t) = y on a part of a piece where h is monotone and y lies strictly between h(ta) - h_a and h(tb) - h_a
+// (ya, yb). The area split there is in error by h |dh/dg| dg^2 for a crossing misplaced by dg, so the crossing
 // need not be found to rounding: Newton from the interpolated guess stops once the error left after its step,
 // |R''/(2 R')| dt^2, is below 1e-12 (t on [-1, 1]; far inside the rounding of the area).
 double radius_crossing(const Cheb& R, double y, double ta, double tb, double ya, double yb) {
@@ -131,16 +132,17 @@ struct Neumaier {
 
 }  // namespace
 
-void PolarAreaMeter::reset(const PolarTrack& track, const Grid& grid) {
-  track_ = &track;
+void StairAreaMeter::reset(sweep::TrackView track, const StairGrid& grid) {
+  track_ = std::move(track);
+  bound_ = true;
   grid_ = grid;
-  sector_area_series(track, areas_);
+  sector_area_series(track_, areas_);
   arcs_.clear();
   n_ = m_ = 0;
   nr_ = 0;
 }
 
-uint32_t PolarAreaMeter::key(int64_t j) const {
+uint32_t StairAreaMeter::key(int64_t j) const {
   int64_t k = j - j_lo_;
   if (wrap_) {
     // j_lo_ maps to key_lo_; a few subtractions are cheaper than a 64-bit division
@@ -152,7 +154,19 @@ uint32_t PolarAreaMeter::key(int64_t j) const {
   return static_cast<uint32_t>(k);
 }
 
-void PolarAreaMeter::close_visit() {
+Vec2 StairAreaMeter::node_point(int64_t h, int64_t g) const {
+  if (grid_.geo == sweep::Geometry::cartesian)
+    return {static_cast<double>(g) * grid_.width, static_cast<double>(h) * grid_.height};
+  const double rho = static_cast<double>(h) * grid_.height, phi = static_cast<double>(g) * grid_.width - shift_;
+  return {rho * std::cos(phi), rho * std::sin(phi)};
+}
+
+Vec2 StairAreaMeter::path_point(double h, double g) const {
+  if (grid_.geo == sweep::Geometry::cartesian) return {g, h};
+  return {h * std::cos(g), h * std::sin(g)};
+}
+
+void StairAreaMeter::close_visit() {
   if (open_ < 0) return;
   Visit& v = visits_[static_cast<size_t>(open_)];
   const Sub& a = subs_[v.first];
@@ -164,16 +178,16 @@ void PolarAreaMeter::close_visit() {
   open_ = -1;
 }
 
-void PolarAreaMeter::add_sub(const Sub& s, int64_t j) {
+void StairAreaMeter::add_sub(const Sub& s, int64_t j) {
   const int8_t sg = s.l1 > s.l0 ? 1 : -1;
-  const double lo = s.r0 < s.r1 ? s.r0 : s.r1, hi = s.r0 < s.r1 ? s.r1 : s.r0;
+  const double lo = s.h0 < s.h1 ? s.h0 : s.h1, hi = s.h0 < s.h1 ? s.h1 : s.h0;
   if (open_ >= 0) {
     Visit& v = visits_[static_cast<size_t>(open_)];
     if (v.j == j) {
       if (v.sigma != sg) v.sigma = 0;
       ++v.count;
-      if (lo < v.rmin) v.rmin = lo;
-      if (hi > v.rmax) v.rmax = hi;
+      if (lo < v.hmin) v.hmin = lo;
+      if (hi > v.hmax) v.hmax = hi;
       subs_.push_back(s);
       return;
     }
@@ -184,30 +198,32 @@ void PolarAreaMeter::add_sub(const Sub& s, int64_t j) {
   subs_.push_back(s);
 }
 
-void PolarAreaMeter::walk_contour(const sweep::Frame& fr) {
+void StairAreaMeter::walk_contour(const sweep::Frame& fr) {
   struct Pt {
-    double t, g, r, A;
+    double t, g, h, A;
   };
-  const auto& P = track_->pieces();
-  const auto& E = track_->extrema();
-  const double inv = 1.0 / fr.dtheta;
+  const auto& P = track_.pieces;
+  const auto& E = *track_.extrema;
+  const double inv = 1.0 / fr.width;
   std::vector<double> ts;
   for (size_t i = 0; i < P.size(); ++i) {
-    const TrackPiece& p = P[i];
+    const sweep::PieceView& p = P[i];
+    const Cheb& G = *p.G;
+    const Cheb& H = *p.H;
     const LongCheb& A = areas_[i];
     const uint32_t piece = static_cast<uint32_t>(i);
     auto at = [&](double t) -> Pt {
-      if (t == -1.0) return {t, (p.th_a + fr.shift) * inv, p.r_a, 0.0};
-      if (t == 1.0) return {t, (p.th_b + fr.shift) * inv, p.r_b, A(1.0)};
-      double r, a;
-      eval_rA(p.R, A, t, r, a);
-      return {t, (p.th_a + p.Th(t) + fr.shift) * inv, p.r_a + r, a};
+      if (t == -1.0) return {t, (p.g_a + fr.shift) * inv, p.h_a, 0.0};
+      if (t == 1.0) return {t, (p.g_b + fr.shift) * inv, p.h_b, A(1.0)};
+      double h, a;
+      eval_rA(H, A, t, h, a);
+      return {t, (p.g_a + G(t) + fr.shift) * inv, p.h_a + h, a};
     };
     auto emit = [&](const Pt& a, const Pt& b) {
-      if (a.g == b.g) return;  // a radial stretch: no angular extent
+      if (a.g == b.g) return;  // no extent in the abscissa (radial, or vertical)
       const int64_t j = static_cast<int64_t>(std::floor(std::min(a.g, b.g)));
       const double jd = static_cast<double>(j);
-      Sub s{piece, a.t, b.t, std::clamp(a.g - jd, 0.0, 1.0), std::clamp(b.g - jd, 0.0, 1.0), a.r, b.r, a.A, b.A};
+      Sub s{piece, a.t, b.t, std::clamp(a.g - jd, 0.0, 1.0), std::clamp(b.g - jd, 0.0, 1.0), a.h, b.h, a.A, b.A};
       add_sub(s, j);
     };
     ts.clear();
@@ -234,11 +250,11 @@ void PolarAreaMeter::walk_contour(const sweep::Frame& fr) {
             guess = 2.0 * hist[0] - hist[1];
           else
             guess = cur.t + (Ld - cur.g) / (nxt.g - cur.g) * (nxt.t - cur.t);
-          const double y = Ld * fr.dtheta - fr.shift - p.th_a;
-          const double t = solve_level(p.Th, y, cur.t, nxt.t, (cur.g - Ld) * fr.dtheta, guess);
-          double r, a;
-          eval_rA(p.R, A, t, r, a);
-          const Pt lv{t, Ld, p.r_a + r, a};
+          const double y = Ld * fr.width - fr.shift - p.g_a;
+          const double t = solve_level(G, y, cur.t, nxt.t, (cur.g - Ld) * fr.width, guess);
+          double h, a;
+          eval_rA(H, A, t, h, a);
+          const Pt lv{t, Ld, p.h_a + h, a};
           emit(cur, lv);
           cur = lv;
           hist[2] = hist[1];
@@ -254,8 +270,8 @@ void PolarAreaMeter::walk_contour(const sweep::Frame& fr) {
   close_visit();
 }
 
-void PolarAreaMeter::add_connector(Vec2 a, double ga, Vec2 b, double gb) {
-  if (ga == gb) return;  // radial: no angular extent
+void StairAreaMeter::add_connector(Vec2 a, double ga, Vec2 b, double gb) {
+  if (ga == gb) return;  // no extent in the abscissa
   const int8_t sg = gb > ga ? 1 : -1;
   const double lo = std::min(ga, gb), hi = std::max(ga, gb);
   for (int64_t j = static_cast<int64_t>(std::floor(lo)); static_cast<double>(j) < hi; ++j) {
@@ -278,19 +294,21 @@ void PolarAreaMeter::add_connector(Vec2 a, double ga, Vec2 b, double gb) {
   }
 }
 
-double PolarAreaMeter::fast_visit(const Visit& v, double rho) const {
+double StairAreaMeter::fast_visit(const Visit& v, double rho) const {
   double s = 0.0;
-  const auto& P = track_->pieces();
+  const auto& P = track_.pieces;
+  const bool polar = grid_.geo == sweep::Geometry::polar;
   for (uint32_t i = v.first; i < v.first + v.count; ++i) {
     const Sub& b = subs_[i];
-    const double ra = P[b.piece].r_a;
-    const double k = 0.5 * (ra - rho) * (ra + rho) * grid_.dtheta;
-    if ((b.r0 - rho) * (b.r1 - rho) < 0.0) {
-      const TrackPiece& p = P[b.piece];
-      const double t = radius_crossing(p.R, rho - ra, b.t0, b.t1, b.r0 - ra, b.r1 - ra);
-      double th, a;
-      eval_thA(p.Th, areas_[b.piece], t, th, a);
-      const double l = (p.th_a + th + shift_) / grid_.dtheta - static_cast<double>(v.j);
+    const sweep::PieceView& p = P[b.piece];
+    const double ha = p.h_a;
+    // the integral of the staircase's level minus the piece's base, per unit of lambda
+    const double k = (polar ? 0.5 * (ha - rho) * (ha + rho) : ha - rho) * grid_.width;
+    if ((b.h0 - rho) * (b.h1 - rho) < 0.0) {
+      const double t = radius_crossing(*p.H, rho - ha, b.t0, b.t1, b.h0 - ha, b.h1 - ha);
+      double g, a;
+      eval_gA(*p.G, areas_[b.piece], t, g, a);
+      const double l = (p.g_a + g + shift_) / grid_.width - static_cast<double>(v.j);
       s += std::abs(a - b.A0 + k * (l - b.l0)) + std::abs(b.A1 - a + k * (b.l1 - l));
     } else {
       s += std::abs(b.A1 - b.A0 + k * (b.l1 - b.l0));
@@ -299,39 +317,52 @@ double PolarAreaMeter::fast_visit(const Visit& v, double rho) const {
   return s;
 }
 
-AreaErrorResult PolarAreaMeter::finish(int64_t n0, int64_t m0) {
-  if (!track_) throw std::logic_error("PolarAreaMeter::finish before reset");
-  grid_.validate();
-  const PolarTrack& tr = *track_;
-  const auto& P = tr.pieces();
-  const double dr = grid_.dr, dth = grid_.dtheta;
-  const int64_t N = grid_.steps_per_rev;
+StairAreaResult StairAreaMeter::finish(int64_t n0, int64_t m0) {
+  if (!bound_) throw std::logic_error("StairAreaMeter::finish before reset");
+  const sweep::TrackView& tr = track_;
+  const auto& P = tr.pieces;
+  const bool polar = grid_.geo == sweep::Geometry::polar;
+  const double dr = grid_.height, dth = grid_.width;
+  const int64_t N = polar ? grid_.steps_per_rev : 0;
 
-  AreaErrorResult res;
-  res.radial_steps = nr_;
-  res.angular_steps = arcs_.size();
-  // the angular branch: whole turns that bring the path's start next to the start node
-  const double th0 = P.front().th_a;
-  const double shift = kTwoPi * std::nearbyint((static_cast<double>(m0) * dth - th0) / kTwoPi);
-  res.theta_shift = shift;
+  StairAreaResult res;
+  res.rise_steps = nr_;
+  res.run_steps = arcs_.size();
+  // polar: the angular branch, whole turns that bring the path's start next to the start node
+  const double th0 = P.front().g_a;
+  const double shift = polar ? kTwoPi * std::nearbyint((static_cast<double>(m0) * dth - th0) / kTwoPi) : 0.0;
+  res.shift = shift;
   shift_ = shift;
-  const sweep::Frame fr{dth, shift};
+  const sweep::Frame fr{dth, shift, grid_.geo};
 
+  auto node_text = [&](int64_t n, int64_t m) {
+    return polar ? "(" + std::to_string(n) + ", " + std::to_string(m) + ")"
+                 : "(" + std::to_string(m) + ", " + std::to_string(n) + ")";
+  };
   const int64_t n1 = n0 + n_, m1 = m0 + m_;
   auto check_end = [&](const char* which, int64_t n, int64_t m, double r, double th) {
-    const double rho = static_cast<double>(n) * dr, dphi = static_cast<double>(m) * dth - (th + shift);
-    const double d = std::sqrt(std::max(0.0, rho * rho + r * r - 2.0 * rho * r * std::cos(dphi)));
-    const double tol = 2.0 * std::hypot(dr, std::max(rho, r) * dth) + 1e-12;
-    if (!(d <= tol) || !(std::abs(dphi) < std::numbers::pi))
-      throw InputError(std::string("the tape does not follow this path: its ") + which + " node (" + std::to_string(n) +
-                       ", " + std::to_string(m) + ") is " + num(d * 1e3) + " mm from the path's " + which + " (r = " +
-                       num(r * 1e3) + " mm, theta = " + num(th + shift) + " rad); was it made from this job?");
+    const Vec2 node = node_point(n, m), pt = path_point(r, th);  // both on the track's branch
+    const double d = norm(node - pt);
+    double tol = 2.0 * std::hypot(dr, dth) + 1e-12;
+    bool ok = d <= tol;
+    std::string where = "x = " + num(th * 1e3) + " mm, y = " + num(r * 1e3) + " mm";
+    if (polar) {
+      const double rho = static_cast<double>(n) * dr, dphi = static_cast<double>(m) * dth - (th + shift);
+      tol = 2.0 * std::hypot(dr, std::max(rho, r) * dth) + 1e-12;
+      ok = d <= tol && std::abs(dphi) < std::numbers::pi;
+      where = "r = " + num(r * 1e3) + " mm, theta = " + num(th + shift) + " rad";
+    }
+    if (!ok)
+      throw InputError(std::string(polar ? "the" : "the Cartesian") + " tape does not follow this path: its " + which + " node " + node_text(n, m) +
+                       " is " + num(d * 1e3) + " mm from the path's " + which + " (" + where +
+                       "); was it made from this job?");
   };
-  check_end("start", n0, m0, P.front().r_a, P.front().th_a);
-  check_end("end", n1, m1, P.back().r_b, P.back().th_b);
+  check_end("start", n0, m0, P.front().h_a, P.front().g_a);
+  check_end("end", n1, m1, P.back().h_b, P.back().g_b);
 
-  // sectors: the path's angular range (plus a margin) in grid units
-  const double gmin = (tr.theta_min().value + shift) / dth, gmax = (tr.theta_max().value + shift) / dth;
+  // sectors: the path's abscissa range (plus a margin) in grid units
+  const double gmin = (tr.g_min + shift) / dth, gmax = (tr.g_max + shift) / dth;
+  if (!(std::abs(gmin) < 4e18 && std::abs(gmax) < 4e18)) throw InputError("the path is too far from the origin for this grid");
   j_lo_ = static_cast<int64_t>(std::floor(gmin)) - 2;
   j_hi_ = static_cast<int64_t>(std::floor(gmax)) + 2;
   const int64_t span = j_hi_ - j_lo_ + 1;
@@ -340,9 +371,12 @@ AreaErrorResult PolarAreaMeter::finish(int64_t n0, int64_t m0) {
     nkeys_ = N;
     key_lo_ = ((j_lo_ % N) + N) % N;
   } else {
-    if (N == 0 && static_cast<double>(span) * dth >= kTwoPi)
+    if (polar && N == 0 && static_cast<double>(span) * dth >= kTwoPi)
       throw InputError("the area error of a path that turns about the machine pole needs a whole number of angular "
                        "steps per revolution (the grid has " + num(kTwoPi / dth, 10) + ")");
+    if (span > (int64_t{1} << 31))
+      throw InputError("the path spans " + num(static_cast<double>(span), 4) +
+                       " grid cells; the area error needs fewer than 2^31");
     wrap_ = false;
     nkeys_ = span;
   }
@@ -357,15 +391,16 @@ AreaErrorResult PolarAreaMeter::finish(int64_t n0, int64_t m0) {
   extra_next_.clear();
   open_ = -1;
 
-  // the staircase's arcs, by sector
+  // the staircase's level strands, by sector
   for (size_t i = 0; i < arcs_.size(); ++i) {
     ArcRec& a = arcs_[i];
     a.n += n0;
     const int64_t mb = m0 + a.m;
-    a.m = a.dir > 0 ? mb : mb - 1;  // the sector the arc spans
+    a.m = a.dir > 0 ? mb : mb - 1;  // the sector the level strand spans
     if (a.m < j_lo_ || a.m > j_hi_)
-      throw InputError("the tape does not follow this path: its angular step " + std::to_string(i + 1) +
-                       " leaves the path's angular range (node " + std::to_string(a.n) + ", " + std::to_string(mb) + ")");
+      throw InputError(std::string(polar ? "the" : "the Cartesian") + " tape does not follow this path: its " + std::string(polar ? "angular" : "x") + " step " +
+                       std::to_string(i + 1) + " leaves the path's " + (polar ? "angular" : "x") + " range (node " +
+                       node_text(a.n, mb) + ")");
     const uint32_t k = key(a.m);
     a.next = arc_head_[k];
     arc_head_[k] = static_cast<int32_t>(i);
@@ -374,19 +409,14 @@ AreaErrorResult PolarAreaMeter::finish(int64_t n0, int64_t m0) {
   walk_contour(fr);
 
   // connectors close the cycle unless both the path and the staircase close on themselves
-  const bool closes = tr.closed() && n_ == 0 &&
-                      (N > 0 ? m_ == static_cast<int64_t>(tr.winding()) * N : (m_ == 0 && tr.winding() == 0));
+  const bool closes = tr.closed && n_ == 0 &&
+                      (N > 0 ? m_ == static_cast<int64_t>(tr.winding) * N : (m_ == 0 && tr.winding == 0));
   if (!closes) {
     // straight segments from the staircase's start node to the path's start, and from the path's end to the
     // staircase's end node
-    auto node = [&](int64_t n, int64_t m) {
-      const double rho = static_cast<double>(n) * dr, phi = static_cast<double>(m) * dth - shift;
-      return Vec2{rho * std::cos(phi), rho * std::sin(phi)};
-    };
-    auto point = [&](double r, double th) { return Vec2{r * std::cos(th), r * std::sin(th)}; };
-    add_connector(node(n0, m0), static_cast<double>(m0), point(P.front().r_a, P.front().th_a),
-                  (P.front().th_a + shift) / dth);
-    add_connector(point(P.back().r_b, P.back().th_b), (P.back().th_b + shift) / dth, node(n1, m1),
+    add_connector(node_point(n0, m0), static_cast<double>(m0), path_point(P.front().h_a, P.front().g_a),
+                  (P.front().g_a + shift) / dth);
+    add_connector(path_point(P.back().h_b, P.back().g_b), (P.back().g_b + shift) / dth, node_point(n1, m1),
                   static_cast<double>(m1));
   }
 
@@ -399,7 +429,7 @@ AreaErrorResult PolarAreaMeter::finish(int64_t n0, int64_t m0) {
     if (vh < 0 && ah < 0 && extra_head_[k] < 0) continue;
     ++res.sectors;
     if (!force_general_ && !forced_[k] && vh >= 0 && ah >= 0) {
-      // the common case: one pass of the contour and one arc
+      // the common case: one pass of the contour and one level strand
       const Visit& v = visits_[static_cast<size_t>(vh)];
       const ArcRec& a = arcs_[static_cast<size_t>(ah)];
       if (v.next < 0 && a.next < 0 && v.full && v.sigma == a.dir) {
@@ -414,18 +444,18 @@ AreaErrorResult PolarAreaMeter::finish(int64_t n0, int64_t m0) {
     bool fast = !force_general_ && !forced_[k] && !vs.empty() && vs.size() == as.size();
     for (size_t i = 0; fast && i < vs.size(); ++i) fast = visits_[static_cast<size_t>(vs[i])].full;
     if (fast && vs.size() > 1) {
-      // several passes: pair them by radius; exact when each pair's radial range is clear of the others
+      // several passes: pair them by height; exact when each pair's range of height is clear of the others
       std::sort(vs.begin(), vs.end(), [&](int32_t x, int32_t y) {
-        return visits_[static_cast<size_t>(x)].rmin < visits_[static_cast<size_t>(y)].rmin;
+        return visits_[static_cast<size_t>(x)].hmin < visits_[static_cast<size_t>(y)].hmin;
       });
       std::sort(as.begin(), as.end(), [&](int32_t x, int32_t y) {
         return arcs_[static_cast<size_t>(x)].n < arcs_[static_cast<size_t>(y)].n;
       });
-      double prev_hi = -1.0;
+      double prev_hi = -std::numeric_limits<double>::infinity();
       for (size_t i = 0; fast && i < vs.size(); ++i) {
         const Visit& v = visits_[static_cast<size_t>(vs[i])];
         const double rho = static_cast<double>(arcs_[static_cast<size_t>(as[i])].n) * dr;
-        const double lo = std::min(v.rmin, rho), hi = std::max(v.rmax, rho);
+        const double lo = std::min(v.hmin, rho), hi = std::max(v.hmax, rho);
         fast = lo > prev_hi;
         prev_hi = hi;
       }
@@ -451,10 +481,10 @@ AreaErrorResult PolarAreaMeter::finish(int64_t n0, int64_t m0) {
         s.piece = b.piece;
         if (b.l1 > b.l0) {
           s.sigma = 1;
-          s.l0 = b.l0, s.l1 = b.l1, s.t0 = b.t0, s.t1 = b.t1, s.r0 = b.r0, s.r1 = b.r1;
+          s.l0 = b.l0, s.l1 = b.l1, s.t0 = b.t0, s.t1 = b.t1, s.h0 = b.h0, s.h1 = b.h1;
         } else {
           s.sigma = -1;
-          s.l0 = b.l1, s.l1 = b.l0, s.t0 = b.t1, s.t1 = b.t0, s.r0 = b.r1, s.r1 = b.r0;
+          s.l0 = b.l1, s.l1 = b.l0, s.t0 = b.t1, s.t1 = b.t0, s.h0 = b.h1, s.h1 = b.h0;
         }
         strands.push_back(s);
       }
@@ -462,7 +492,7 @@ AreaErrorResult PolarAreaMeter::finish(int64_t n0, int64_t m0) {
     for (int32_t ai : as) {
       const ArcRec& a = arcs_[static_cast<size_t>(ai)];
       sweep::Strand s;
-      s.kind = sweep::Strand::arc;
+      s.kind = sweep::Strand::level;
       s.sigma = static_cast<int8_t>(-a.dir);  // the cycle runs the staircase backwards
       s.j = a.m;
       s.rho = static_cast<double>(a.n) * dr;
@@ -478,6 +508,25 @@ AreaErrorResult PolarAreaMeter::finish(int64_t n0, int64_t m0) {
   n_ = m_ = 0;
   nr_ = 0;
   return res;
+}
+
+void PolarAreaMeter::reset(const PolarTrack& track, const Grid& grid) {
+  grid_ = grid;
+  core_.reset(sweep::view_of(track),
+              StairGrid{sweep::Geometry::polar, grid.dtheta, grid.dr, grid.steps_per_rev});
+}
+
+AreaErrorResult PolarAreaMeter::finish(int64_t n0, int64_t m0) {
+  grid_.validate();
+  const StairAreaResult r = core_.finish(n0, m0);
+  AreaErrorResult out;
+  out.area_m2 = r.area_m2;
+  out.radial_steps = r.rise_steps;
+  out.angular_steps = r.run_steps;
+  out.sectors = r.sectors;
+  out.general_sectors = r.general_sectors;
+  out.theta_shift = r.shift;
+  return out;
 }
 
 }  // namespace polarcam

@@ -1,10 +1,10 @@
 #pragma once
 // All error metrics of a polar staircase against its tool path (docs/area-error.md):
 //  - the exact area error (area_error.hpp);
-//  - the deviation: the largest distance from the machine's quasi-static path to the tool path, taken at every
-//    node and at the middle of every radial segment and arc (between those points the distance can exceed the
-//    largest of them only by second-order terms, len^2 / (8 R_curvature), below 1e-8 mm on the thesis's machine),
-//    and the bound of Eq. 4.1 (DeltaR where r <= DeltaR / DeltaTheta, r DeltaTheta beyond) at the path's largest r;
+//  - the deviation: the largest distance from the machine's quasi-static path to the tool path (deviation.hpp:
+//    every node and the middle of every radial segment and arc, and the true maximum inside a piece where it can
+//    lie there), and the bound of Eq. 4.1 (DeltaR where r <= DeltaR / DeltaTheta, r DeltaTheta beyond) at the
+//    path's largest r;
 //  - the thesis's F_sum, F_dif, F1 from the step counts of each segment (Eq. 4.5-4.6), each step counted in the
 //    segment where the foot point of its middle lies, and from the chords (Eq. 4.15).
 // Steps are recorded (one byte each) and measured by finish().

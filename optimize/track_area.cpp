@@ -52,23 +52,31 @@ void chop(LongCheb& s) {
 
 }  // namespace
 
-void sector_area_series(const PolarTrack& track, std::vector<LongCheb>& out) {
+void sector_area_series(const sweep::TrackView& track, std::vector<LongCheb>& out) {
   out.clear();
-  out.reserve(track.pieces().size());
-  for (const TrackPiece& p : track.pieces()) {
-    // (r^2 - r_a^2) / 2 = R (2 r_a + R) / 2
-    std::array<double, kChebMaxDegree + 1> twice{};  // (2 r_a + R) / 2
-    for (int k = 0; k <= p.R.deg; ++k) twice[k] = 0.5 * p.R.c[k];
-    twice[0] += p.r_a;
-    LongCheb q = multiply(p.R.c, p.R.deg, twice, p.R.deg);
-    LongCheb f = multiply(q.c, q.deg, p.dTh.c, p.dTh.deg);
+  out.reserve(track.pieces.size());
+  const bool polar = track.geo == sweep::Geometry::polar;
+  for (const sweep::PieceView& p : track.pieces) {
+    const Cheb& H = *p.H;
+    const Cheb dG = p.G->derivative();
+    LongCheb f;
+    if (polar) {
+      // (r^2 - r_a^2) / 2 = R (2 r_a + R) / 2
+      std::array<double, kChebMaxDegree + 1> twice{};  // (2 r_a + R) / 2
+      for (int k = 0; k <= H.deg; ++k) twice[k] = 0.5 * H.c[k];
+      twice[0] += p.h_a;
+      LongCheb q = multiply(H.c, H.deg, twice, H.deg);
+      f = multiply(q.c, q.deg, dG.c, dG.deg);
+    } else {
+      f = multiply(H.c, H.deg, dG.c, dG.deg);  // (y - y_a) x'
+    }
     LongCheb a = integrate(f);
     chop(a);
     out.push_back(a);
   }
 }
 
-std::vector<LongCheb> sector_area_series(const PolarTrack& track) {
+std::vector<LongCheb> sector_area_series(const sweep::TrackView& track) {
   std::vector<LongCheb> out;
   sector_area_series(track, out);
   return out;

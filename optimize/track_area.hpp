@@ -1,14 +1,16 @@
 #pragma once
-// Sector areas swept by the polar track: for each piece, the Chebyshev series on t in [-1, 1] of
-//   Astar(t) = integral from -1 to t of (r^2 - r_a^2) / 2 * dtheta/dt dt    (m^2),
-// r_a the piece's radius at t = -1. Half the integral of r^2 dtheta between two points of a piece is then
-// Astar(t1) - Astar(t0) + r_a^2 (theta1 - theta0) / 2. Subtracting r_a^2 keeps the series small, so differences
-// of nearby values keep their digits. The product of the series of r and theta' is formed exactly (degree up to
-// 48) and chopped where its tail falls below rounding, so the series is as accurate as the track itself.
+// Areas swept by a track, for each piece a Chebyshev series on t in [-1, 1] (g, h, G, H as in track_view.hpp):
+//   polar:      Astar(t) = integral from -1 to t of (r^2 - r_a^2) / 2 * dtheta/dt dt    (m^2),
+//   Cartesian:  Astar(t) = integral from -1 to t of (y - y_a) * dx/dt dt                  (m^2),
+// r_a (y_a) the piece's height at t = -1. Half the integral of r^2 dtheta (the integral of y dx) between two points
+// of a piece is then Astar(t1) - Astar(t0) + r_a^2 (theta1 - theta0) / 2 (+ y_a (x1 - x0)). Subtracting the
+// height at the piece's start keeps the series small, so differences of nearby values keep their digits. The
+// products of the series are formed exactly (degree up to 48) and chopped where the tail falls below rounding, so
+// the series is as accurate as the track itself.
 #include <array>
 #include <vector>
 
-#include "digitizer/polar_track.hpp"
+#include "optimize/track_view.hpp"
 
 namespace polarcam {
 
@@ -30,10 +32,9 @@ struct LongCheb {
   }
 };
 
-// Astar of every piece of the track, in the order of track.pieces().
-std::vector<LongCheb> sector_area_series(const PolarTrack& track);
-
-// Same, appended to `out` after clearing it (reuses its storage).
-void sector_area_series(const PolarTrack& track, std::vector<LongCheb>& out);
+// Astar of every piece of the track, in the order of its pieces, appended to `out` after clearing it (reuses its
+// storage).
+void sector_area_series(const sweep::TrackView& track, std::vector<LongCheb>& out);
+std::vector<LongCheb> sector_area_series(const sweep::TrackView& track);
 
 }  // namespace polarcam

@@ -1,0 +1,97 @@
+#pragma once
+// The deviation of a machine's quasi-static path from the tool path (docs/area-error.md): the largest distance
+// from a point of the machine path to the tool path (one-sided: machine path to contour), the same for the polar
+// staircase (radial segments and arcs about the pole) and the Cartesian one (axis-aligned unit segments).
+//
+// The machine path is fed piece by piece in order. Each piece is sampled at its two ends and its middle; the
+// distance along a piece is smooth while the nearest point of the tool path moves smoothly with it, and then the
+// largest of the three samples is the maximum unless the distance has a maximum inside the piece. A piece is
+// searched for its true maximum (golden section on the piece) when the parabola through the three samples has
+// its maximum inside the piece, or when the nearest points of its ends and middle lie on different smooth
+// stretches of the path (a corner of the path between them, where the distance may have a kink), unless even the
+// Lipschitz bound (the distance changes at most as fast as the point moves) cannot beat the largest value found
+// so far.
+#include <cstdint>
+#include <vector>
+
+#include "cam/curve.hpp"
+
+namespace polarcam {
+
+// A piece of a quasi-static path: a straight segment from a to b, or an arc about the origin of radius rho from
+// angle phi0 to phi1.
+struct StairPiece {
+  bool arc = false;
+  Vec2 a, b;
+  double rho = 0, phi0 = 0, phi1 = 0;
+  Vec2 at(double tau) const {
+    if (!arc) return a + tau * (b - a);
+    const double p = phi0 + tau * (phi1 - phi0);
+    return {rho * std::cos(p), rho * std::sin(p)};
+  }
+  double length() const { return arc ? rho * std::abs(phi1 - phi0) : norm(b - a); }
+};
+
+// Foot points of a moving point on a curve: the parameter of the nearest point of the curve, searched near the
+// previous one. The window (`reach` of path either side) is sampled, moved on while the nearest sample is at its
+// edge, and the best sample refined by Newton's method on (C(u) - p) . C'(u) = 0 within its neighbourhood, or by
+// golden-section search where Newton does not settle (at a corner of the path).
+//
+// Once it has found a first foot it tracks: Newton's method straight from the previous foot, accepted when the
+// window holds no corner of the path (a breakpoint, or the seam of a closed path), stays away from the ends of an
+// open path, and the path's curvature at the foot is small enough (|kappa| (d + reach) <= 1/2) that the squared
+// distance is convex across the window, so that the stationary point Newton finds is the window's only minimum.
+// Otherwise, the window search.
+class FootTracker {
+ public:
+  explicit FootTracker(const Curve& c) : FootTracker(c, true) {}
+  // Parameter of the point of the curve nearest p, near `guess`; distance() is then |p - curve(u)|.
+  double find(Vec2 p, double guess, double reach);
+  double distance() const { return dist_; }
+  // Testing: always the window search.
+  void set_full_search(bool on) { full_ = on; }
+
+ private:
+  FootTracker(const Curve& c, bool);
+  double wrap(double u) const;
+  double d2(double u, Vec2 p) const;
+  bool newton(Vec2 p, double lo, double hi, double& u, double& d2) const;
+  bool track(Vec2 p, double guess, double reach, double& u);
+  bool corner_in(double lo, double hi) const;
+  const Curve& c_;
+  double u0_, u1_;
+  bool closed_;
+  std::vector<double> breaks_;
+  bool tracking_ = false, full_ = false;
+  double dist_ = 0.0;
+};
+
+class DeviationMeter {
+ public:
+  explicit DeviationMeter(const Curve& path);
+  // The first node of the machine path; `reach`: how far from the previous foot point to search (a few cells).
+  void start(Vec2 node, double reach);
+  // The next piece, from the current node (piece.at(0)) to the next (piece.at(1)). Returns the foot parameter
+  // of the piece's middle.
+  double piece(const StairPiece& p, double reach);
+
+  double max() const { return max_; }
+  Vec2 at() const { return at_; }  // the point of the machine path where the largest distance is
+  uint64_t refined() const { return refined_; }  // pieces searched for an inside maximum
+  void set_full_search(bool on) { ft_.set_full_search(on); }  // testing
+
+ private:
+  void consider(double d, Vec2 p);
+  bool breaks_between(double ua, double ub) const;
+  const Curve& c_;
+  FootTracker ft_;
+  std::vector<double> breaks_;
+  double span_;
+  bool closed_;
+  double u_ = 0.0, d_node_ = 0.0;
+  double max_ = 0.0;
+  Vec2 at_;
+  uint64_t refined_ = 0;
+};
+
+}  // namespace polarcam
