@@ -17,5 +17,7 @@ void register_error(CLI::App& app, Action& action);
 void register_optimize(CLI::App& app, Action& action);
 void register_analyze(CLI::App& app, Action& action);
 void register_motor(CLI::App& app, Action& action);
+void register_capacity(CLI::App& app, Action& action);
+void register_report(CLI::App& app, Action& action);
 
 }  // namespace polarcam::cli
