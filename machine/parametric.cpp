@@ -114,8 +114,10 @@ double angular_inertial(const Mechanics& mk, const ContourPoint& p, double added
     const double s = b + sg * root;
     if (std::abs(s) > 1.0) continue;
     for (double g : {std::asin(s), kPi - std::asin(s)}) {
-      const double h = std::abs(angular_h(mk, p, M, g));
-      if (h > best_h) {
+      // the two roots of one sign are twins (h(pi - gamma) = -h(gamma)): take the one where h > 0, so that the
+      // choice does not depend on rounding
+      const double hs = angular_h(mk, p, M, g), h = std::abs(hs);
+      if (h > best_h * (1.0 + 1e-9) || (h >= best_h * (1.0 - 1e-9) && hs > 0.0)) {
         best_h = h;
         best = wrap(g);
         if (sign) *sign = sg;

@@ -64,7 +64,8 @@ RatioForms ratio_forms(const MachineModel& m, const ContourPoint& p, const Param
 double gamma_max_radial_inertial();
 //   angular, inertial (Eq. 6.15): the stationary points of h(gamma) = (J_A / r + M r) kappa cos gamma -
 //   J_A sin 2gamma / r^2 satisfy sin gamma = [L24 -+ (L24^2 + rho^2 / 2)^(1/2)] / rho, L24 = (M r^3 + J_A r) /
-//   (8 J_A), rho = 1 / kappa; the one where |h| is largest. Independent of the speed.
+//   (8 J_A), rho = 1 / kappa; the largest |h| occurs at a twin pair gamma, pi - gamma (same magnitude, opposite
+//   sign): the one with h > 0 (the torque driving +theta) is returned. Independent of the speed.
 double gamma_max_angular_inertial(const Mechanics& mk, const ContourPoint& p, double added_mass);
 //   radial, grinding (Eq. 6.19): tan gamma = s tan alpha_c - M V kappa / (K_c cos alpha_c); exact.
 double gamma_max_radial_grinding(const Mechanics& mk, const ContourPoint& p, const ParametricLoad& l, double V);

@@ -68,7 +68,7 @@ ParetoResult pareto_front(const PoleProblem& p0, const Placement& start, const P
   pt.objective = PoleObjective::torque;
   PlacementOptions ot = oa;
   ot.objective = PoleObjective::torque;
-  ot.max_evaluations = 0;
+  ot.max_evaluations = o.max_evaluations;  // 0: the torque objective's own default
   const PlacementResult rt = optimize_placement(pt, start, ot);
   res.evaluations += ra.evaluations + rt.evaluations;
   std::vector<Vec2> poles = {ra.pole, rt.pole, start.pole()};
@@ -81,6 +81,8 @@ ParetoResult pareto_front(const PoleProblem& p0, const Placement& start, const P
     PlacementOptions ol = oa;
     if (po.level_evaluations > 0) {
       ol.max_evaluations = po.level_evaluations;
+    } else if (o.max_evaluations > 0) {
+      ol.max_evaluations = o.max_evaluations;
     } else {
       const double steps = ends[0].steps > 0 ? static_cast<double>(ends[0].steps) : 1e4;
       ol.max_evaluations = static_cast<int>(std::clamp(0.25 * 1.2e7 / steps, 150.0, 1000.0));

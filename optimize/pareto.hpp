@@ -19,7 +19,8 @@ namespace polarcam {
 struct ParetoOptions {
   int survey = 25;            // lattice points per side of the survey
   int levels = 6;             // epsilon-constraint searches between the two ends
-  int level_evaluations = 0;  // budget of each (0: a quarter of the default area budget, at least 150)
+  int level_evaluations = 0;  // budget of each (0: the placement options' max_evaluations when set, otherwise a
+                              // quarter of the default area budget, at least 150)
   int threads = 0;
 };
 
