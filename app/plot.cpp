@@ -147,7 +147,9 @@ void draw_panel(plstream& pls, const Panel& p) {
   std::string title = p.title;
   if (!band_note.empty()) title += "  " + band_note;
   pls.lab(p.xlabel.c_str(), "", title.c_str());
-  pls.mtex("l", 7.0, 0.5, 0.5, p.ylabel.c_str());  // clear of tick labels up to seven characters long
+  // clear of tick labels up to seven characters long; an equal-aspect panel (maps, contours: short tick labels)
+  // may have little room left of its viewport, so its label sits closer
+  pls.mtex("l", p.equal_aspect ? 5.0 : 7.0, 0.5, 0.5, p.ylabel.c_str());
   for (double h : p.hlines) {
     PLFLT x[2] = {xmin, xmax}, y[2] = {h, h};
     pls.col0(2);

@@ -10,6 +10,42 @@
 namespace polarcam::cli {
 namespace {
 
+// The corner of a panel (a box of 45 % of its width and half its height) that covers the fewest drawn points,
+// where its legend hides least: the path and the work area count once per point, a marker (a pole) as much as a
+// whole line.
+// When even that corner covers something, the panel's extent grows on that side to make room.
+plot::Panel::Legend emptiest_corner(plot::Panel& p) {
+  double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+  for (const plot::Series& s : p.series)
+    for (size_t i = 0; i < s.x.size(); ++i)
+      x0 = std::min(x0, s.x[i]), x1 = std::max(x1, s.x[i]), y0 = std::min(y0, s.y[i]), y1 = std::max(y1, s.y[i]);
+  using L = plot::Panel::Legend;
+  const L corners[] = {L::top_right, L::top_left, L::bottom_right, L::bottom_left};
+  L best = L::top_right;
+  double best_n = 1e300;
+  for (L c : corners) {
+    const bool right = c == L::top_right || c == L::bottom_right, top = c == L::top_right || c == L::top_left;
+    const double cx0 = right ? x1 - 0.45 * (x1 - x0) : x0, cx1 = right ? x1 : x0 + 0.45 * (x1 - x0);
+    const double cy0 = top ? y1 - 0.5 * (y1 - y0) : y0, cy1 = top ? y1 : y0 + 0.5 * (y1 - y0);
+    double n = 0.0;
+    for (const plot::Series& s : p.series) {
+      const double weight = s.x.size() == 1 ? 1000.0 : 1.0;
+      for (size_t i = 0; i < s.x.size(); ++i)
+        if (s.x[i] >= cx0 && s.x[i] <= cx1 && s.y[i] >= cy0 && s.y[i] <= cy1) n += weight;
+    }
+    if (n < best_n) best_n = n, best = c;
+  }
+  if (best_n > 0.0 && y1 > y0 && x1 > x0) {
+    const double m = 0.05 * (y1 - y0);  // the default margin of plot.cpp
+    p.xmin = x0 - 0.05 * (x1 - x0), p.xmax = x1 + 0.05 * (x1 - x0);
+    if (best == L::top_right || best == L::top_left)
+      p.ymin = y0 - m, p.ymax = y1 + 0.85 * (y1 - y0);
+    else
+      p.ymin = y0 - 0.85 * (y1 - y0), p.ymax = y1 + m;
+  }
+  return best;
+}
+
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 std::string g(double v, int prec = 4) { return fmt::format("{:.{}g}", v, prec); }
@@ -82,11 +118,7 @@ plot::Figure workarea_figure(const Job& job, const Curve& path, const Staircase&
   const Vec2 o1 = -1.0 * job.placement.pole();
   a.series.push_back(marker_series(o1.x * 1e3, o1.y * 1e3, "contour pole", 1, 4, 1.6));
   a.series.push_back(marker_series(c.x * 1e3, c.y * 1e3, "magnified (right)", 3, 4, 3.0));
-  // the legend where the work area leaves most room: opposite the path's centre
-  double sx = 0.0, sy = 0.0;
-  for (size_t i = 0; i < p.x.size(); ++i) sx += p.x[i], sy += p.y[i];
-  a.legend = sy >= 0.0 ? (sx >= 0.0 ? plot::Panel::Legend::bottom_left : plot::Panel::Legend::bottom_right)
-                       : (sx >= 0.0 ? plot::Panel::Legend::top_left : plot::Panel::Legend::top_right);
+  a.legend = emptiest_corner(a);
   f.panels.push_back(a);
 
   // right: the window, relative to its centre, in mm
@@ -223,7 +255,7 @@ plot::Figure pole_map_figure(const Job& job, const PoleSurvey& sv, double limit,
   f.width = 1000;
   f.height = 900;
   plot::Panel p;
-  p.title = "Area error (mm^2) for each machine-pole position";
+  p.title = "Area error by machine-pole position";
   p.xlabel = "machine pole x - contour pole x (mm)";
   p.ylabel = "machine pole y - contour pole y (mm)";
   p.equal_aspect = true;
