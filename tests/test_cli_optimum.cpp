@@ -70,6 +70,34 @@ TEST(CliOptimum, BalancedPlacementIsWhatAnalyzeSaysThere) {
   EXPECT_EQ(j1.dump(), j2.dump());
 }
 
+TEST(CliOptimum, TorqueLimitedAreaOptimumPassesAnalyze) {
+  // `--objective area --torque-limit`: the least area error among the poles the drives can carry. The witch ground
+  // at its Ch. 5 pole is NO-GO (radial ratio 0.906 > 1/1.2); the pole found must be GO in `analyze`.
+  Scratch sc;
+  const std::string text = example_text("witch_grinding");
+  const std::string job = copy_example(sc, "witch_grinding", text);
+  CliResult r = run_cli("optimize " + job + " --objective area --torque-limit --json --max-evaluations 40 --threads 2");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const json j = json::parse(r.out);
+  const double limit = j["torque_limit"];
+  EXPECT_NEAR(limit, 1.0 / 1.2, 1e-12);
+  EXPECT_LE(j["worst_torque_ratio"].get<double>(), limit);
+  EXPECT_EQ(j["start"]["verdict"], "NO-GO");
+  const std::string placed = copy_example(
+      sc, "placed",
+      replace(replace(text, "C = \"25.4 cm\"", "C = " + quantity(j["C_mm"], "mm")), "beta = \"pi/2 rad\"",
+              "beta = " + quantity(j["beta_rad"], "rad")));
+  CliResult a = run_cli("analyze " + placed + " --json");
+  EXPECT_EQ(a.code, 0) << a.out;
+  EXPECT_LE(worst_ratio(json::parse(a.out)), limit);
+  // twice the depth of cut: no pole passes; one line saying so, exit 2
+  const std::string heavy = copy_example(sc, "heavy", replace(text, "depth = \"0.001 in\"", "depth = \"0.002 in\""));
+  CliResult h = run_cli("optimize " + heavy + " --objective area --torque-limit --max-evaluations 40 --threads 2");
+  EXPECT_EQ(h.code, 2);
+  EXPECT_NE(h.err.find("no pole position"), std::string::npos) << h.err;
+  EXPECT_EQ(std::count(h.err.begin(), h.err.end(), '\n'), 1) << h.err;
+}
+
 TEST(CliOptimum, ParetoFrontIsNonDominated) {
   Scratch sc;
   const std::string job = copy_example(sc, "circle_grinding", example_text("circle_grinding"));
