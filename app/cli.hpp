@@ -18,5 +18,7 @@ void register_optimize(CLI::App& app, Action& action);
 void register_analyze(CLI::App& app, Action& action);
 void register_motor(CLI::App& app, Action& action);
 void register_compare(CLI::App& app, Action& action);
+void register_capacity(CLI::App& app, Action& action);
+void register_report(CLI::App& app, Action& action);
 
 }  // namespace polarcam::cli

@@ -60,7 +60,7 @@ std::string summary_text(const Comparison& c) {
   row("tape, bytes", thousands(P.tape_bytes), thousands(Q.tape_bytes));
   row("resolution at the worst point, mm", fmt(P.resolution_worst_m * 1e3, 4), fmt(Q.resolution_worst_m * 1e3, 4));
   os << "\n  which machine wins, for this job:\n";
-  for (const Verdict& v : c.verdicts) {
+  for (const AttributeVerdict& v : c.verdicts) {
     const std::string w = v.winner == "tie" ? "tie" : (v.winner == "polar" ? "polar" : "Cartesian");
     os << "    " << std::left << std::setw(52) << v.attribute << w << "\n      " << v.why << "\n";
   }

@@ -421,10 +421,10 @@ void add_verdicts(Comparison& c) {
     return s;
   };
   auto pct = [&](double dv) { return fmt(100.0 * dv / V, 3) + " %"; };
-  std::vector<Verdict>& out = c.verdicts;
+  std::vector<AttributeVerdict>& out = c.verdicts;
 
   {  // Table 3.1: contouring speed
-    Verdict v{"Contouring speed", "", "", "", ""};
+    AttributeVerdict v{"Contouring speed", "", "", "", ""};
     auto val = [&](const MachineSide& s) {
       return fmt(s.speed.min_mps * 1e3, 4) + " to " + fmt(s.speed.max_mps * 1e3, 4) + " mm/s, RMS deviation " +
              fmt(s.speed.rms_dev_mps * 1e3, 3) + " mm/s (" + pct(s.speed.rms_dev_mps) + " of " + fmt(V * 1e3, 4) + " mm/s)";
@@ -446,7 +446,7 @@ void add_verdicts(Comparison& c) {
     out.push_back(v);
   }
   {
-    Verdict v{"Contouring time", fixed(P.duration_s, 3) + " s", fixed(Q.duration_s, 3) + " s", "", ""};
+    AttributeVerdict v{"Contouring time", fixed(P.duration_s, 3) + " s", fixed(Q.duration_s, 3) + " s", "", ""};
     v.winner = smaller(P.duration_s, Q.duration_s, 0.01, 1e-3);
     const double ideal = c.path_length_m / V;
     if (v.winner == "tie")
@@ -457,7 +457,7 @@ void add_verdicts(Comparison& c) {
     out.push_back(v);
   }
   {
-    Verdict v{"Area error", fmt(P.area_m2 * 1e6, 4) + " mm²", fmt(Q.area_m2 * 1e6, 4) + " mm²", "", ""};
+    AttributeVerdict v{"Area error", fmt(P.area_m2 * 1e6, 4) + " mm²", fmt(Q.area_m2 * 1e6, 4) + " mm²", "", ""};
     v.winner = smaller(P.area_m2, Q.area_m2, 0.01, 0.0);
     if (v.winner == "tie")
       v.why = "Both machines' paths enclose the same area with the contour, to within 1 %.";
@@ -469,7 +469,7 @@ void add_verdicts(Comparison& c) {
     out.push_back(v);
   }
   {
-    Verdict v{"Largest deviation", mm(P.deviation_m), mm(Q.deviation_m), "", ""};
+    AttributeVerdict v{"Largest deviation", mm(P.deviation_m), mm(Q.deviation_m), "", ""};
     v.winner = smaller(P.deviation_m, Q.deviation_m, 0.01, 0.0);
     if (v.winner == "tie")
       v.why = "Both stray at most " + mm(std::max(P.deviation_m, Q.deviation_m)) + " from the contour.";
@@ -483,7 +483,7 @@ void add_verdicts(Comparison& c) {
     out.push_back(v);
   }
   {  // Table 3.1: accuracy
-    Verdict v{"Resolution at the worst point", mm(P.resolution_worst_m) + " (" + P.resolution_where + ")",
+    AttributeVerdict v{"Resolution at the worst point", mm(P.resolution_worst_m) + " (" + P.resolution_where + ")",
               mm(Q.resolution_worst_m) + " (" + Q.resolution_where + ")", "", ""};
     v.winner = smaller(P.resolution_worst_m, Q.resolution_worst_m, 0.01, 0.0);
     if (v.winner == "cartesian")
@@ -500,7 +500,7 @@ void add_verdicts(Comparison& c) {
       const int a = s.rates[0].max_rate_hz >= s.rates[1].max_rate_hz ? 0 : 1;
       return fmt(s.max_step_rate_hz(), 5) + " Hz (" + s.axis[a] + ")";
     };
-    Verdict v{"Highest step rate", val(P), val(Q), "", ""};
+    AttributeVerdict v{"Highest step rate", val(P), val(Q), "", ""};
     v.winner = smaller(P.max_step_rate_hz(), Q.max_step_rate_hz(), 0.01, 1.0);
     if (v.winner == "tie")
       v.why = "The drives of both machines must step at about the same highest rate.";
@@ -511,7 +511,7 @@ void add_verdicts(Comparison& c) {
     out.push_back(v);
   }
   {
-    Verdict v{"Tape size", cli::thousands(P.tape_bytes) + " bytes", cli::thousands(Q.tape_bytes) + " bytes", "", ""};
+    AttributeVerdict v{"Tape size", cli::thousands(P.tape_bytes) + " bytes", cli::thousands(Q.tape_bytes) + " bytes", "", ""};
     v.winner = smaller(static_cast<double>(P.tape_bytes), static_cast<double>(Q.tape_bytes), 0.01, 0.0);
     v.why = v.winner == "tie" ? "About the same size."
                               : cap(machine_name(v.winner, c)) + "'s tape is smaller (" +
@@ -532,7 +532,7 @@ void add_verdicts(Comparison& c) {
              " of " + fmt(f.factor * V * 1e3, 4) + " mm/s";
       return t;
     };
-    Verdict v{"Speed scaling without reprocessing (x" + fmt(P.speed_scaling.factor, 4) + ")", val(P), val(Q), "", ""};
+    AttributeVerdict v{"Speed scaling without reprocessing (x" + fmt(P.speed_scaling.factor, 4) + ")", val(P), val(Q), "", ""};
     const bool p = P.speed_scaling.without_reprocessing, q = Q.speed_scaling.without_reprocessing && Q.speed_scaling.possible;
     v.winner = p == q ? "tie" : (p ? "polar" : "cartesian");
     if (v.winner == "tie")
@@ -554,7 +554,7 @@ void add_verdicts(Comparison& c) {
     std::string qv = "no: x indices alone x" + fmt(q1.factor, 4) + " give " + box(q1.size) + "; x and y together give " +
                      box(q2.size);
     if (q2.measured) qv += ", area error " + fmt(q2.area_m2 * 1e6, 4) + " mm²";
-    Verdict v{"Size scaling by one axis (x" + fmt(ps.factor, 4) + ")", pv, qv, "polar", ""};
+    AttributeVerdict v{"Size scaling by one axis (x" + fmt(ps.factor, 4) + ")", pv, qv, "polar", ""};
     v.why = "Scaling the polar machine's radial axis alone scales the whole part about the pole; scaling one "
             "Cartesian axis only stretches it (" + box(q1.size) + " instead of " + box(q1.wanted) +
             "): both axes must be scaled.";
@@ -666,7 +666,7 @@ nlohmann::ordered_json to_json(const Comparison& c) {
   j["polar"] = side_json(c.polar, c);
   j["cartesian"] = side_json(c.cartesian, c);
   nlohmann::ordered_json v = nlohmann::ordered_json::array();
-  for (const Verdict& x : c.verdicts) {
+  for (const AttributeVerdict& x : c.verdicts) {
     nlohmann::ordered_json a;
     a["attribute"] = x.attribute;
     a["polar"] = x.polar;

@@ -69,7 +69,7 @@ struct MachineSide {
   double max_step_rate_hz() const { return std::max(rates[0].max_rate_hz, rates[1].max_rate_hz); }
 };
 
-struct Verdict {
+struct AttributeVerdict {  // one row of the comparison: which machine wins on an attribute
   std::string attribute;
   std::string polar, cartesian;  // the measured values, formatted
   std::string winner;            // "polar", "cartesian" or "tie"
@@ -89,7 +89,7 @@ struct Comparison {
   double path_length_m = 0.0;   // of the tool path
   double interrupt_rate = 0.0;  // DDA
   MachineSide polar, cartesian;
-  std::vector<Verdict> verdicts;
+  std::vector<AttributeVerdict> verdicts;
   // figures (contour frame, m)
   std::vector<Vec2> outline;                  // the tool path
   Vec2 polar_pole;                            // the polar machine's pole

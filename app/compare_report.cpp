@@ -48,7 +48,7 @@ std::vector<plot::Series> runs_series(const std::vector<std::vector<Vec2>>& runs
 }
 
 // The corner of a window with the fewest points of the drawn lines near it (for the legend).
-plot::Panel::Corner emptiest_corner(const std::vector<plot::Series>& series, double x0, double x1, double y0, double y1) {
+plot::Panel::Legend emptiest_corner(const std::vector<plot::Series>& series, double x0, double x1, double y0, double y1) {
   int count[4] = {0, 0, 0, 0};  // top right, top left, bottom right, bottom left
   const double xm = 0.5 * (x0 + x1), ym = 0.5 * (y0 + y1), wx = 0.5 * (x1 - x0), wy = 0.5 * (y1 - y0);
   for (const auto& s : series)
@@ -58,8 +58,8 @@ plot::Panel::Corner emptiest_corner(const std::vector<plot::Series>& series, dou
       count[(dy > 0 ? 0 : 2) + (dx > 0 ? 0 : 1)] += 1;
     }
   const int best = static_cast<int>(std::min_element(count, count + 4) - count);
-  static const plot::Panel::Corner corners[4] = {plot::Panel::Corner::top_right, plot::Panel::Corner::top_left,
-                                                 plot::Panel::Corner::bottom_right, plot::Panel::Corner::bottom_left};
+  static const plot::Panel::Legend corners[4] = {plot::Panel::Legend::top_right, plot::Panel::Legend::top_left,
+                                                 plot::Panel::Legend::bottom_right, plot::Panel::Legend::bottom_left};
   return corners[best];
 }
 
@@ -201,7 +201,7 @@ std::string winner_text(const Comparison& c, const std::string& w) {
 void verdict_table(html::Report& r, const Comparison& c) {
   std::string t = "<table class=\"verdicts\">\n<thead><tr><th>attribute</th><th>polar machine</th><th>" +
                   escape(cartesian_name(c)) + "</th><th>better for this job</th><th>why</th></tr></thead>\n<tbody>\n";
-  for (const Verdict& v : c.verdicts) {
+  for (const AttributeVerdict& v : c.verdicts) {
     auto cell = [&](const std::string& side, const std::string& text) {
       const bool win = v.winner == side;
       return std::string("<td") + (win ? " style=\"background:#dff3e3;font-weight:600\"" : "") + ">" + escape(text) + "</td>";
@@ -230,8 +230,8 @@ void write_compare_report(const Comparison& c, const std::string& path) {
         ".</li></ul>\n");
 
   int wp = 0, wc = 0, ties = 0;
-  for (const Verdict& v : c.verdicts) (v.winner == "polar" ? wp : v.winner == "cartesian" ? wc : ties) += 1;
-  r.heading(2, "Verdict for this job");
+  for (const AttributeVerdict& v : c.verdicts) (v.winner == "polar" ? wp : v.winner == "cartesian" ? wc : ties) += 1;
+  r.heading(2, "AttributeVerdict for this job");
   r.paragraph("Of the " + std::to_string(c.verdicts.size()) + " attributes below, the polar machine is better on " +
               std::to_string(wp) + ", the " + cartesian_name(c) + " machine on " + std::to_string(wc) + ", and " +
               std::to_string(ties) + " are a tie. The attributes of the thesis's Table 3.1 (contouring speed, speed "

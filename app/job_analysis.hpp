@@ -1,12 +1,11 @@
 #pragma once
-// Job -> dynamics glue for `polarcam analyze` (and issue 5's pole placement): builds the tool path and its track
-// once, checks the work area, and analyses the torques along it for a speed and a load (machine/torque_analysis),
-// with the verdict and the fastest speed at which the job passes (machine/verdict).
+// Job -> dynamics glue for `polarcam analyze`, `capacity`, `optimize` and `report`: builds the tool path and its
+// track once, checks the work area, and analyses the torques along it for a speed and a load with the verdict and
+// the fastest speed at which the job passes (machine/dynamics_case, the model optimize/ calls too).
 #include <optional>
 
 #include "app/job.hpp"
-#include "machine/torque_analysis.hpp"
-#include "machine/verdict.hpp"
+#include "machine/dynamics_case.hpp"
 
 namespace polarcam {
 
@@ -35,6 +34,12 @@ struct CaseResult {
   Verdict verdict;
   SpeedSearch search;  // the largest factor on the speed at which the job passes
 };
+
+// The motion of the job (a constant-speed or ramp job at `speed` when given; a speed table refuses it), the load
+// and the safety factor: what the dynamics need besides the path. Throws InputError naming the job file.
+MotionLaw motion_law(const Job& job, std::optional<double> speed = std::nullopt);
+DynamicsSetup dynamics_setup(const Job& job, const DynamicsCase& c);
+PlacedPath placed_path(const PreparedDynamics& prep);
 
 // Throws InputError (with the job file) for a bad override or a step rate outside a motor's pull-out curve.
 CaseResult analyze_case(const Job& job, const PreparedDynamics& prep, const DynamicsCase& c, const AnalysisOptions& opt,

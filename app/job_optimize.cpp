@@ -10,9 +10,14 @@ PlacementOptions parse_optimize(Section& s) {
       o.objective = PoleObjective::area;
     else if (*v == "f1")
       o.objective = PoleObjective::f1;
+    else if (*v == "balanced")
+      o.objective = PoleObjective::balanced;
+    else if (*v == "pareto")
+      o.pareto = true;
     else
-      s.fail("objective", "must be \"area\" or \"f1\"");
+      s.fail("objective", "must be \"area\", \"f1\", \"balanced\" or \"pareto\"");
   }
+  if (auto v = s.boolean("torque_limit")) o.torque_limit = *v;
   if (auto v = s.string("method")) {
     if (*v == "nlopt")
       o.method = PoleMethod::nlopt;

@@ -27,6 +27,8 @@ int main(int argc, char** argv) {
   cli::register_analyze(app, action);
   cli::register_motor(app, action);
   cli::register_compare(app, action);
+  cli::register_capacity(app, action);
+  cli::register_report(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

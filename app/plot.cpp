@@ -64,7 +64,7 @@ void draw_panel(plstream& pls, const Panel& p) {
   pls.adv(0);
   pls.vsta();
   if (p.equal_aspect)
-    pls.wind(xmin, xmax, ymin, ymax), pls.vpas(0.15, 0.9, 0.12, 0.9, (ymax - ymin) / (xmax - xmin));
+    pls.wind(xmin, xmax, ymin, ymax), pls.vpas(0.15, 0.95, 0.12, 0.9, (ymax - ymin) / (xmax - xmin));
   pls.wind(xmin, xmax, ymin, ymax);
 
   std::string band_note;  // the colour scale, said in the title (dark = low, light = high)
@@ -113,6 +113,33 @@ void draw_panel(plstream& pls, const Panel& p) {
     }
   }
 
+  for (const Isoline& iso : p.isolines) {
+    const Map& f = iso.field;
+    if (f.nx < 2 || f.ny < 2 || f.z.size() != static_cast<size_t>(f.nx) * f.ny) continue;
+    std::vector<double> col(static_cast<size_t>(f.nx) * f.ny);
+    std::vector<const PLFLT*> rows(static_cast<size_t>(f.nx));
+    bool any_below = false, any_above = false;
+    for (int iy = 0; iy < f.ny; ++iy)
+      for (int ix = 0; ix < f.nx; ++ix) {
+        const double v = f.z[static_cast<size_t>(iy) * f.nx + ix];
+        // undefined cells lie beyond the line (so that it closes around the defined part)
+        const double w = std::isfinite(v) ? v : iso.level + 1e30;
+        col[static_cast<size_t>(ix) * f.ny + iy] = w;
+        (w < iso.level ? any_below : any_above) = true;
+      }
+    if (!any_below || !any_above) continue;
+    for (int ix = 0; ix < f.nx; ++ix) rows[static_cast<size_t>(ix)] = col.data() + static_cast<size_t>(ix) * f.ny;
+    std::vector<PLFLT> xg(static_cast<size_t>(f.nx)), yg(static_cast<size_t>(f.ny));
+    for (int i = 0; i < f.nx; ++i) xg[static_cast<size_t>(i)] = f.x0 + (f.x1 - f.x0) * i / (f.nx - 1);
+    for (int i = 0; i < f.ny; ++i) yg[static_cast<size_t>(i)] = f.y0 + (f.y1 - f.y0) * i / (f.ny - 1);
+    PLcGrid cg{xg.data(), yg.data(), nullptr, f.nx, f.ny, 0};
+    PLFLT lev[1] = {iso.level};
+    pls.scol0(15, iso.color.r, iso.color.g, iso.color.b);
+    pls.col0(15);
+    pls.width(iso.width);
+    pls.cont(rows.data(), f.nx, f.ny, 1, f.nx, 1, f.ny, lev, 1, plcallback::tr1, &cg);
+  }
+
   pls.col0(1);
   pls.width(1.0);
   pls.syax(6, 0);  // enough digits for the tick labels of a narrow range far from zero (-1.0725)
@@ -120,7 +147,9 @@ void draw_panel(plstream& pls, const Panel& p) {
   std::string title = p.title;
   if (!band_note.empty()) title += "  " + band_note;
   pls.lab(p.xlabel.c_str(), "", title.c_str());
-  pls.mtex("l", 7.0, 0.5, 0.5, p.ylabel.c_str());  // clear of tick labels up to seven characters long
+  // clear of tick labels up to seven characters long; an equal-aspect panel (maps, contours: short tick labels)
+  // may have little room left of its viewport, so its label sits closer
+  pls.mtex("l", p.equal_aspect ? 5.0 : 7.0, 0.5, 0.5, p.ylabel.c_str());
   for (double h : p.hlines) {
     PLFLT x[2] = {xmin, xmax}, y[2] = {h, h};
     pls.col0(2);
@@ -156,7 +185,7 @@ void draw_panel(plstream& pls, const Panel& p) {
       scol.push_back(color_index);
       sscale.push_back(s.marker_scale);
       snum.push_back(1);
-      syms.push_back(s.marker == 4 ? "o" : (s.marker == 2 ? "+" : "*"));
+      syms.push_back(s.marker == 4 ? "o" : (s.marker == 2 ? "+" : (s.marker == 5 ? "x" : "*")));
     }
     // PLplot legends refer to cmap0 indices; keep each series' colour in its own index (up to 15)
     color_index = std::min(color_index + 1, 15);
@@ -167,15 +196,14 @@ void draw_panel(plstream& pls, const Panel& p) {
     for (auto& s : syms) sp.push_back(s.c_str());
     std::vector<PLINT> tcol(texts.size(), 1);
     PLFLT lwid, lhei;
-    PLINT where = PL_POSITION_INSIDE;
+    PLINT pos = PL_POSITION_INSIDE;
     switch (p.legend) {
-      case Panel::Corner::top_right: where |= PL_POSITION_TOP | PL_POSITION_RIGHT; break;
-      case Panel::Corner::top_left: where |= PL_POSITION_TOP | PL_POSITION_LEFT; break;
-      case Panel::Corner::bottom_right: where |= PL_POSITION_BOTTOM | PL_POSITION_RIGHT; break;
-      case Panel::Corner::bottom_left: where |= PL_POSITION_BOTTOM | PL_POSITION_LEFT; break;
+      case Panel::Legend::top_right: pos |= PL_POSITION_TOP | PL_POSITION_RIGHT; break;
+      case Panel::Legend::top_left: pos |= PL_POSITION_TOP | PL_POSITION_LEFT; break;
+      case Panel::Legend::bottom_right: pos |= PL_POSITION_BOTTOM | PL_POSITION_RIGHT; break;
+      case Panel::Legend::bottom_left: pos |= PL_POSITION_BOTTOM | PL_POSITION_LEFT; break;
     }
-    pls.legend(&lwid, &lhei, PL_LEGEND_BACKGROUND | PL_LEGEND_BOUNDING_BOX, where, 0.02, 0.02, 0.08, 0, 1, 1, 0, 0,
-               static_cast<PLINT>(texts.size()), opts.data(),
+    pls.legend(&lwid, &lhei, PL_LEGEND_BACKGROUND | PL_LEGEND_BOUNDING_BOX, pos, 0.02, 0.02, 0.08, 0, 1, 1, 0, 0, static_cast<PLINT>(texts.size()), opts.data(),
                1.0, 0.8, 2.0, 0.0, tcol.data(), tp.data(), nullptr, nullptr, nullptr, nullptr, lcol.data(),
                lsty.data(), lw.data(), scol.data(), sscale.data(), snum.data(), sp.data());
   }

@@ -35,15 +35,25 @@ struct Map {
   std::string colorbar_label;
 };
 
+// One contour line of a field on a regular grid (z as in Map), e.g. the boundary of a region where a constraint
+// holds. Label it with an empty Series of the same colour (a legend entry).
+struct Isoline {
+  Map field;                // levels, log_scale and colorbar_label are not used
+  double level = 0.0;
+  Color color = palette(6);
+  double width = 2.5;
+};
+
 struct Panel {
   std::string title, xlabel, ylabel;
   std::vector<Series> series;
   std::optional<Map> map;   // drawn under the series
+  std::vector<Isoline> isolines;  // drawn over the map, under the series
   bool equal_aspect = false;
+  enum class Legend { top_right, top_left, bottom_right, bottom_left };
+  Legend legend = Legend::top_right;             // inside the plot area
   std::optional<double> xmin, xmax, ymin, ymax;  // default: the data's extent with a margin
   std::vector<double> hlines;                    // horizontal reference lines (dashed grey)
-  enum class Corner : unsigned char { top_right, top_left, bottom_right, bottom_left };
-  Corner legend = Corner::top_right;             // where the legend goes (inside the frame)
 };
 
 struct Figure {

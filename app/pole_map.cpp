@@ -16,6 +16,8 @@ std::string map_csv(const ObjectiveMap& m, PoleObjective objective) {
     return b;
   };
   const double oscale = objective == PoleObjective::area ? 1e6 : 1.0;
+  // a torque objective's search value of 1e3 or more stands for an infinite objective (torque_search_value)
+  auto value = [&](double v) { return is_torque_objective(objective) && v >= 1e3 ? NAN : v; };
   for (int iy = 0; iy < m.ny; ++iy)
     for (int ix = 0; ix < m.nx; ++ix) {
       const size_t i = static_cast<size_t>(iy) * static_cast<size_t>(m.nx) + static_cast<size_t>(ix);
@@ -24,7 +26,7 @@ std::string map_csv(const ObjectiveMap& m, PoleObjective objective) {
       double beta = std::atan2(y, x);
       if (beta < 0) beta += 2.0 * std::numbers::pi;
       std::snprintf(line, sizeof line, "%.9g,%.9g,%.9g,%.9g,%d,%s,%s,%s\n", x * 1e3, y * 1e3, std::hypot(x, y) * 1e3,
-                    beta, std::isfinite(m.value[i]) ? 1 : 0, num(m.value[i], oscale).c_str(),
+                    beta, std::isfinite(m.value[i]) ? 1 : 0, num(value(m.value[i]), oscale).c_str(),
                     num(m.area[i], 1e6).c_str(), num(m.margin[i], 1e3).c_str());
       out += line;
     }
@@ -51,8 +53,11 @@ plot::Figure map_figure(const ObjectiveMap& m, PoleObjective objective, const st
   mp.z = m.value;
   if (objective == PoleObjective::area)
     for (double& z : mp.z) z *= 1e6;
+  if (is_torque_objective(objective))
+    for (double& z : mp.z)
+      if (z >= 1e3) z = NAN;  // an infinite objective (torque_search_value)
   mp.levels = 9;  // the thesis's topographic contours are numbered 1 to 9
-  mp.colorbar_label = objective == PoleObjective::area ? "mm^2" : "F1";
+  mp.colorbar_label = objective == PoleObjective::area ? "mm^2" : (objective == PoleObjective::f1 ? "F1" : "");
   p.map = mp;
   plot::Series c;
   for (const Vec2& v : contour) {

@@ -13,7 +13,7 @@
 namespace polarcam {
 namespace {
 
-enum Quantity { kRatioR, kRatioT, kTorqueR, kTorqueT, kRateR, kRateT, kTotal, kRatioSum, kQuantities };
+enum Quantity { kRatioR, kRatioT, kTorqueR, kTorqueT, kRateR, kRateT, kTotal, kRatioSum, kBalanced, kQuantities };
 constexpr int kCandidates = 3;  // refined local maxima per quantity
 
 double quantity(const TorqueSample& x, int q) {
@@ -32,8 +32,10 @@ double quantity(const TorqueSample& x, int q) {
       return x.angular.step_rate;
     case kTotal:
       return x.total_torque();
-    default:
+    case kRatioSum:
       return x.ratio_sum();
+    default:
+      return x.balanced();
   }
 }
 
@@ -102,12 +104,20 @@ void offer(std::array<Candidate, kCandidates>& c, const Candidate& x) {
 bool same_values(const TorqueSample& a, const TorqueSample& b) {
   for (int q = 0; q < kQuantities; ++q) {
     double x = quantity(a, q), y = quantity(b, q);
+    if (x == y) continue;
     if (!(std::abs(x - y) <= 1e-9 * std::max({std::abs(x), std::abs(y), 1e-300}))) return false;
   }
   return true;
 }
 
 }  // namespace
+
+double balanced_torque(double ratio_R, double ratio_theta) {
+  const double a = std::abs(ratio_R), b = std::abs(ratio_theta);
+  const double den = 1.0 - std::abs(a - b);
+  if (!(den > 0.0)) return std::numeric_limits<double>::infinity();
+  return (a + b) / den;
+}
 
 TorqueAnalysis analyze_torques(const DynamicsInput& in, const AnalysisOptions& opt) {
   const PolarTrack& tr = *in.track;
@@ -233,6 +243,7 @@ TorqueAnalysis analyze_torques(const DynamicsInput& in, const AnalysisOptions& o
   res.angular = {best[kRatioT], best[kTorqueT], best[kRateT]};
   res.total_torque = best[kTotal];
   res.ratio_sum = best[kRatioSum];
+  res.balanced = best[kBalanced];
   return res;
 }
 

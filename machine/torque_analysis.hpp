@@ -45,6 +45,12 @@ struct SampleKinematics {
         a_cn(p.a_cn) {}
 };
 
+// The balanced-torque objective of Sec. 6.6.2 at one point (docs/optimum-loading.md): with the torques normalised by
+// the pull-out torques, T_T / |1 - |T_R - T_theta||, read as (|ratio_R| + |ratio_theta|) / (1 - ||ratio_R| -
+// |ratio_theta||). +inf where ||ratio_R| - |ratio_theta|| >= 1 (one motor is over its pull-out torque by at least what
+// the other has to spare; beyond that the printed |1 - ...| would fall again and reward overloading it further).
+double balanced_torque(double ratio_R, double ratio_theta);
+
 // One row of the series.
 struct TorqueSample {
   double s = 0.0, t = 0.0;      // m of path from the start, s from the start
@@ -55,6 +61,7 @@ struct TorqueSample {
   AxisDemand radial, angular;
   double total_torque() const { return std::abs(radial.torque) + std::abs(angular.torque); }
   double ratio_sum() const { return std::abs(radial.ratio) + std::abs(angular.ratio); }
+  double balanced() const { return balanced_torque(radial.ratio, angular.ratio); }
 };
 
 struct Extreme {
@@ -81,6 +88,7 @@ struct TorqueAnalysis {
   AxisExtremes radial, angular;
   Extreme total_torque;  // max |T_R| + |T_theta| (T_T, Eq. 6.29, of magnitudes)
   Extreme ratio_sum;     // max |T_R / T_pR| + |T_theta / T_ptheta| (the normalised T_T of Eq. 6.30)
+  Extreme balanced;      // max of balanced_torque() along the path: the objective of Sec. 6.6.2
   std::vector<TorqueSample> series;
   std::vector<Corner> corners;
   size_t samples = 0;

@@ -211,6 +211,7 @@ class Search {
   }
 
   void offer(const Candidate& c) {
+    if (keep_seen_ && c.v.feasible()) seen_.push_back(c);
     if (!c.v.feasible()) {
       if (c.v.computed && (!have_any_ || c.v.margin > tightest_.margin)) {
         tightest_ = c.v;
@@ -229,6 +230,9 @@ class Search {
   int evaluations() const { return evaluations_; }
   const PoleValue& tightest() const { return tightest_; }
   Workers& workers() { return workers_; }
+  // every feasible evaluation so far, in order (kept when keep_seen(true))
+  void keep_seen(bool k) { keep_seen_ = k; }
+  const std::vector<Candidate>& feasible_seen() const { return seen_; }
 
  private:
   const PoleProblem& p_;
@@ -240,6 +244,8 @@ class Search {
   int evaluations_ = 0;
   double ref_sum_ = 0.0;
   int ref_n_ = 0;
+  bool keep_seen_ = false;
+  std::vector<Candidate> seen_;
 };
 
 struct NloptCtx {
@@ -334,16 +340,144 @@ SearchBox search_box(const PoleProblem& p) {
   return b;
 }
 
+namespace {
+
+// The balanced-torque and worst-ratio objectives: smooth in the large and without the area error's fine structure,
+// but a maximum along the path (kinks where the place of the maximum jumps) whose minimum often lies on the
+// work area's boundary. Stages: a lattice over the search box (no basin wider than two cells is missed), DIRECT-L
+// with the penalty, COBYLA with the margin as constraint from the three best separated points, and a pattern
+// search (axes and diagonals, so that it can slide along a curved boundary) from the best point down to 1 um.
+void torque_search(Search& s, const Param& q, const PoleProblem& p, const std::vector<double>& t0,
+                   const PlacementOptions& o, PlacementResult& res) {
+  const size_t dim = static_cast<size_t>(q.dim());
+  const int E = o.max_evaluations > 0 ? o.max_evaluations : (dim == 2 ? 2000 : 400);
+  // 1. lattice, a third of the budget
+  const int n = dim == 2 ? std::max(4, static_cast<int>(std::floor(std::sqrt(E / 3.0))))
+                         : std::max(8, E / 3);
+  std::vector<double> cell(dim);
+  for (size_t i = 0; i < dim; ++i) cell[i] = (q.hi[i] - q.lo[i]) / n;
+  std::vector<std::vector<double>> lat;
+  if (dim == 2) {
+    for (int iy = 0; iy < n; ++iy)
+      for (int ix = 0; ix < n; ++ix) lat.push_back({q.lo[0] + cell[0] * (ix + 0.5), q.lo[1] + cell[1] * (iy + 0.5)});
+  } else {
+    for (int i = 0; i < n; ++i) lat.push_back({q.lo[0] + cell[0] * (i + 0.5)});
+  }
+  {
+    const int before = s.evaluations();
+    s.exact(lat);
+    res.stages.push_back({"lattice (" + std::to_string(n) + (dim == 2 ? " x " + std::to_string(n) : "") + ")",
+                          s.evaluations() - before, s.have() ? s.best().v.value : 0.0});
+  }
+  std::vector<Candidate> ranked = s.feasible_seen();
+  // 2. global: DIRECT-L on the penalised objective
+  NloptCtx g{&s, &p, true, {}, 0, 0, false, std::numeric_limits<double>::infinity(), {}};
+  {
+    nlopt::opt opt(nlopt::GN_DIRECT_L, static_cast<unsigned>(dim));
+    opt.set_lower_bounds(q.lo);
+    opt.set_upper_bounds(q.hi);
+    opt.set_min_objective(nlopt_objective, &g);
+    opt.set_maxeval(std::max(10, E / 4));
+    std::vector<double> t(dim);
+    for (size_t i = 0; i < dim; ++i) t[i] = 0.5 * (q.lo[i] + q.hi[i]);
+    const int before = s.evaluations();
+    run_nlopt(opt, t);
+    res.stages.push_back({"DIRECT-L (global)", s.evaluations() - before, g.best});
+  }
+  // local starts: the best feasible points seen, at least two lattice cells apart
+  ranked = s.feasible_seen();
+  std::stable_sort(ranked.begin(), ranked.end(),
+                   [](const Candidate& a, const Candidate& b) { return a.v.value < b.v.value; });
+  std::vector<std::vector<double>> starts;
+  for (const Candidate& c : ranked) {
+    bool apart = true;
+    for (const auto& st : starts) {
+      bool near = true;
+      for (size_t i = 0; i < dim; ++i) near = near && std::abs(c.t[i] - st[i]) < 2.0 * cell[i];
+      if (near) apart = false;
+    }
+    if (apart) starts.push_back(c.t);
+    if (starts.size() == 3) break;
+  }
+  if (starts.empty()) starts.push_back(t0);
+  // 3. local: COBYLA from each start, the margin as constraint
+  const double hmin = q.scale(1e-6);
+  for (size_t k = 0; k < starts.size(); ++k) {
+    NloptCtx l{&s, &p, false, {}, 0, 0, false, std::numeric_limits<double>::infinity(), {}};
+    nlopt::opt opt(nlopt::LN_COBYLA, static_cast<unsigned>(dim));
+    opt.set_lower_bounds(q.lo);
+    opt.set_upper_bounds(q.hi);
+    opt.set_min_objective(nlopt_objective, &l);
+    opt.add_inequality_constraint(nlopt_constraint, &l, 0.0);
+    opt.set_maxeval(std::max(10, E / 10));
+    opt.set_initial_step(cell);
+    opt.set_xtol_abs(std::vector<double>(dim, hmin));
+    std::vector<double> t = starts[k];
+    for (size_t i = 0; i < dim; ++i) t[i] = std::clamp(t[i], q.lo[i], q.hi[i]);
+    const int before = s.evaluations();
+    run_nlopt(opt, t);
+    res.stages.push_back({"COBYLA (local, start " + std::to_string(k + 1) + ")", s.evaluations() - before, l.best});
+  }
+  // 4. polish: pattern search from the best point (axes and diagonals), steps halved down to 1 um
+  if (s.have()) {
+    std::vector<std::vector<double>> dirs;
+    if (dim == 2) {
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy)
+          if (dx != 0 || dy != 0) dirs.push_back({static_cast<double>(dx), static_cast<double>(dy)});
+    } else {
+      dirs = {{-1.0}, {1.0}};
+    }
+    std::vector<double> t = s.best().t, h(dim);
+    double f = s.best().v.value;
+    for (size_t i = 0; i < dim; ++i) h[i] = 0.5 * cell[i];
+    const int before = s.evaluations(), nd = static_cast<int>(dirs.size());
+    const int stop = before + std::max(E - before, 24 * nd);  // at least 24 polls
+    auto coarse = [&] {
+      for (size_t i = 0; i < dim; ++i)
+        if (h[i] >= hmin) return true;
+      return false;
+    };
+    while (coarse() && s.evaluations() + nd <= stop) {
+      std::vector<std::vector<double>> ts;
+      for (const auto& d : dirs) {
+        std::vector<double> x = t;
+        for (size_t i = 0; i < dim; ++i) x[i] += d[i] * h[i];
+        ts.push_back(x);
+      }
+      const std::vector<PoleValue> v = s.exact(ts);
+      int bi = -1;
+      for (size_t i = 0; i < v.size(); ++i)
+        if (v[i].feasible() && v[i].value < f && (bi < 0 || v[i].value < v[static_cast<size_t>(bi)].value))
+          bi = static_cast<int>(i);
+      if (bi >= 0) {
+        t = ts[static_cast<size_t>(bi)];
+        f = v[static_cast<size_t>(bi)].value;
+      } else {
+        for (double& x : h) x *= 0.5;
+      }
+    }
+    res.stages.push_back({"pattern polish", s.evaluations() - before, s.best().v.value});
+  }
+}
+
+}  // namespace
+
 PlacementResult optimize_placement(const PoleProblem& p, const Placement& start, const PlacementOptions& o) {
   PlacementResult res;
   res.method = o.method != PoleMethod::automatic
                    ? o.method
-                   : (p.objective == PoleObjective::area ? PoleMethod::nlopt : PoleMethod::hooke_jeeves);
+                   : (p.objective == PoleObjective::f1 ? PoleMethod::hooke_jeeves : PoleMethod::nlopt);
+  const bool area = p.objective == PoleObjective::area;
+  const bool torque = is_torque_objective(p.objective);
+  if ((torque || p.torque_limit) && !p.torque)
+    throw InputError(std::string("the ") + (torque ? to_string(p.objective) : "torque-limited") +
+                     " pole placement needs the machine's dynamics and the job's load");
   const int threads = o.threads > 0 ? o.threads : default_threads();
   const Param q = make_param(p, start, o.hold, threads);
   Search s(p, q, threads);
+  s.keep_seen(torque);
   const double dr = p.grid.dr;
-  const bool area = p.objective == PoleObjective::area;
 
   // the job's own placement is a candidate too
   const std::vector<double> t0 = start_t(q, start);
@@ -382,6 +516,8 @@ PlacementResult optimize_placement(const PoleProblem& p, const Placement& start,
     const HookeJeevesResult r = hooke_jeeves(f, x0, hj);
     for (const auto& b : r.bases) res.path.push_back(q.pole(b));
     res.stages.push_back({"Hooke-Jeeves", r.evaluations, r.f});
+  } else if (torque) {
+    torque_search(s, q, p, t0, o, res);
   } else {
     // default budget: about 1.6e7 digitized steps in all (deterministic: it depends on the job only)
     int E = o.max_evaluations;
@@ -488,6 +624,17 @@ PlacementResult optimize_placement(const PoleProblem& p, const Placement& start,
     }
   }
 
+  if (!s.have() && s.tightest().torque_computed && p.torque_limit &&
+      (s.tightest().why == "torque ratio" || s.tightest().why == "step rate")) {
+    const PoleValue& t = s.tightest();
+    std::ostringstream os;
+    os.precision(4);
+    os << "no pole position found that keeps every torque ratio within " << *p.torque_limit
+       << " and every motor within its step-rate limit (at best: worst torque ratio " << t.torque.worst
+       << ", step rate " << t.torque.rate_over << " times the limit): lower the speed or the load "
+       << "(polarcam capacity gives the largest that pass)";
+    throw InputError(os.str());
+  }
   if (!s.have()) {
     std::string why = s.tightest().why.empty() ? "the path runs through the machine pole" : s.tightest().why;
     throw InputError("no pole position found that keeps the path inside the work area (the tightest constraint, " +
@@ -550,6 +697,35 @@ ObjectiveMap objective_map(const PoleProblem& p, const SearchBox& box, int nx, i
     if (v.feasible()) m.value[i] = v.value;
   });
   return m;
+}
+
+Vec2 PoleSurvey::pole(int ix, int iy) const {
+  return {box.x0 + (box.x1 - box.x0) * ix / std::max(1, nx - 1), box.y0 + (box.y1 - box.y0) * iy / std::max(1, ny - 1)};
+}
+
+PoleSurvey survey_poles(const PoleProblem& p, const SearchBox& box, int nx, int ny, int threads) {
+  if (nx < 2 || ny < 2) throw InputError("a survey needs at least 2 x 2 points");
+  PoleSurvey sv;
+  sv.box = box;
+  sv.nx = nx;
+  sv.ny = ny;
+  sv.cells.resize(static_cast<size_t>(nx) * static_cast<size_t>(ny));
+  Workers w(p, threads > 0 ? threads : default_threads());
+  w.run(sv.cells.size(), [&](size_t i, PoleEvaluator& ev) {
+    const int ix = static_cast<int>(i % static_cast<size_t>(nx)), iy = static_cast<int>(i / static_cast<size_t>(nx));
+    const Vec2 pole = sv.pole(ix, iy);
+    PoleValue m = ev.margin(pole);
+    if (m.computed && m.geometry_margin >= 0.0) m = ev.full(pole);
+    sv.cells[i] = m;
+  });
+  return sv;
+}
+
+std::vector<PoleValue> evaluate_poles(const PoleProblem& p, const std::vector<Vec2>& poles, int threads) {
+  std::vector<PoleValue> out(poles.size());
+  Workers w(p, threads > 0 ? threads : default_threads());
+  w.run(poles.size(), [&](size_t i, PoleEvaluator& ev) { out[i] = ev.full(poles[i]); });
+  return out;
 }
 
 }  // namespace polarcam

@@ -32,12 +32,15 @@ const char* to_string(PoleHold h);
 
 struct PlacementOptions {
   PoleObjective objective = PoleObjective::area;
-  PoleMethod method = PoleMethod::automatic;  // nlopt for the area, hooke-jeeves for F1
+  PoleMethod method = PoleMethod::automatic;  // hooke-jeeves for F1, nlopt for the others
   PoleHold hold = PoleHold::none;
   bool pole_outside = false;
+  bool torque_limit = false;   // also keep every torque ratio within 1 / safety factor (the job's dynamics)
+  bool pareto = false;         // the trade-off front of area error and worst torque ratio (optimize/pareto.hpp)
   int segments = 100;          // F1: chords of the piecewise-linear approximation
   int max_evaluations = 0;     // 0: the default: nlopt on the area 1.2e7 / (steps of the job), within 200..4000;
-                               // nlopt on F1 600; Hooke-Jeeves 400
+                               // nlopt on F1 600; Hooke-Jeeves 400; balanced and torque 2000 (400 with C or beta
+                               // held)
   double hj_step = 0.003175;   // m, 0.125 in (HOKJEV's suggested initial move)
   double hj_reduction = 0.5, hj_acceleration = 1.0;
   double hj_min_step = 1e-6;   // m
@@ -86,6 +89,20 @@ struct ObjectiveMap {
 
 // The objective on a regular grid of pole positions (corners included), computed on `threads` threads.
 ObjectiveMap objective_map(const PoleProblem& p, const SearchBox& box, int nx, int ny, int threads);
+
+// Everything at each pole of a regular grid (corners included): the margin everywhere, and where the work area
+// (and pole-outside) constraints are met the exact area error and, when the problem has dynamics, the torques
+// (PoleEvaluator::full). Computed on `threads` threads; the result does not depend on their number.
+struct PoleSurvey {
+  SearchBox box;
+  int nx = 0, ny = 0;
+  std::vector<PoleValue> cells;  // [iy * nx + ix]
+  Vec2 pole(int ix, int iy) const;
+};
+PoleSurvey survey_poles(const PoleProblem& p, const SearchBox& box, int nx, int ny, int threads);
+
+// PoleEvaluator::full at each pole, in parallel, results in input order.
+std::vector<PoleValue> evaluate_poles(const PoleProblem& p, const std::vector<Vec2>& poles, int threads);
 
 int default_threads();
 

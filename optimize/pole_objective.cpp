@@ -10,7 +10,25 @@
 
 namespace polarcam {
 
-const char* to_string(PoleObjective o) { return o == PoleObjective::area ? "area" : "f1"; }
+const char* to_string(PoleObjective o) {
+  switch (o) {
+    case PoleObjective::area: return "area";
+    case PoleObjective::f1: return "f1";
+    case PoleObjective::balanced: return "balanced";
+    case PoleObjective::torque: return "torque";
+  }
+  return "?";
+}
+
+bool is_torque_objective(PoleObjective o) { return o == PoleObjective::balanced || o == PoleObjective::torque; }
+
+double torque_search_value(PoleObjective o, const TorqueValue& t) {
+  constexpr double kCeiling = 1e3;
+  const double v = o == PoleObjective::balanced ? t.balanced : t.worst;
+  if (t.computed && v < kCeiling) return v;
+  const double over = t.computed && std::isfinite(t.ratio_sum) ? std::min(t.ratio_sum, kCeiling) : kCeiling;
+  return kCeiling + over;
+}
 
 namespace {
 
@@ -94,9 +112,10 @@ PoleValue PoleEvaluator::evaluate_feasible(Vec2 pole) {
   return run(pole, p_.objective == PoleObjective::area, true, true);
 }
 PoleValue PoleEvaluator::area(Vec2 pole) { return run(pole, true, true); }
+PoleValue PoleEvaluator::full(Vec2 pole) { return run(pole, true, true, false, true); }
 PoleValue PoleEvaluator::margin(Vec2 pole) { return run(pole, false, false); }
 
-PoleValue PoleEvaluator::run(Vec2 pole, bool want_area, bool want_value, bool only_feasible) {
+PoleValue PoleEvaluator::run(Vec2 pole, bool want_area, bool want_value, bool only_feasible, bool want_torque) {
   PoleValue out;
   if (!std::isfinite(pole.x) || !std::isfinite(pole.y)) {
     out.why = "not finite";
@@ -133,6 +152,32 @@ PoleValue PoleEvaluator::run(Vec2 pole, bool want_area, bool want_value, bool on
       out.why = "pole outside the contour";
     }
   }
+  out.geometry_margin = out.margin;
+  if (only_feasible && !(out.margin >= 0.0)) {
+    out.computed = true;
+    return out;
+  }
+  const bool torque_objective = is_torque_objective(p_.objective);
+  if (p_.torque && (want_torque || p_.torque_limit || (want_value && torque_objective))) {
+    out.torque = evaluate_torques(*p_.torque, *path, tr);
+    out.torque_computed = true;
+    if (p_.torque_limit) {
+      // relative excess over the limits (> 0 infeasible), capped so that the margin stays finite
+      const TorqueValue& t = out.torque;
+      double excess = t.computed ? t.worst / *p_.torque_limit - 1.0 : 10.0;
+      const char* why = "torque ratio";
+      if (t.computed && t.rate_over - 1.0 > excess) {
+        excess = t.rate_over - 1.0;
+        why = "step rate";
+      }
+      if (!(excess <= 10.0)) excess = 10.0;
+      const double m = -excess * kTorqueMarginLength;
+      if (m < out.margin) {
+        out.margin = m;
+        out.why = why;
+      }
+    }
+  }
   if (only_feasible && !(out.margin >= 0.0)) {
     out.computed = true;
     return out;
@@ -146,9 +191,14 @@ PoleValue PoleEvaluator::run(Vec2 pole, bool want_area, bool want_value, bool on
     out.steps = a.radial_steps + a.angular_steps;
   }
   out.computed = true;
-  if (want_value)
-    out.value = p_.objective == PoleObjective::area ? out.area_m2
-                                                     : f1_chords(p_.f1_points, pole, p_.grid.dr, p_.grid.dtheta).F1;
+  if (want_value) {
+    if (p_.objective == PoleObjective::area)
+      out.value = out.area_m2;
+    else if (p_.objective == PoleObjective::f1)
+      out.value = f1_chords(p_.f1_points, pole, p_.grid.dr, p_.grid.dtheta).F1;
+    else
+      out.value = out.torque_computed ? torque_search_value(p_.objective, out.torque) : 0.0;
+  }
   return out;
 }
 

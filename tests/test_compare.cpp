@@ -256,7 +256,7 @@ TEST(CompareJob, ClosedFormsThroughTheComparison) {
     // the verdicts: one per attribute, a winner each; here the angular step at r = 20.33 mm is 0.0355 mm, finer than
     // dR, so the polar machine's worst resolution is dR = the BLU; the polar tape's speed is steadier than the DDA's
     ASSERT_EQ(c.verdicts.size(), 9u);
-    for (const Verdict& v : c.verdicts) EXPECT_TRUE(v.winner == "polar" || v.winner == "cartesian" || v.winner == "tie");
+    for (const AttributeVerdict& v : c.verdicts) EXPECT_TRUE(v.winner == "polar" || v.winner == "cartesian" || v.winner == "tie");
     EXPECT_EQ(c.verdicts[0].winner, "polar");
     EXPECT_EQ(c.verdicts[4].winner, "tie");
     EXPECT_EQ(c.verdicts[7].winner, "polar");  // speed scaling: no reprocessing against new feed words

@@ -1,0 +1,78 @@
+// polarcam capacity JOB.toml [--json] [--speed Q] [--safety-factor X] [--curve N] [--csv FILE] [--plot FILE]
+// The largest speed and the largest load (added mass, depth of cut or tool force) at which the job's worst torque
+// ratio reaches 1 / safety factor (Sec. 6.6.2, docs/optimum-loading.md), and the capacity curve.
+#include <filesystem>
+#include <iostream>
+
+#include "app/capacity_report.hpp"
+#include "app/cli.hpp"
+#include "app/output.hpp"
+#include "cam/error.hpp"
+#include "cam/units.hpp"
+
+namespace polarcam::cli {
+namespace {
+
+struct Opts {
+  std::string job, speed, csv, plot;
+  bool json = false;
+  double safety_factor = 0.0;
+  int curve = 0;
+};
+
+int run(const Opts& o) {
+  Job job = load_job(o.job);
+  if (o.safety_factor != 0.0) {
+    if (!(o.safety_factor >= 1.0)) throw InputError("--safety-factor must be at least 1");
+    job.safety_factor = o.safety_factor;
+  }
+  std::optional<double> at_speed;
+  if (!o.speed.empty()) {
+    try {
+      at_speed = parse_quantity_as(o.speed, dim::speed);
+    } catch (const InputError& e) {
+      throw InputError(std::string("--speed: ") + e.what());
+    }
+  }
+  if (!o.plot.empty()) {
+    const std::string ext = std::filesystem::path(o.plot).extension().string();
+    if (ext != ".png" && ext != ".svg") throw InputError(o.plot + ": the plot must be a .png or .svg file");
+  }
+  int points = o.curve;
+  if (points == 0 && (!o.csv.empty() || !o.plot.empty())) points = 12;
+  if (points > 0 && load_measure(job.load) == LoadMeasure::none)
+    throw InputError(job.file + ": a capacity curve needs a [load] (inertial, grinding or force)");
+  const PreparedDynamics prep = prepare_dynamics(job);
+  const JobCapacity c = job_capacity(job, prep, at_speed, points);
+  std::string csv;
+  plot::Figure fig;
+  if (!o.csv.empty()) csv = capacity_csv(job, c);
+  if (!o.plot.empty()) fig = capacity_figure(job, c);
+  if (!o.csv.empty()) write_file_atomic(o.csv, csv);
+  if (!o.plot.empty()) plot::save(fig, o.plot);
+  if (o.json)
+    std::cout << capacity_json(job, c).dump(2) << "\n";
+  else
+    std::cout << capacity_text(job, c);
+  return 0;
+}
+
+}  // namespace
+
+void register_capacity(CLI::App& app, Action& action) {
+  auto o = std::make_shared<Opts>();
+  CLI::App* c = app.add_subcommand(
+      "capacity", "The largest speed and the largest load (mass, depth of cut or tool force) at which a job's worst "
+                  "torque ratio reaches 1 / safety factor");
+  c->add_option("job", o->job, "job file (TOML) whose machine has dynamics")->required();
+  c->add_flag("--json", o->json, "print the result as one JSON object");
+  c->add_option("--speed", o->speed, "find the largest load at this speed instead of the job's, e.g. \"1 cm/s\"");
+  c->add_option("--safety-factor", o->safety_factor, "safety factor instead of the job's [limits] (>= 1)");
+  c->add_option("--curve", o->curve, "the largest load at this many speeds, up to the speed at which a motor reaches its top step rate")
+      ->check(CLI::Range(2, 200));
+  c->add_option("--csv", o->csv, "write the capacity curve as CSV (12 speeds unless --curve)");
+  c->add_option("--plot", o->plot, "draw the capacity curve (.png or .svg)");
+  c->callback([o, &action] { action = [o] { return run(*o); }; });
+}
+
+}  // namespace polarcam::cli

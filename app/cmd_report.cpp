@@ -1,0 +1,54 @@
+// polarcam report JOB.toml -o report.html [--map-size N] [--max-evaluations N] [--threads N] [--safety-factor X]
+// The operator's report (docs/operator-report.md): one self-contained HTML page with the verdict and its fix, the
+// contour on the work area, the tape, the accuracy, the torques, the capacity and the pole study.
+#include <filesystem>
+#include <iostream>
+
+#include "app/cli.hpp"
+#include "app/operator_report.hpp"
+#include "app/output.hpp"
+#include "cam/error.hpp"
+
+namespace polarcam::cli {
+namespace {
+
+struct Opts {
+  std::string job, output;
+  ReportOptions report;
+  double safety_factor = 0.0;
+};
+
+int run(const Opts& o) {
+  const std::string ext = std::filesystem::path(o.output).extension().string();
+  if (ext != ".html" && ext != ".htm") throw InputError(o.output + ": the report is an .html file");
+  Job job = load_job(o.job);
+  if (o.safety_factor != 0.0) {
+    if (!(o.safety_factor >= 1.0)) throw InputError("--safety-factor must be at least 1");
+    job.safety_factor = o.safety_factor;
+  }
+  const OperatorReport r = operator_report(job, o.report);
+  write_file_atomic(o.output, r.html);
+  std::cout << (r.go ? "GO" : "NO-GO") << ": report written to " << o.output << "\n";
+  return 0;
+}
+
+}  // namespace
+
+void register_report(CLI::App& app, Action& action) {
+  auto o = std::make_shared<Opts>();
+  CLI::App* c = app.add_subcommand("report", "The operator's report: one self-contained HTML page to read before "
+                                             "running a job (verdict, accuracy, torques, capacity, placement)");
+  c->add_option("job", o->job, "job file (TOML) whose machine has dynamics")->required();
+  c->add_option("-o,--output", o->output, "the report (.html)")->required();
+  c->add_option("--map-size", o->report.map_size, "poles per side of the pole survey (default 31)")
+      ->check(CLI::Range(4, 201));
+  c->add_option("--max-evaluations", o->report.max_evaluations,
+                "budget of each pole search (default: as polarcam optimize)")
+      ->check(CLI::Range(10, 10000000));
+  c->add_option("--threads", o->report.threads, "threads (default: all cores; the report does not depend on it)")
+      ->check(CLI::Range(0, 1024));
+  c->add_option("--safety-factor", o->safety_factor, "safety factor instead of the job's [limits] (>= 1)");
+  c->callback([o, &action] { action = [o] { return run(*o); }; });
+}
+
+}  // namespace polarcam::cli

@@ -1,0 +1,221 @@
+#include "optimize/capacity.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+
+#include "cam/error.hpp"
+
+namespace polarcam {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+struct Analysed {
+  double worst = kInf;
+  double rate_over = 0.0;  // max over the axes of step rate / limit
+};
+
+Analysed analyse(const PlacedPath& path, const DynamicsSetup& setup, const AnalysisOptions& a, double f) {
+  Analysed r;
+  AnalysisOptions o = a;
+  o.keep_series = false;
+  try {
+    const TorqueAnalysis t = analyze_motion(path, setup, o, f);
+    r.worst = worst_torque_ratio(t);
+    const MachineModel& m = *setup.machine;
+    if (m.radial.max_step_rate) r.rate_over = std::max(r.rate_over, t.radial.step_rate.value / *m.radial.max_step_rate);
+    if (m.angular.max_step_rate)
+      r.rate_over = std::max(r.rate_over, t.angular.step_rate.value / *m.angular.max_step_rate);
+  } catch (const OutsideCurveError&) {
+    // beyond a tabulated pull-out curve: not known to pass
+  }
+  return r;
+}
+
+// The largest x reached from x0 with pass(x): upwards by `grow` when x0 passes (up to `cap`), else the largest
+// passing x in [x_min, x0] (x_min tried first: nullopt when it fails too); bisection to rel_tol of the bracket's top.
+struct Bracketed {
+  std::optional<double> x;
+  bool capped = false;
+};
+Bracketed largest_passing(const std::function<bool(double)>& pass, double x0, double x_min, double cap,
+                          const std::function<double(double)>& grow, double rel_tol, bool down_geometric) {
+  Bracketed out;
+  double lo, hi;
+  if (pass(x0)) {
+    lo = x0;
+    hi = grow(x0);
+    while (true) {
+      if (hi >= cap) {
+        if (pass(cap)) {
+          out.x = cap;
+          out.capped = true;
+          return out;
+        }
+        hi = cap;
+        break;
+      }
+      if (!pass(hi)) break;
+      lo = hi;
+      hi = grow(hi);
+    }
+  } else if (down_geometric) {
+    hi = x0;
+    lo = 0.8 * x0;
+    while (!pass(lo)) {
+      hi = lo;
+      lo *= 0.8;
+      if (lo < x_min) return out;
+    }
+  } else {
+    if (!pass(x_min)) return out;
+    lo = x_min;
+    hi = x0;
+  }
+  while (hi - lo > rel_tol * hi) {
+    const double mid = 0.5 * (lo + hi);
+    if (pass(mid))
+      lo = mid;
+    else
+      hi = mid;
+  }
+  out.x = lo;
+  return out;
+}
+
+}  // namespace
+
+double worst_ratio_at(const PlacedPath& path, const DynamicsSetup& setup, const AnalysisOptions& a, double f) {
+  return analyse(path, setup, a, f).worst;
+}
+
+SpeedCapacity speed_capacity(const PlacedPath& path, const DynamicsSetup& setup, const CapacityOptions& o) {
+  if (!(setup.safety_factor >= 1.0)) throw InputError("the safety factor must be a number of at least 1");
+  const double limit = 1.0 / setup.safety_factor;
+  SpeedCapacity out;
+  std::optional<double> last_f;
+  double last_worst = kInf;
+  Analysed at1;
+  auto pass = [&](double f) {
+    ++out.evaluations;
+    const Analysed a = analyse(path, setup, o.analysis, f);
+    if (f == 1.0) at1 = a;
+    const bool ok = a.worst <= limit;
+    if (ok) {
+      last_f = f;
+      last_worst = a.worst;
+    }
+    return ok;
+  };
+  const Bracketed b =
+      largest_passing(pass, 1.0, o.min_speed_factor, o.max_speed_factor, [](double f) { return 1.25 * f; }, o.rel_tol,
+                      true);
+  out.factor = b.x;
+  out.capped = b.capped;
+  if (b.x) out.worst = (last_f && *last_f == *b.x) ? last_worst : analyse(path, setup, o.analysis, *b.x).worst;
+  // the step-rate limit: exactly proportional to the speeds without a ramp; a ramp may not reach its cruise speed
+  const MachineModel& m = *setup.machine;
+  if (m.radial.max_step_rate || m.angular.max_step_rate) {
+    if (!(at1.rate_over > 0.0)) at1 = analyse(path, setup, o.analysis, 1.0);
+    if (!setup.motion.accel || !setup.motion.table.empty()) {
+      if (at1.rate_over > 0.0) out.step_rate_factor = 1.0 / at1.rate_over;
+    } else {
+      auto rate_ok = [&](double f) {
+        ++out.evaluations;
+        return analyse(path, setup, o.analysis, f).rate_over <= 1.0;
+      };
+      const Bracketed r = largest_passing(rate_ok, 1.0, o.min_speed_factor, o.max_speed_factor,
+                                          [](double f) { return 1.25 * f; }, o.rel_tol, true);
+      out.step_rate_factor = r.x;
+    }
+  }
+  return out;
+}
+
+const char* to_string(LoadMeasure m) {
+  switch (m) {
+    case LoadMeasure::none: return "none";
+    case LoadMeasure::mass: return "mass";
+    case LoadMeasure::depth: return "depth";
+    case LoadMeasure::force: return "force";
+  }
+  return "?";
+}
+
+LoadMeasure load_measure(const LoadSpec& spec) {
+  switch (spec.kind) {
+    case LoadKind::inertial: return LoadMeasure::mass;
+    case LoadKind::grinding: return LoadMeasure::depth;
+    case LoadKind::force: return LoadMeasure::force;
+    default: return LoadMeasure::none;
+  }
+}
+
+LoadSpec scaled_load(const LoadSpec& spec, LoadMeasure m, double v) {
+  LoadSpec s = spec;
+  switch (m) {
+    case LoadMeasure::mass: s.mass = v; break;
+    case LoadMeasure::depth: s.grinding.depth = v; break;
+    case LoadMeasure::force:
+      s.force.tangential = spec.force.tangential * v;
+      s.force.normal = spec.force.normal * v;
+      break;
+    default: break;
+  }
+  return s;
+}
+
+LoadCapacity load_capacity(const PlacedPath& path, const DynamicsSetup& setup, const LoadSpec& spec,
+                           double speed_factor, const CapacityOptions& o) {
+  if (!(setup.safety_factor >= 1.0)) throw InputError("the safety factor must be a number of at least 1");
+  LoadCapacity out;
+  out.measure = load_measure(spec);
+  if (out.measure == LoadMeasure::none) return out;
+  const double limit = 1.0 / setup.safety_factor;
+  double x0 = 1.0, x_min = 0.0, cap = 1e6;
+  std::function<double(double)> grow = [](double x) { return 2.0 * x; };
+  switch (out.measure) {
+    case LoadMeasure::mass:
+      x0 = spec.mass;
+      cap = 1e7;  // kg
+      grow = [](double x) { return 2.0 * x + 1.0; };
+      break;
+    case LoadMeasure::depth:
+      x0 = spec.grinding.depth;
+      x_min = 1e-9 * x0;
+      cap = 1e6 * x0;
+      break;
+    default:
+      break;
+  }
+  DynamicsSetup s = setup;
+  std::optional<double> last_x;
+  double last_worst = kInf;
+  auto pass = [&](double x) {
+    ++out.evaluations;
+    s.load = make_load(scaled_load(spec, out.measure, x));
+    const double w = analyse(path, s, o.analysis, speed_factor).worst;
+    const bool ok = w <= limit;
+    if (ok) {
+      last_x = x;
+      last_worst = w;
+    }
+    return ok;
+  };
+  const Bracketed b = largest_passing(pass, x0, x_min, cap, grow, o.rel_tol, false);
+  out.value = b.x;
+  out.capped = b.capped;
+  if (b.x) {
+    if (last_x && *last_x == *b.x) {
+      out.worst = last_worst;
+    } else {
+      s.load = make_load(scaled_load(spec, out.measure, *b.x));
+      out.worst = analyse(path, s, o.analysis, speed_factor).worst;
+    }
+  }
+  return out;
+}
+
+}  // namespace polarcam

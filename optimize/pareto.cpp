@@ -1,0 +1,109 @@
+#include "optimize/pareto.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "cam/error.hpp"
+
+namespace polarcam {
+namespace {
+
+Placement placement_of(Vec2 pole) {
+  Placement pl;
+  pl.C = norm(pole);
+  double b = pl.C > 0.0 ? std::atan2(pole.y, pole.x) : 0.0;
+  if (b < 0.0) b += 2.0 * std::numbers::pi;
+  pl.beta = b;
+  return pl;
+}
+
+bool complete(const PoleValue& v) {
+  return v.feasible() && v.area_m2 >= 0.0 && v.torque_computed && v.torque.computed && std::isfinite(v.torque.worst);
+}
+
+}  // namespace
+
+std::vector<ParetoPoint> non_dominated(std::vector<ParetoPoint> pts) {
+  std::erase_if(pts, [](const ParetoPoint& x) { return !complete(x.v); });
+  std::stable_sort(pts.begin(), pts.end(), [](const ParetoPoint& a, const ParetoPoint& b) {
+    if (a.v.torque.worst != b.v.torque.worst) return a.v.torque.worst < b.v.torque.worst;
+    return a.v.area_m2 < b.v.area_m2;
+  });
+  std::vector<ParetoPoint> out;
+  for (const ParetoPoint& x : pts)
+    if (out.empty() || x.v.area_m2 < out.back().v.area_m2) out.push_back(x);
+  return out;
+}
+
+ParetoResult pareto_front(const PoleProblem& p0, const Placement& start, const PlacementOptions& o,
+                          const ParetoOptions& po) {
+  if (!p0.torque) throw InputError("the Pareto front needs the machine's dynamics and the job's load");
+  const int threads = po.threads > 0 ? po.threads : (o.threads > 0 ? o.threads : default_threads());
+  PoleProblem p = p0;
+  p.torque_limit.reset();
+  p.objective = PoleObjective::area;
+  ParetoResult res;
+  std::vector<ParetoPoint> pts;
+
+  // the survey: both objectives over the feasible box
+  const SearchBox box = feasible_box(p, search_box(p), 41, threads);
+  res.survey = survey_poles(p, box, std::max(2, po.survey), std::max(2, po.survey), threads);
+  res.evaluations += static_cast<int>(res.survey.cells.size());
+  for (int iy = 0; iy < res.survey.ny; ++iy)
+    for (int ix = 0; ix < res.survey.nx; ++ix) {
+      const PoleValue& v = res.survey.cells[static_cast<size_t>(iy) * static_cast<size_t>(res.survey.nx) +
+                                            static_cast<size_t>(ix)];
+      const Vec2 pole = res.survey.pole(ix, iy);
+      if (complete(v)) pts.push_back({pole, placement_of(pole), v, "survey"});
+    }
+
+  // the two ends
+  PlacementOptions oa = o;
+  oa.objective = PoleObjective::area;
+  oa.method = PoleMethod::nlopt;
+  oa.threads = threads;
+  const PlacementResult ra = optimize_placement(p, start, oa);
+  PoleProblem pt = p;
+  pt.objective = PoleObjective::torque;
+  PlacementOptions ot = oa;
+  ot.objective = PoleObjective::torque;
+  ot.max_evaluations = o.max_evaluations;  // 0: the torque objective's own default
+  const PlacementResult rt = optimize_placement(pt, start, ot);
+  res.evaluations += ra.evaluations + rt.evaluations;
+  std::vector<Vec2> poles = {ra.pole, rt.pole, start.pole()};
+  std::vector<std::string> sources = {"least area", "least torque", "job"};
+
+  // epsilon-constraint: least area with the worst ratio below levels between the ends
+  const std::vector<PoleValue> ends = evaluate_poles(p, {ra.pole, rt.pole}, threads);
+  if (complete(ends[0]) && complete(ends[1]) && ends[0].torque.worst > ends[1].torque.worst) {
+    const double lo = ends[1].torque.worst, hi = ends[0].torque.worst;
+    PlacementOptions ol = oa;
+    if (po.level_evaluations > 0) {
+      ol.max_evaluations = po.level_evaluations;
+    } else if (o.max_evaluations > 0) {
+      ol.max_evaluations = o.max_evaluations;
+    } else {
+      const double steps = ends[0].steps > 0 ? static_cast<double>(ends[0].steps) : 1e4;
+      ol.max_evaluations = static_cast<int>(std::clamp(0.25 * 1.2e7 / steps, 150.0, 1000.0));
+    }
+    for (int k = 1; k <= po.levels; ++k) {
+      PoleProblem pl = p;
+      pl.torque_limit = lo + (hi - lo) * k / (po.levels + 1);
+      try {
+        const PlacementResult r = optimize_placement(pl, start, ol);
+        res.evaluations += r.evaluations;
+        poles.push_back(r.pole);
+        sources.push_back("level " + std::to_string(k));
+      } catch (const InputError&) {
+        // no pole meets this level: the front has a gap there
+      }
+    }
+  }
+  const std::vector<PoleValue> vals = evaluate_poles(p, poles, threads);
+  for (size_t i = 0; i < poles.size(); ++i) pts.push_back({poles[i], placement_of(poles[i]), vals[i], sources[i]});
+  res.front = non_dominated(std::move(pts));
+  return res;
+}
+
+}  // namespace polarcam

@@ -1,0 +1,127 @@
+// Pole placement for balanced axis torque and the capacity scaling (optimize/placement, optimize/capacity;
+// docs/optimum-loading.md), through the job glue that `polarcam optimize` and `polarcam capacity` use:
+//  - the balanced optimum against an independent dense search of the same objective (a lattice over the search box
+//    and a finer lattice around its best feasible point): nothing found more than 1 % better;
+//  - the largest speed and load fed back into the analysis of `analyze` give the worst torque ratio 1 / SF.
+// All eight jobs of examples/ch6 (about 50 s of CPU in a Release build); under the sanitizers the inertial circle
+// only, unless POLARCAM_LONG_TESTS=1 is in the environment.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <string>
+
+#include "app/job.hpp"
+#include "app/job_analysis.hpp"
+#include "app/job_capacity.hpp"
+#include "app/job_placement.hpp"
+#include "optimize/placement.hpp"
+
+using namespace polarcam;
+
+namespace {
+
+std::string example(const std::string& name) { return std::string(POLARCAM_SOURCE_DIR) + "/examples/ch6/" + name + ".toml"; }
+
+[[maybe_unused]] bool long_tests() {
+  const char* e = std::getenv("POLARCAM_LONG_TESTS");
+  return e && std::string(e) == "1";
+}
+
+// The balanced objective's value at a pole (feasible points only), +inf elsewhere.
+double balanced_at(const PoleValue& v) {
+  if (!v.feasible() || !v.torque_computed || !v.torque.computed) return std::numeric_limits<double>::infinity();
+  return v.torque.balanced;
+}
+
+struct Best {
+  double value = std::numeric_limits<double>::infinity();
+  Vec2 pole{};
+};
+
+Best dense(const PoleProblem& p, const SearchBox& b, int n) {
+  std::vector<Vec2> poles;
+  for (int iy = 0; iy < n; ++iy)
+    for (int ix = 0; ix < n; ++ix)
+      poles.push_back({b.x0 + (b.x1 - b.x0) * ix / (n - 1), b.y0 + (b.y1 - b.y0) * iy / (n - 1)});
+  const std::vector<PoleValue> v = evaluate_poles(p, poles, 2);
+  Best best;
+  for (size_t i = 0; i < v.size(); ++i)
+    if (balanced_at(v[i]) < best.value) best = {balanced_at(v[i]), poles[i]};
+  return best;
+}
+
+class BalancedOptimum : public ::testing::TestWithParam<const char*> {};
+
+}  // namespace
+
+TEST_P(BalancedOptimum, NoDenseSearchFindsMoreThanOnePercentBetter) {
+  const std::string name = GetParam();
+#ifdef POLARCAM_SANITIZED
+  if (!long_tests() && name != "circle_inertial") GTEST_SKIP() << "checked in the normal build";
+#endif
+  const Job job = load_job(example(name));
+  PlacementOptions o = job.optimize;  // as `polarcam optimize` starts (the job's [optimize] section)
+  o.objective = PoleObjective::balanced;
+  o.threads = 2;
+  const PoleProblem p = job_pole_problem(job, o, true);
+  const PlacementResult r = optimize_placement(p, job.placement, o);
+  ASSERT_TRUE(r.at.feasible());
+  const double found = balanced_at(r.at);
+  ASSERT_TRUE(std::isfinite(found));
+  // the independent search: 33 x 33 over the whole search box, then 21 x 21 over +-1 cell around the best
+  const SearchBox box = search_box(p);
+  const int n = 33;
+  const Best coarse = dense(p, box, n);
+  ASSERT_TRUE(std::isfinite(coarse.value));
+  const double hx = (box.x1 - box.x0) / (n - 1), hy = (box.y1 - box.y0) / (n - 1);
+  const Best fine = dense(p, {coarse.pole.x - hx, coarse.pole.x + hx, coarse.pole.y - hy, coarse.pole.y + hy}, 21);
+  const double best = std::min(coarse.value, fine.value);
+  EXPECT_GE(best, 0.99 * found) << name << ": optimize " << found << " at (" << r.pole.x << ", " << r.pole.y
+                                << "), dense " << best;
+  // and the optimum is no worse than the job's own placement when that is feasible
+  if (r.start.feasible() && std::isfinite(balanced_at(r.start))) {
+    EXPECT_LE(found, balanced_at(r.start) * (1 + 1e-12));
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Ch6, BalancedOptimum,
+                         ::testing::Values("circle_inertial", "witch_grinding", "circle_grinding", "witch_inertial",
+                                           "limacon_inertial", "limacon_grinding", "serpentine_inertial",
+                                           "serpentine_grinding"));
+
+namespace {
+class CapacityFeedback : public ::testing::TestWithParam<const char*> {};
+}  // namespace
+
+TEST_P(CapacityFeedback, LargestSpeedAndLoadGiveTheLimitInTheAnalysis) {
+  const Job job = load_job(example(GetParam()));
+  const PreparedDynamics prep = prepare_dynamics(job);
+  const JobCapacity c = job_capacity(job, prep, std::nullopt, 0);
+  ASSERT_TRUE(c.speed.has_value());
+  ASSERT_TRUE(c.speed_cap.factor.has_value());
+  ASSERT_FALSE(c.speed_cap.capped);
+  const double limit = 1.0 / job.safety_factor;
+  EXPECT_DOUBLE_EQ(c.limit, limit);
+  AnalysisOptions a;
+  a.keep_series = false;
+  auto worst = [](const CaseResult& r) { return std::max(r.analysis.radial.ratio.value, r.analysis.angular.ratio.value); };
+  // the speed, at the job's load
+  const double v = *c.speed * *c.speed_cap.factor;
+  const CaseResult at_v = analyze_case(job, prep, DynamicsCase{v, job.load}, a, false);
+  EXPECT_NEAR(worst(at_v), limit, 1e-3);
+  // a little faster fails, a little slower passes
+  EXPECT_GT(worst(analyze_case(job, prep, DynamicsCase{v * 1.01, job.load}, a, false)), limit);
+  EXPECT_LT(worst(analyze_case(job, prep, DynamicsCase{v * 0.99, job.load}, a, false)), limit);
+  // the load, at the job's speed
+  ASSERT_TRUE(c.load_cap.value.has_value());
+  ASSERT_FALSE(c.load_cap.capped);
+  const LoadSpec l = scaled_load(job.load, c.measure, *c.load_cap.value);
+  const CaseResult at_l = analyze_case(job, prep, DynamicsCase{std::nullopt, l}, a, false);
+  EXPECT_NEAR(worst(at_l), limit, 1e-3);
+  const LoadSpec more = scaled_load(job.load, c.measure, *c.load_cap.value * 1.02);
+  EXPECT_GT(worst(analyze_case(job, prep, DynamicsCase{std::nullopt, more}, a, false)), limit);
+}
+
+INSTANTIATE_TEST_SUITE_P(Ch6, CapacityFeedback, ::testing::Values("circle_inertial", "witch_grinding"));
