@@ -15,23 +15,7 @@
 namespace polarcam::cli {
 namespace {
 
-double parse_rate(const std::string& text) {
-  try {
-    Quantity q = parse_quantity(text);
-    if (q.dim != dim::none && q.dim != dim::frequency) throw InputError("'" + text + "' is not a frequency");
-    if (!(q.value > 0.0) || q.value > 1e9) throw InputError("the interrupt rate must be above 0 and up to 1 GHz");
-    return q.value;
-  } catch (const InputError& e) {
-    throw InputError(std::string("--rate: ") + e.what());
-  }
-}
-
-std::string fmt(double v, int prec = 5) {
-  std::ostringstream os;
-  os.precision(prec);
-  os << v;
-  return os.str();
-}
+std::string fmt(double v, int prec = 5) { return significant(v, prec); }
 
 std::string summary_text(const Comparison& c) {
   const MachineSide& P = c.polar;
@@ -91,7 +75,7 @@ void register_compare(CLI::App& app, Action& action) {
       opt.method = o->method == "exact" ? CartesianMethod::exact : CartesianMethod::dda;
       if (!o->rate.empty()) {
         if (opt.method == CartesianMethod::exact) throw InputError("--rate applies to --method dda only");
-        opt.rate = parse_rate(o->rate);
+        opt.rate = parse_rate_option(o->rate);
       }
       opt.speed_scale = parse_ratio(o->speed_scale, "--speed-scale");
       opt.size_scale = parse_ratio(o->size_scale, "--size-scale");

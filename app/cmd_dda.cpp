@@ -14,18 +14,6 @@
 namespace polarcam::cli {
 namespace {
 
-// "5000", "5000 Hz", "5 kHz"
-double parse_rate(const std::string& text) {
-  try {
-    Quantity q = parse_quantity(text);
-    if (q.dim != dim::none && q.dim != dim::frequency) throw InputError("'" + text + "' is not a frequency");
-    if (!(q.value > 0.0) || q.value > 1e9) throw InputError("the interrupt rate must be above 0 and up to 1 GHz");
-    return q.value;
-  } catch (const InputError& e) {
-    throw InputError(std::string("--rate: ") + e.what());
-  }
-}
-
 nlohmann::ordered_json summary_json(const Job& job, const CartesianRun& run, const std::string& out) {
   const CartesianResult& r = run.result;
   nlohmann::ordered_json j;
@@ -75,12 +63,7 @@ nlohmann::ordered_json summary_json(const Job& job, const CartesianRun& run, con
   return j;
 }
 
-std::string fmt(double v, int prec = 6) {
-  std::ostringstream os;
-  os.precision(prec);
-  os << v;
-  return os.str();
-}
+std::string fmt(double v, int prec = 6) { return significant(v, prec); }
 
 std::string summary_text(const Job& job, const CartesianRun& run, const std::string& out) {
   const CartesianResult& r = run.result;
@@ -135,7 +118,7 @@ void register_dda(CLI::App& app, Action& action) {
       std::optional<double> rate;
       if (!o->rate.empty()) {
         if (m == CartesianMethod::exact) throw InputError("--rate applies to --method dda only");
-        rate = parse_rate(o->rate);
+        rate = parse_rate_option(o->rate);
       }
       Job job = load_job(o->job);
       const double hz = cartesian_interrupt_rate(job, rate);

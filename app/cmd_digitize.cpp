@@ -48,12 +48,7 @@ nlohmann::ordered_json summary_json(const Job& job, const DigitizedJob& d, const
   return j;
 }
 
-std::string fmt(double v, int prec = 6) {
-  std::ostringstream os;
-  os.precision(prec);
-  os << v;
-  return os.str();
-}
+std::string fmt(double v, int prec = 6) { return significant(v, prec); }
 
 std::string summary_text(const Job& job, const DigitizedJob& d, const std::string& out) {
   const DigitizeResult& r = d.result;

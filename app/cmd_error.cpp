@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "app/cli.hpp"
+#include "app/output.hpp"
 #include "app/job.hpp"
 #include "app/tape_metrics.hpp"
 #include "cam/error.hpp"
@@ -13,12 +14,7 @@
 namespace polarcam::cli {
 namespace {
 
-std::string fmt(double v, int prec = 6) {
-  std::ostringstream os;
-  os.precision(prec);
-  os << v;
-  return os.str();
-}
+std::string fmt(double v, int prec = 6) { return significant(v, prec); }
 
 struct Opts {
   std::string tape, job;

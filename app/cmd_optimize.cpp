@@ -25,12 +25,7 @@ namespace {
 
 using json = nlohmann::ordered_json;
 
-std::string fmt(double v, int prec = 6) {
-  std::ostringstream os;
-  os.precision(prec);
-  os << v;
-  return os.str();
-}
+std::string fmt(double v, int prec = 6) { return significant(v, prec); }
 
 json num(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 

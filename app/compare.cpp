@@ -65,12 +65,7 @@ void replay(const std::string& tape, StepSink& sink, int64_t start[2]) {
   }
 }
 
-std::string fmt(double v, int prec = 4) {
-  std::ostringstream os;
-  os.precision(prec);
-  os << v;
-  return os.str();
-}
+std::string fmt(double v, int prec = 4) { return cli::significant(v, prec); }
 std::string fixed(double v, int dec) {
   std::ostringstream os;
   os.setf(std::ios::fixed);

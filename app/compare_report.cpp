@@ -14,12 +14,7 @@ namespace {
 
 using html::escape;
 
-std::string fmt(double v, int prec = 5) {
-  std::ostringstream os;
-  os.precision(prec);
-  os << v;
-  return os.str();
-}
+std::string fmt(double v, int prec = 5) { return cli::significant(v, prec); }
 
 std::string cartesian_name(const Comparison& c) {
   return c.cartesian.method == "dda" ? "Cartesian (DDA)" : "Cartesian (exact times)";

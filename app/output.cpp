@@ -5,8 +5,10 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <sstream>
 
 #include "cam/error.hpp"
+#include "cam/units.hpp"
 
 namespace polarcam::cli {
 
@@ -32,6 +34,24 @@ std::string thousands(unsigned long long v) {
     ++n;
   }
   return out;
+}
+
+std::string significant(double v, int digits) {
+  std::ostringstream os;
+  os.precision(digits);
+  os << v;
+  return os.str();
+}
+
+double parse_rate_option(const std::string& text) {
+  try {
+    Quantity q = parse_quantity(text);
+    if (q.dim != dim::none && q.dim != dim::frequency) throw InputError("'" + text + "' is not a frequency");
+    if (!(q.value > 0.0) || q.value > 1e9) throw InputError("the interrupt rate must be above 0 and up to 1 GHz");
+    return q.value;
+  } catch (const InputError& e) {
+    throw InputError(std::string("--rate: ") + e.what());
+  }
 }
 
 }  // namespace polarcam::cli

@@ -318,6 +318,15 @@ std::vector<double> start_t(const Param& q, const Placement& start) {
   return {s.x, s.y};
 }
 
+// The index of the feasible value in v smaller than `below` and than every other, or -1 when there is none.
+int best_feasible(const std::vector<PoleValue>& v, double below = std::numeric_limits<double>::infinity()) {
+  int bi = -1;
+  for (size_t i = 0; i < v.size(); ++i)
+    if (v[i].feasible() && v[i].value < below && (bi < 0 || v[i].value < v[static_cast<size_t>(bi)].value))
+      bi = static_cast<int>(i);
+  return bi;
+}
+
 }  // namespace
 
 SearchBox search_box(const PoleProblem& p) {
@@ -446,10 +455,7 @@ void torque_search(Search& s, const Param& q, const PoleProblem& p, const std::v
         ts.push_back(x);
       }
       const std::vector<PoleValue> v = s.exact(ts);
-      int bi = -1;
-      for (size_t i = 0; i < v.size(); ++i)
-        if (v[i].feasible() && v[i].value < f && (bi < 0 || v[i].value < v[static_cast<size_t>(bi)].value))
-          bi = static_cast<int>(i);
+      const int bi = best_feasible(v, f);
       if (bi >= 0) {
         t = ts[static_cast<size_t>(bi)];
         f = v[static_cast<size_t>(bi)].value;
@@ -497,9 +503,7 @@ PlacementResult optimize_placement(const PoleProblem& p, const Placement& start,
           ts.push_back({q.lo[0] + (q.hi[0] - q.lo[0]) * (i + 0.5) / 49});
       }
       const auto v = s.exact(ts);
-      int bi = -1;
-      for (int i = 0; i < 49; ++i)
-        if (v[static_cast<size_t>(i)].feasible() && (bi < 0 || v[static_cast<size_t>(i)].value < v[static_cast<size_t>(bi)].value)) bi = i;
+      const int bi = best_feasible(v);
       if (bi >= 0) x0 = ts[static_cast<size_t>(bi)];
       res.stages.push_back({"feasible start (7 x 7 lattice)", 49, bi >= 0 ? Search::scaled(p, v[static_cast<size_t>(bi)]) : 0.0});
     }
@@ -608,10 +612,7 @@ PlacementResult optimize_placement(const PoleProblem& p, const Placement& start,
               ts.push_back(x);
             }
           const std::vector<PoleValue> v = s.exact(ts);
-          int bi = -1;
-          for (size_t i = 0; i < v.size(); ++i)
-            if (v[i].feasible() && v[i].value < f && (bi < 0 || v[i].value < v[static_cast<size_t>(bi)].value))
-              bi = static_cast<int>(i);
+          const int bi = best_feasible(v, f);
           if (bi >= 0) {
             t = ts[static_cast<size_t>(bi)];
             f = v[static_cast<size_t>(bi)].value;
