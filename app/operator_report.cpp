@@ -3,9 +3,11 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <numbers>
+#include <string_view>
 
 #include "app/analysis_report.hpp"
 #include "app/capacity_report.hpp"
@@ -195,7 +197,14 @@ OperatorReport operator_report(const Job& job, const ReportOptions& o) {
     headline = fmt::format("NO-GO: the {} motor would have to step faster than it can", axis);
   else
     headline = fmt::format("NO-GO: the {} drive would lose steps", axis);
-  rep.verdict(v.go, headline, verdict_line(job, dyn));
+  std::string detail = verdict_line(job, dyn);  // analyze's line; the headline already says GO or NO-GO
+  for (const char* prefix : {"NO-GO: ", "GO: "})
+    if (detail.rfind(prefix, 0) == 0) {
+      detail.erase(0, std::string_view(prefix).size());
+      break;
+    }
+  if (!detail.empty()) detail[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(detail[0])));
+  rep.verdict(v.go, headline, detail);
   rep.table({"drive", "largest torque ratio", "limit", "share of the limit used", "margin"},
             {{"radial (carriage along the arm)", g(v.radial.ratio), g(limit), pct(v.radial.ratio / limit),
               pct(v.radial.margin)},
