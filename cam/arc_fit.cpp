@@ -1,7 +1,10 @@
 #include "cam/arc_fit.hpp"
 
+#include <boost/math/tools/minima.hpp>
+
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <sstream>
 
@@ -22,8 +25,7 @@ std::string where(const Curve& c, double u) {
   return os.str();
 }
 
-// Largest distance from the curve over (ua, ub) to `seg`: samples, then golden-section refinement around the
-// worst sample.
+// Largest distance from the curve over (ua, ub) to `seg`: samples, then Brent's method around the worst sample.
 double deviation(const Curve& c, double ua, double ub, const PathSegment& seg) {
   auto d = [&](double u) { return distance_to_segment(seg, c.eval(u, 0).p); };
   const double h = (ub - ua) / kSamples;
@@ -38,25 +40,10 @@ double deviation(const Curve& c, double ua, double ub, const PathSegment& seg) {
     }
   }
   if (bi == 0) return best;
-  double lo = ua + h * (bi - 1), hi = ua + h * (bi + 1);
-  const double g = 0.6180339887498949;
-  double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo), f1 = d(x1), f2 = d(x2);
-  for (int it = 0; it < 40; ++it) {
-    if (f1 > f2) {
-      hi = x2;
-      x2 = x1;
-      f2 = f1;
-      x1 = hi - g * (hi - lo);
-      f1 = d(x1);
-    } else {
-      lo = x1;
-      x1 = x2;
-      f1 = f2;
-      x2 = lo + g * (hi - lo);
-      f2 = d(x2);
-    }
-  }
-  return std::max({best, f1, f2});
+  boost::uintmax_t iters = 60;
+  const auto m = boost::math::tools::brent_find_minima([&](double u) { return -d(u); }, ua + h * (bi - 1),
+                                                       ua + h * (bi + 1), std::numeric_limits<double>::digits / 2, iters);
+  return std::max(best, -m.second);
 }
 
 // The arc from a through m to b, or false when the three points are (numerically) collinear.

@@ -1,7 +1,10 @@
 #include "cam/toolpath.hpp"
 
+#include <boost/math/tools/minima.hpp>
+
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "cam/error.hpp"
@@ -56,28 +59,12 @@ FoldCheck offset_speed_factor_min(const Curve& c, double d) {
   for (size_t i = 0; i < us.size(); ++i) f[i] = factor(us[i]);
   for (size_t i = 0; i < us.size(); ++i) {
     if (f[i] < best.min_factor) best = {f[i], us[i]};
-    // refine interior local minima by golden-section search
+    // refine interior local minima by Brent's method
     if (i > 0 && i + 1 < us.size() && f[i] <= f[i - 1] && f[i] <= f[i + 1]) {
-      double a = us[i - 1], b = us[i + 1];
-      const double g = 0.6180339887498949;
-      double x1 = b - g * (b - a), x2 = a + g * (b - a), f1 = factor(x1), f2 = factor(x2);
-      for (int it = 0; it < 60; ++it) {
-        if (f1 < f2) {
-          b = x2;
-          x2 = x1;
-          f2 = f1;
-          x1 = b - g * (b - a);
-          f1 = factor(x1);
-        } else {
-          a = x1;
-          x1 = x2;
-          f1 = f2;
-          x2 = a + g * (b - a);
-          f2 = factor(x2);
-        }
-      }
-      double fm = std::min(f1, f2);
-      if (fm < best.min_factor) best = {fm, f1 < f2 ? x1 : x2};
+      boost::uintmax_t iters = 100;
+      const auto m = boost::math::tools::brent_find_minima(factor, us[i - 1], us[i + 1],
+                                                           std::numeric_limits<double>::digits / 2, iters);
+      if (m.second < best.min_factor) best = {m.second, m.first};
     }
   }
   return best;
