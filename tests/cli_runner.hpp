@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -62,5 +63,21 @@ struct Scratch {
   }
   std::string path(const std::string& name) const { return (dir / name).string(); }
 };
+
+// A command that refused bad input: exit status 2 and one line on stderr that mentions `must_mention`.
+inline void expect_one_line_error(const CliResult& r, const std::string& must_mention) {
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find(must_mention), std::string::npos) << "message: " << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+}
+
+// The same, and `output` not written and no temporary file left behind in the scratch directory.
+inline void expect_refused(const CliResult& r, const Scratch& sc, const std::string& output,
+                           const std::string& must_mention) {
+  expect_one_line_error(r, must_mention);
+  EXPECT_FALSE(std::filesystem::exists(output));
+  for (auto& e : std::filesystem::directory_iterator(sc.dir))
+    EXPECT_EQ(e.path().string().find(".partial"), std::string::npos) << "left behind: " << e.path();
+}
 
 }  // namespace polarcam::test

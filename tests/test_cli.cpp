@@ -38,13 +38,8 @@ void expect_bad(const Scratch& sc, const std::string& job_text, const std::strin
   std::string job = sc.write("bad.toml", job_text), tape = sc.path("bad.tape");
   std::filesystem::remove(tape);
   CliResult r = run_cli("digitize " + job + " -o " + tape);
-  EXPECT_EQ(r.code, 2) << r.err;
-  EXPECT_NE(r.err.find(must_mention), std::string::npos) << "message: " << r.err;
+  expect_refused(r, sc, tape, must_mention);
   EXPECT_NE(r.err.find("bad.toml"), std::string::npos) << "message does not name the file: " << r.err;
-  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-  EXPECT_FALSE(std::filesystem::exists(tape));
-  for (auto& e : std::filesystem::directory_iterator(sc.dir))
-    EXPECT_EQ(e.path().string().find(".partial"), std::string::npos) << "left behind: " << e.path();
 }
 
 }  // namespace

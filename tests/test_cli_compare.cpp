@@ -36,12 +36,6 @@ radius = "0 mm"
 speed = "10 mm/s"
 )";
 
-void expect_one_line_error(const CliResult& r, const std::string& must_mention) {
-  EXPECT_EQ(r.code, 2) << r.err;
-  EXPECT_NE(r.err.find(must_mention), std::string::npos) << "message: " << r.err;
-  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-}
-
 }  // namespace
 
 TEST(CompareCli, JsonHasBothMachinesAndTheNamedKeys) {

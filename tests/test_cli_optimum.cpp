@@ -172,10 +172,8 @@ speed = "1 cm/s"
 )");
   for (const std::string& cmd : {"capacity " + plain + " --json", "optimize " + plain + " --objective balanced",
                                  "report " + plain + " -o " + sc.path("r.html")}) {
-    CliResult r = run_cli(cmd);
-    EXPECT_EQ(r.code, 2) << cmd << "\n" << r.err;
-    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-    EXPECT_NE(r.err.find("circle.toml"), std::string::npos) << r.err;
+    SCOPED_TRACE(cmd);
+    expect_one_line_error(run_cli(cmd), "circle.toml");
   }
   EXPECT_FALSE(fs::exists(sc.path("r.html")));
   const std::string job = copy_example(sc, "circle_inertial", example_text("circle_inertial"));

@@ -41,12 +41,6 @@ threads = 2
 )";
 
 
-void expect_one_line_error(const CliResult& r, const std::string& mention) {
-  EXPECT_EQ(r.code, 2) << r.out << r.err;
-  EXPECT_NE(r.err.find(mention), std::string::npos) << r.err;
-  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-}
-
 }  // namespace
 
 TEST(ErrorCli, MetricsOfTapesOfBothRules) {

@@ -124,20 +124,18 @@ TEST(PlayCli, BadInputIsRefusedBeforeAnyStep) {
   const std::string tape = example_tape("circle");
   Emulator emu(s, "");
   ASSERT_FALSE(emu.pty.empty());
-  auto expect_refused = [&](const std::string& args, const std::string& words) {
-    auto r = run_cli("play " + args);
-    EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
-    EXPECT_NE(r.err.find(words), std::string::npos) << args << "\n" << r.err;
-    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  auto refused = [&](const std::string& args, const std::string& words) {
+    SCOPED_TRACE(args);
+    expect_one_line_error(run_cli("play " + args), words);
   };
-  expect_refused(tape + " --port /dev/polarcam-no-such-port", "cannot open serial port /dev/polarcam-no-such-port");
-  expect_refused(tape + " --port " + emu.pty + " --baud 12345", "--baud 12345");
-  expect_refused(tape + " --port " + emu.pty + " --baud 9600", "no answer");
-  expect_refused(tape + " --port " + emu.pty + " --size-scale 2/1", "r_max");
-  expect_refused(tape + " --port " + emu.pty + " --speed-scale 0", "--speed-scale");
+  refused(tape + " --port /dev/polarcam-no-such-port", "cannot open serial port /dev/polarcam-no-such-port");
+  refused(tape + " --port " + emu.pty + " --baud 12345", "--baud 12345");
+  refused(tape + " --port " + emu.pty + " --baud 9600", "no answer");
+  refused(tape + " --port " + emu.pty + " --size-scale 2/1", "r_max");
+  refused(tape + " --port " + emu.pty + " --speed-scale 0", "--speed-scale");
   const std::string other = s.write("other.toml", "[machine]\nradial_resolution = \"0.0005 in\"\nangular_steps_per_rev = 16000\n");
-  expect_refused(tape + " --port " + emu.pty + " --machine " + other, "another machine grid");
-  expect_refused(s.write("junk.tape", "not a tape") + " --port " + emu.pty, "junk.tape");
+  refused(tape + " --port " + emu.pty + " --machine " + other, "another machine grid");
+  refused(s.write("junk.tape", "not a tape") + " --port " + emu.pty, "junk.tape");
   EXPECT_EQ(emu.lines().size(), 1u);  // the header only: not one step executed
 }
 
