@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "cam/error.hpp"
+#include "digitizer/level_crossing.hpp"
 
 namespace polarcam {
 
@@ -28,70 +29,6 @@ std::string where(const PolarTrack& tr, const TrackExtent& e, double shift) {
   double r = tr.r(e.piece, e.t), th = tr.theta(e.piece, e.t) + shift;
   return "at path parameter " + fmt(p.u_at(e.t)) + " (r = " + fmt(r * 1e3) + " mm, theta = " + fmt(th) +
          " rad, machine x = " + fmt(r * std::cos(th) * 1e3) + " mm, y = " + fmt(r * std::sin(th) * 1e3) + " mm)";
-}
-
-// g, g', g'', S, S' at t in one Clenshaw pass (the recurrences are independent and interleave well).
-struct GS {
-  double g, g1, g2, s, s1;
-};
-inline GS eval_gs(const Cheb& g, const Cheb& S, double t) {
-  const int n = std::max(g.deg, S.deg);
-  const double tt = 2.0 * t;
-  double b1 = 0, b2 = 0, d1 = 0, d2 = 0, e1 = 0, e2 = 0, B1 = 0, B2 = 0, D1 = 0, D2 = 0;
-  for (int k = n; k >= 1; --k) {
-    double b0 = g.c[k] + tt * b1 - b2, d0 = 2.0 * b1 + tt * d1 - d2, e0 = 4.0 * d1 + tt * e1 - e2;
-    double B0 = S.c[k] + tt * B1 - B2, D0 = 2.0 * B1 + tt * D1 - D2;
-    b2 = b1;
-    b1 = b0;
-    d2 = d1;
-    d1 = d0;
-    e2 = e1;
-    e1 = e0;
-    B2 = B1;
-    B1 = B0;
-    D2 = D1;
-    D1 = D0;
-  }
-  return {g.c[0] + t * b1 - b2, b1 + t * d1 - d2, 2.0 * d1 + t * e1 - e2, S.c[0] + t * B1 - B2, B1 + t * D1 - D2};
-}
-
-struct Root {
-  double t, s;
-};
-
-// Root of g(t) = y in [lo, hi]; flo = g(lo) - y and fhi = g(hi) - y as the caller knows them (opposite signs,
-// or flo == 0). Newton from `guess` with bisection as the safeguard. The last Newton step is taken without a
-// further evaluation once its own error, g'' dt^2 / (2 g'), is below 1e-15 (t is on [-1, 1]); S(t) comes with it.
-Root solve(const Cheb& g, const Cheb& S, double y, double lo, double hi, double flo, double fhi, double guess) {
-  if (flo == 0.0) return {lo, S(lo)};
-  double t = guess;
-  if (!(t > lo && t < hi)) {
-    t = (fhi != flo) ? lo - flo * (hi - lo) / (fhi - flo) : 0.5 * (lo + hi);
-    if (!(t > lo && t < hi)) t = 0.5 * (lo + hi);
-  }
-  for (int it = 0; it < 200; ++it) {
-    const GS v = eval_gs(g, S, t);
-    const double f = v.g - y;
-    if (f == 0.0) return {t, v.s};
-    if ((f < 0) == (flo < 0)) {
-      lo = t;
-      flo = f;
-    } else {
-      hi = t;
-    }
-    double tn = 0.5 * (lo + hi);
-    if (v.g1 != 0.0) {
-      const double dt = -f / v.g1;
-      if (t + dt > lo && t + dt < hi) {
-        tn = t + dt;
-        if (std::abs(dt) <= 1e-4 && std::abs(v.g2 * dt * dt) <= 2e-15 * std::abs(v.g1))
-          return {tn, v.s + v.s1 * dt};
-      }
-    }
-    if (hi - lo <= 4e-16) return {tn, S(tn)};
-    t = tn;
-  }
-  return {t, S(t)};
 }
 
 struct PieceGrid {  // a piece in grid units
@@ -192,7 +129,7 @@ void run(const PolarTrack& tr, const Grid& grid, double shift, double h, double 
             guess = 3.0 * c.hist[0] - 3.0 * c.hist[1] + c.hist[2];
           else if (c.nh == 2)
             guess = 2.0 * c.hist[0] - c.hist[1];
-          Root r = solve(pg.g[a], pc.S, y, c.lo, trr, flo, fend[a] - level, guess);
+          LevelCrossing r = solve_crossing(pg.g[a], pc.S, y, c.lo, trr, flo, fend[a] - level, guess);
           c.has = true;
           c.level = level;
           c.t = r.t;

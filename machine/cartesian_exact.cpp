@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "cam/error.hpp"
+#include "digitizer/level_crossing.hpp"
 
 namespace polarcam {
 
@@ -13,64 +14,11 @@ namespace {
 struct Cursor {
   int dir = 0;
   bool has = false;
-  double level = 0, t = 0;  // pending crossing
-  double lo = 0, flo = 0;   // bracket start and the axis value there minus the pending level
+  double level = 0, t = 0;         // pending crossing
+  double lo = 0, flo = 0;          // bracket start and the axis value there minus the pending level
   double prev[2] = {0, 0};  // the axis's last two crossings on this sub-interval (for the starting guess)
   int nprev = 0;
 };
-
-// g, g' and g'' at t in one Clenshaw pass.
-inline void eval3(const Cheb& g, double t, double& f, double& f1, double& f2) {
-  const double tt = 2.0 * t;
-  double b1 = 0, b2 = 0, d1 = 0, d2 = 0, e1 = 0, e2 = 0;
-  for (int k = g.deg; k >= 1; --k) {
-    const double b0 = g.c[k] + tt * b1 - b2, d0 = 2.0 * b1 + tt * d1 - d2, e0 = 4.0 * d1 + tt * e1 - e2;
-    b2 = b1;
-    b1 = b0;
-    d2 = d1;
-    d1 = d0;
-    e2 = e1;
-    e1 = e0;
-  }
-  f = g.c[0] + t * b1 - b2;
-  f1 = b1 + t * d1 - d2;
-  f2 = 2.0 * d1 + t * e1 - e2;
-}
-
-// Root of g(t) = y in [lo, hi] with flo = g(lo) - y and fhi = g(hi) - y of opposite signs (or flo == 0): Newton
-// from `guess` with bisection as the safeguard; the last Newton step is taken without a further evaluation once
-// its own error g'' dt^2 / (2 g') is below 1e-15 (t is on [-1, 1]). The polar digitizer solves the same way.
-double solve(const Cheb& g, double y, double lo, double hi, double flo, double fhi, double guess) {
-  if (flo == 0.0) return lo;
-  double t = guess;
-  if (!(t > lo && t < hi)) {
-    t = (fhi != flo) ? lo - flo * (hi - lo) / (fhi - flo) : 0.5 * (lo + hi);
-    if (!(t > lo && t < hi)) t = 0.5 * (lo + hi);
-  }
-  for (int it = 0; it < 200; ++it) {
-    double f, f1, f2;
-    eval3(g, t, f, f1, f2);
-    f -= y;
-    if (f == 0.0) return t;
-    if ((f < 0) == (flo < 0)) {
-      lo = t;
-      flo = f;
-    } else {
-      hi = t;
-    }
-    double tn = 0.5 * (lo + hi);
-    if (f1 != 0.0) {
-      const double dt = -f / f1;
-      if (t + dt > lo && t + dt < hi) {
-        tn = t + dt;
-        if (std::abs(dt) <= 1e-4 && std::abs(f2 * dt * dt) <= 2e-15 * std::abs(f1)) return tn;
-      }
-    }
-    if (hi - lo <= 4e-16) return tn;
-    t = tn;
-  }
-  return t;
-}
 
 }  // namespace
 
@@ -121,7 +69,7 @@ CartesianResult step_exact(const CartesianTrack& tr, double blu, const SpeedProf
         if (c.dir > 0 ? !(fend[a] >= level) : !(fend[a] < level)) return;
         const double flo = c.flo - level;
         const double guess = c.nprev == 2 ? 2.0 * c.prev[0] - c.prev[1] : -2.0;  // linear extrapolation
-        c.t = solve(g[a], level - base[a], c.lo, th, flo, fend[a] - level, guess);
+        c.t = solve_crossing<false>(g[a], pc.S, level - base[a], c.lo, th, flo, fend[a] - level, guess).t;
         c.level = level;
         c.has = true;
       };
@@ -134,7 +82,7 @@ CartesianResult step_exact(const CartesianTrack& tr, double blu, const SpeedProf
       while (cur[0].has || cur[1].has) {
         const int a = (cur[0].has && (!cur[1].has || cur[0].t <= cur[1].t)) ? 0 : 1;
         Cursor& c = cur[a];
-        emit(a, c.dir, pc.s0 + pc.S(c.t));
+        emit(a, c.dir, pc.s0 + pc.S(c.t));  // S once a step, not in every Newton iteration
         node[a] += c.dir;
         c.lo = c.t;
         c.flo = c.level;  // the axis stands at the level it just crossed
