@@ -4,9 +4,9 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "app/analysis_report.hpp"
+#include "report/analysis_report.hpp"
 #include "app/cli.hpp"
-#include "app/output.hpp"
+#include "io/output.hpp"
 #include "cam/error.hpp"
 #include "cam/units.hpp"
 

@@ -4,9 +4,9 @@
 #include <filesystem>
 #include <iostream>
 
-#include "app/capacity_report.hpp"
+#include "report/capacity_report.hpp"
 #include "app/cli.hpp"
-#include "app/output.hpp"
+#include "io/output.hpp"
 #include "cam/error.hpp"
 #include "cam/units.hpp"
 

@@ -6,9 +6,9 @@
 #include <sstream>
 
 #include "app/cli.hpp"
-#include "app/compare.hpp"
-#include "app/compare_report.hpp"
-#include "app/output.hpp"
+#include "pipeline/compare.hpp"
+#include "report/compare_report.hpp"
+#include "io/output.hpp"
 #include "cam/error.hpp"
 #include "cam/units.hpp"
 

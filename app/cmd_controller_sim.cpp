@@ -17,10 +17,10 @@
 #include <string>
 
 #include "app/cli.hpp"
-#include "app/job.hpp"
+#include "job/job.hpp"
 #include "cam/error.hpp"
-#include "machine/emulator.hpp"
-#include "machine/serial_port.hpp"
+#include "machine/controller/emulator.hpp"
+#include "machine/link/serial_port.hpp"
 
 namespace polarcam::cli {
 namespace {

@@ -6,8 +6,8 @@
 #include <sstream>
 
 #include "app/cli.hpp"
-#include "app/job_cartesian.hpp"
-#include "app/output.hpp"
+#include "pipeline/job_cartesian.hpp"
+#include "io/output.hpp"
 #include "cam/error.hpp"
 #include "cam/units.hpp"
 

@@ -6,8 +6,8 @@
 #include <sstream>
 
 #include "app/cli.hpp"
-#include "app/job_tape.hpp"
-#include "app/output.hpp"
+#include "pipeline/job_tape.hpp"
+#include "io/output.hpp"
 
 namespace polarcam::cli {
 namespace {

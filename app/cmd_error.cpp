@@ -4,12 +4,12 @@
 #include <sstream>
 
 #include "app/cli.hpp"
-#include "app/output.hpp"
-#include "app/job.hpp"
-#include "app/tape_metrics.hpp"
+#include "io/output.hpp"
+#include "job/job.hpp"
+#include "pipeline/tape_metrics.hpp"
 #include "cam/error.hpp"
 #include "digitizer/tape.hpp"
-#include "optimize/error_metrics.hpp"
+#include "metrics/error_metrics.hpp"
 
 namespace polarcam::cli {
 namespace {

@@ -5,8 +5,8 @@
 #include <sstream>
 
 #include "app/cli.hpp"
-#include "app/output.hpp"
-#include "machine/replay.hpp"
+#include "io/output.hpp"
+#include "digitizer/replay.hpp"
 
 namespace polarcam::cli {
 namespace {

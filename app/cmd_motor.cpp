@@ -1,19 +1,19 @@
 // polarcam motor fit POINTS.csv [--machine FILE --axis radial|angular] [--supply-voltage Q] [--resistance Q]
 //                               [--rotor-teeth N] [--energisation S] [--loss cauchy|huber|none] [--json] ...
-// Fits the electrical pull-out model (Eq. 5.17, App. F) to a measured pull-out curve (machine/motor_fit.hpp).
+// Fits the electrical pull-out model (Eq. 5.17, App. F) to a measured pull-out curve (machine/dynamics/motor_fit.hpp).
 #include <fmt/format.h>
 
 #include <iostream>
 #include <nlohmann/json.hpp>
 
 #include "app/cli.hpp"
-#include "app/job_dynamics.hpp"
-#include "app/output.hpp"
-#include "app/plot.hpp"
+#include "job/job_dynamics.hpp"
+#include "io/output.hpp"
+#include "report/plot.hpp"
 #include "cam/error.hpp"
 #include "cam/point_files.hpp"
 #include "cam/units.hpp"
-#include "machine/motor_fit.hpp"
+#include "machine/dynamics/motor_fit.hpp"
 
 namespace polarcam::cli {
 namespace {

@@ -11,13 +11,13 @@
 #include <sstream>
 
 #include "app/cli.hpp"
-#include "app/job.hpp"
-#include "app/job_placement.hpp"
-#include "app/job_write.hpp"
-#include "app/output.hpp"
-#include "app/pole_map.hpp"
+#include "job/job.hpp"
+#include "pipeline/job_placement.hpp"
+#include "job/job_write.hpp"
+#include "io/output.hpp"
+#include "report/pole_map.hpp"
 #include "cam/error.hpp"
-#include "optimize/f1.hpp"
+#include "metrics/f1.hpp"
 #include "optimize/pareto.hpp"
 
 namespace polarcam::cli {

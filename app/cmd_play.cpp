@@ -12,14 +12,14 @@
 #include <sstream>
 
 #include "app/cli.hpp"
-#include "app/job.hpp"
-#include "app/output.hpp"
+#include "job/job.hpp"
+#include "io/output.hpp"
 #include "cam/error.hpp"
 #include "cam/units.hpp"
-#include "machine/host_link.hpp"
-#include "machine/play_plan.hpp"
-#include "machine/serial_port.hpp"
-#include "machine/sim_machine.hpp"
+#include "machine/link/host_link.hpp"
+#include "machine/player/play_plan.hpp"
+#include "machine/link/serial_port.hpp"
+#include "machine/controller/sim_machine.hpp"
 
 namespace polarcam::cli {
 namespace {

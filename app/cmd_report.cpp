@@ -5,8 +5,8 @@
 #include <iostream>
 
 #include "app/cli.hpp"
-#include "app/operator_report.hpp"
-#include "app/output.hpp"
+#include "report/operator_report.hpp"
+#include "io/output.hpp"
 #include "cam/error.hpp"
 
 namespace polarcam::cli {
@@ -14,7 +14,7 @@ namespace {
 
 struct Opts {
   std::string job, output;
-  ReportOptions report;
+  StudyOptions report;
   double safety_factor = 0.0;
 };
 
@@ -26,7 +26,7 @@ int run(const Opts& o) {
     if (!(o.safety_factor >= 1.0)) throw InputError("--safety-factor must be at least 1");
     job.safety_factor = o.safety_factor;
   }
-  const OperatorReport r = operator_report(job, o.report);
+  const OperatorReport r = operator_report(job, study_job(job, o.report));
   write_file_atomic(o.output, r.html);
   std::cout << (r.go ? "GO" : "NO-GO") << ": report written to " << o.output << "\n";
   return 0;

@@ -12,8 +12,8 @@
 #include <algorithm>
 #include <string>
 
-#include "app/job_analysis.hpp"
-#include "app/job_tape.hpp"
+#include "pipeline/job_analysis.hpp"
+#include "pipeline/job_tape.hpp"
 
 using namespace polarcam;
 

@@ -4,7 +4,7 @@
 //  - BM_AreaError: the meter alone, over a staircase recorded beforehand (reset, record every step, finish);
 //  - BM_AreaError/fine: the same contours on a grid 10x finer in both axes;
 //  - BM_DigitizeAndArea: what one evaluation of the optimiser costs (track, digitize into the meter, finish);
-//  - BM_CartesianAreaError: the Cartesian meter (optimize/cartesian_error.hpp) alone over the exact Cartesian
+//  - BM_CartesianAreaError: the Cartesian meter (metrics/cartesian_error.hpp) alone over the exact Cartesian
 //    generator's staircase of the same contours in their own frames, BLU = 0.001 in and 10x finer;
 //  - BM_CartesianDeviation: the deviation of the same staircases (DeviationMeter: three foot points a step).
 #include <benchmark/benchmark.h>
@@ -15,9 +15,9 @@
 #include "cam/curves.hpp"
 #include "cam/toolpath.hpp"
 #include "digitizer/digitize.hpp"
-#include "machine/cartesian_exact.hpp"
-#include "optimize/area_error.hpp"
-#include "optimize/cartesian_error.hpp"
+#include "machine/cartesian/cartesian_exact.hpp"
+#include "metrics/area_error.hpp"
+#include "metrics/cartesian_error.hpp"
 
 using namespace polarcam;
 

@@ -10,8 +10,8 @@
 #include "cam/arc_fit.hpp"
 #include "cam/curves.hpp"
 #include "cam/toolpath.hpp"
-#include "machine/cartesian_exact.hpp"
-#include "machine/dda.hpp"
+#include "machine/cartesian/cartesian_exact.hpp"
+#include "machine/cartesian/dda.hpp"
 
 using namespace polarcam;
 

@@ -17,12 +17,12 @@
 #include <map>
 #include <string>
 
-#include "app/job.hpp"
-#include "app/job_tape.hpp"
-#include "machine/emulator.hpp"
-#include "machine/host_link.hpp"
-#include "machine/play_plan.hpp"
-#include "machine/schedule.hpp"
+#include "job/job.hpp"
+#include "pipeline/job_tape.hpp"
+#include "machine/controller/emulator.hpp"
+#include "machine/link/host_link.hpp"
+#include "machine/player/play_plan.hpp"
+#include "machine/player/schedule.hpp"
 
 namespace {
 

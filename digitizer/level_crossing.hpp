@@ -1,6 +1,6 @@
 #pragma once
 // Where a Chebyshev piece of an axis coordinate crosses a level, and the arc length there: the one solver of the
-// polar digitizer (digitizer/digitize.cpp) and the Cartesian exact step generator (machine/cartesian_exact.cpp).
+// polar digitizer (digitizer/digitize.cpp) and the Cartesian exact step generator (machine/cartesian/cartesian_exact.cpp).
 // Inline: it is the innermost loop of both.
 #include <algorithm>
 #include <cmath>

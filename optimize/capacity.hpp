@@ -8,7 +8,7 @@
 #include <optional>
 #include <vector>
 
-#include "machine/dynamics_case.hpp"
+#include "machine/dynamics/dynamics_case.hpp"
 
 namespace polarcam {
 

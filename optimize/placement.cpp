@@ -13,7 +13,7 @@
 #include <thread>
 
 #include "cam/error.hpp"
-#include "optimize/f1.hpp"
+#include "metrics/f1.hpp"
 #include "optimize/hooke_jeeves.hpp"
 
 namespace polarcam {

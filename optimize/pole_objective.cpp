@@ -6,7 +6,7 @@
 #include <numbers>
 
 #include "cam/error.hpp"
-#include "optimize/f1.hpp"
+#include "metrics/f1.hpp"
 
 namespace polarcam {
 

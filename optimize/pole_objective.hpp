@@ -10,7 +10,7 @@
 #include "cam/curve.hpp"
 #include "digitizer/digitize.hpp"
 #include "digitizer/grid.hpp"
-#include "optimize/area_error.hpp"
+#include "metrics/area_error.hpp"
 #include "optimize/torque_objective.hpp"
 
 namespace polarcam {

@@ -7,7 +7,7 @@
 
 #include "cam/curve.hpp"
 #include "digitizer/polar_track.hpp"
-#include "machine/dynamics_case.hpp"
+#include "machine/dynamics/dynamics_case.hpp"
 
 namespace polarcam {
 

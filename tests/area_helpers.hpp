@@ -5,7 +5,7 @@
 #include "cam/toolpath.hpp"
 #include "digitizer/digitize.hpp"
 #include "helpers.hpp"
-#include "optimize/area_error.hpp"
+#include "metrics/area_error.hpp"
 
 namespace polarcam::test {
 

@@ -5,7 +5,7 @@
 
 #include "cam/curves.hpp"
 #include "cam/toolpath.hpp"
-#include "machine/torque_analysis.hpp"
+#include "machine/dynamics/torque_analysis.hpp"
 
 namespace polarcam::test {
 

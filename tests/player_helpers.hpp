@@ -4,8 +4,8 @@
 #include <string>
 #include <vector>
 
-#include "app/job.hpp"
-#include "app/job_tape.hpp"
+#include "job/job.hpp"
+#include "pipeline/job_tape.hpp"
 #include "tests/helpers.hpp"
 
 namespace polarcam::test {

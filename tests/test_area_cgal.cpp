@@ -1,4 +1,4 @@
-// The area error against an independent exact computation with CGAL (optimize/area_check.hpp): an arrangement of
+// The area error against an independent exact computation with CGAL (metrics/area_check.hpp): an arrangement of
 // the contour, the connectors and the staircase's radial segments and arcs about the pole, in exact arithmetic.
 // For polygonal contours both sides see the very same curve, so they must agree to rounding; for a smooth contour
 // CGAL sees fine polygons, and Richardson extrapolation in the number of sides removes the polygon's error.
@@ -10,7 +10,7 @@
 #include "area_helpers.hpp"
 #include "cam/curves.hpp"
 #include "cam/path.hpp"
-#include "optimize/area_check.hpp"
+#include "metrics/area_check.hpp"
 
 using namespace polarcam;
 using namespace polarcam::test;

@@ -1,5 +1,5 @@
-// The error metrics of a Cartesian staircase (optimize/cartesian_error.hpp) against closed forms, an exact CGAL
-// arrangement (optimize/area_check.hpp) and the strip meter's own general sweep:
+// The error metrics of a Cartesian staircase (metrics/cartesian_error.hpp) against closed forms, an exact CGAL
+// arrangement (metrics/area_check.hpp) and the strip meter's own general sweep:
 //  - an axis-aligned rectangle: the staircase is the rectangle of the nearest nodes, the area error the area of
 //    the symmetric difference of the two rectangles, the deviation the largest distance from the node rectangle's
 //    outline to the path's, found here by brute force;
@@ -16,11 +16,11 @@
 #include "cam/error.hpp"
 #include "cam/path.hpp"
 #include "helpers.hpp"
-#include "machine/cartesian_exact.hpp"
-#include "machine/dda.hpp"
-#include "optimize/area_check.hpp"
-#include "optimize/cartesian_error.hpp"
-#include "optimize/deviation.hpp"
+#include "machine/cartesian/cartesian_exact.hpp"
+#include "machine/cartesian/dda.hpp"
+#include "metrics/area_check.hpp"
+#include "metrics/cartesian_error.hpp"
+#include "metrics/deviation.hpp"
 
 using namespace polarcam;
 using polarcam::test::RecordingSink;

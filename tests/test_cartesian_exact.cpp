@@ -1,4 +1,4 @@
-// The exact Cartesian step generator (machine/cartesian_exact.hpp) against closed forms: a 45-degree line, a
+// The exact Cartesian step generator (machine/cartesian/cartesian_exact.hpp) against closed forms: a 45-degree line, a
 // circle (every step where the circle meets x or y = (i + 1/2) BLU, 8 R steps, the nodes nearest the path at
 // every step time), a ramped speed profile, reversal and the Cartesian track's accuracy.
 #include <gtest/gtest.h>
@@ -10,9 +10,9 @@
 #include "cam/error.hpp"
 #include "cam/path.hpp"
 #include "helpers.hpp"
-#include "machine/cartesian_exact.hpp"
+#include "machine/cartesian/cartesian_exact.hpp"
 #include "digitizer/tape.hpp"
-#include "machine/pulse_speed.hpp"
+#include "metrics/pulse_speed.hpp"
 
 using namespace polarcam;
 using polarcam::test::RecordingSink;

@@ -1,4 +1,4 @@
-// The comparison's parts and the comparison itself (app/compare.hpp, docs/compare.md):
+// The comparison's parts and the comparison itself (pipeline/compare.hpp, docs/compare.md):
 //  - the scaled-axis step sink, the step-rate meter, the node box, the time-scaled speed and the speed trace,
 //    against hand calculations and independent recomputation;
 //  - the polar and the Cartesian staircase of the same contour measured by the same metrics: a circle about the
@@ -11,21 +11,21 @@
 #include <cmath>
 #include <numbers>
 
-#include "app/compare.hpp"
-#include "app/job_tape.hpp"
+#include "pipeline/compare.hpp"
+#include "pipeline/job_tape.hpp"
 #include "cam/curves.hpp"
 #include "cam/error.hpp"
 #include "cam/scaled.hpp"
 #include "cli_runner.hpp"
 #include "helpers.hpp"
-#include "machine/cartesian_exact.hpp"
-#include "machine/node_box.hpp"
-#include "machine/pulse_speed.hpp"
-#include "machine/scaling.hpp"
-#include "machine/step_rates.hpp"
-#include "optimize/area_check.hpp"
-#include "optimize/cartesian_error.hpp"
-#include "optimize/error_metrics.hpp"
+#include "machine/cartesian/cartesian_exact.hpp"
+#include "metrics/node_box.hpp"
+#include "metrics/pulse_speed.hpp"
+#include "machine/player/scaling.hpp"
+#include "metrics/step_rates.hpp"
+#include "metrics/area_check.hpp"
+#include "metrics/cartesian_error.hpp"
+#include "metrics/error_metrics.hpp"
 
 using namespace polarcam;
 using namespace polarcam::test;

@@ -1,4 +1,4 @@
-// The DDA interpolator (machine/dda.hpp) against hand calculations and an independent transcription of the
+// The DDA interpolator (machine/cartesian/dda.hpp) against hand calculations and an independent transcription of the
 // listing's registers: the linear DDA's pulse pattern and timing, the feed accumulator, the two-integrator
 // circular DDA on full circles (8 R / BLU steps), and the pulse-rate speed along a 45-degree line and a circle
 // (the hand calculations of docs/cartesian.md).
@@ -11,8 +11,8 @@
 #include "cam/error.hpp"
 #include "cam/path.hpp"
 #include "helpers.hpp"
-#include "machine/dda.hpp"
-#include "machine/pulse_speed.hpp"
+#include "machine/cartesian/dda.hpp"
+#include "metrics/pulse_speed.hpp"
 
 using namespace polarcam;
 using polarcam::test::RecordingSink;

@@ -9,7 +9,7 @@
 #include "cam/curves.hpp"
 #include "cam/path.hpp"
 #include "dynamics_helpers.hpp"
-#include "machine/verdict.hpp"
+#include "machine/dynamics/verdict.hpp"
 
 using namespace polarcam;
 using namespace polarcam::test;

@@ -8,8 +8,8 @@
 #include <numbers>
 
 #include "dynamics_helpers.hpp"
-#include "machine/mechanics.hpp"
-#include "machine/stepper.hpp"
+#include "machine/dynamics/mechanics.hpp"
+#include "machine/dynamics/stepper.hpp"
 
 using namespace polarcam;
 using namespace polarcam::test;

@@ -9,7 +9,7 @@
 #include <filesystem>
 #include <numbers>
 
-#include "app/job_dynamics.hpp"
+#include "job/job_dynamics.hpp"
 #include "cam/curves.hpp"
 #include "cam/units.hpp"
 #include "dynamics_helpers.hpp"

@@ -7,8 +7,8 @@
 
 #include "area_helpers.hpp"
 #include "cam/curves.hpp"
-#include "optimize/error_metrics.hpp"
-#include "optimize/f1.hpp"
+#include "metrics/error_metrics.hpp"
+#include "metrics/f1.hpp"
 
 using namespace polarcam;
 using namespace polarcam::test;

@@ -6,11 +6,11 @@
 #include <random>
 
 #include "cam/error.hpp"
-#include "machine/emulator.hpp"
-#include "machine/host_link.hpp"
-#include "machine/int128.hpp"
-#include "machine/play_plan.hpp"
-#include "machine/protocol.hpp"
+#include "machine/controller/emulator.hpp"
+#include "machine/link/host_link.hpp"
+#include "machine/player/int128.hpp"
+#include "machine/player/play_plan.hpp"
+#include "machine/link/protocol.hpp"
 #include "tests/player_helpers.hpp"
 
 namespace polarcam {

@@ -6,7 +6,7 @@
 #include <random>
 
 #include "dynamics_helpers.hpp"
-#include "machine/motor_fit.hpp"
+#include "machine/dynamics/motor_fit.hpp"
 
 using namespace polarcam;
 using namespace polarcam::test;

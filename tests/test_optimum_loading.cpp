@@ -12,10 +12,10 @@
 #include <limits>
 #include <string>
 
-#include "app/job.hpp"
-#include "app/job_analysis.hpp"
-#include "app/job_capacity.hpp"
-#include "app/job_placement.hpp"
+#include "job/job.hpp"
+#include "pipeline/job_analysis.hpp"
+#include "pipeline/job_capacity.hpp"
+#include "pipeline/job_placement.hpp"
 #include "optimize/placement.hpp"
 
 using namespace polarcam;

@@ -1,4 +1,4 @@
-// The closed forms of the parametric study of Ch. 6 (machine/parametric.hpp, docs/optimum-loading.md) against the
+// The closed forms of the parametric study of Ch. 6 (machine/dynamics/parametric.hpp, docs/optimum-loading.md) against the
 // numerical dynamics (machine/axis_torque: point_dynamics on a path state): the quartic torque-ratio forms and their
 // sensitivities at points of every orientation and curvature, and the locations of the largest torques (gamma_R =
 // pi/2, Eq. 6.15, 6.19, 6.20) against a dense sweep of the tangent's direction at a point.
@@ -10,9 +10,9 @@
 
 #include "cam/error.hpp"
 #include "dynamics_helpers.hpp"
-#include "machine/axis_torque.hpp"
-#include "machine/kinematics.hpp"
-#include "machine/parametric.hpp"
+#include "machine/dynamics/axis_torque.hpp"
+#include "machine/dynamics/kinematics.hpp"
+#include "machine/dynamics/parametric.hpp"
 
 using namespace polarcam;
 using namespace polarcam::test;

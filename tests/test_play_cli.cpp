@@ -12,7 +12,7 @@
 #include <sstream>
 #include <thread>
 
-#include "machine/int128.hpp"
+#include "machine/player/int128.hpp"
 #include "tests/cli_runner.hpp"
 #include "tests/player_helpers.hpp"
 

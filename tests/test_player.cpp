@@ -6,11 +6,11 @@
 #include <map>
 
 #include "cam/error.hpp"
-#include "machine/int128.hpp"
-#include "machine/play_plan.hpp"
-#include "machine/scaling.hpp"
-#include "machine/schedule.hpp"
-#include "machine/sim_machine.hpp"
+#include "machine/player/int128.hpp"
+#include "machine/player/play_plan.hpp"
+#include "machine/player/scaling.hpp"
+#include "machine/player/schedule.hpp"
+#include "machine/controller/sim_machine.hpp"
 #include "tests/player_helpers.hpp"
 
 namespace polarcam {

@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "app/plot.hpp"
+#include "report/plot.hpp"
 #include "cam/error.hpp"
 #include "helpers.hpp"
 
@@ -76,7 +76,7 @@ TEST(Plot, RendersPngAndSvgDeterministically) {
   if (!std::getenv("POLARCAM_KEEP_PLOT")) std::remove(p.c_str());
 }
 
-#include "app/html.hpp"
+#include "report/html.hpp"
 
 TEST(Html, ReportIsSelfContained) {
   EXPECT_EQ(html::base64("Man"), "TWFu");

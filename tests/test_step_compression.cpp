@@ -7,12 +7,12 @@
 #include <random>
 
 #include "cam/error.hpp"
-#include "machine/controller.hpp"
-#include "machine/int128.hpp"
-#include "machine/play_plan.hpp"
-#include "machine/protocol.hpp"
-#include "machine/schedule.hpp"
-#include "machine/sim_machine.hpp"
+#include "machine/controller/controller.hpp"
+#include "machine/player/int128.hpp"
+#include "machine/player/play_plan.hpp"
+#include "machine/link/protocol.hpp"
+#include "machine/player/schedule.hpp"
+#include "machine/controller/sim_machine.hpp"
 
 namespace polarcam {
 namespace {

@@ -10,7 +10,7 @@
 #include "cam/error.hpp"
 #include "digitizer/tape.hpp"
 #include "helpers.hpp"
-#include "machine/replay.hpp"
+#include "digitizer/replay.hpp"
 
 using namespace polarcam;
 using polarcam::test::RecordingSink;

@@ -1,0 +1,275 @@
+#include "job/job.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+
+#include "job/job_contour.hpp"
+#include "job/job_optimize.hpp"
+#include "job/job_dynamics.hpp"
+#include "job/toml_section.hpp"
+#include "cam/error.hpp"
+
+namespace polarcam {
+namespace {
+
+using jobfile::Section;
+using json = nlohmann::ordered_json;
+
+// "none" (or "unlimited") switches an optional limit off, even when a machine file sets it.
+std::optional<double> limit(Section& s, const std::string& key, const Dim& d) {
+  if (!s.has(key)) return std::nullopt;
+  const toml::node* n = s.node(key);
+  if (auto str = n->value<std::string>(); str && (*str == "none" || *str == "unlimited")) return std::nullopt;
+  return s.quantity(key, d);
+}
+
+Grid parse_grid(Section& s, json& prov, std::string& name) {
+  Grid g;
+  name = s.string("name").value_or("");
+  // radial resolution: given, or from the drive train (motor steps, microstepping, gear ratio, screw lead)
+  if (auto dr = s.quantity("radial_resolution", dim::length)) {
+    g.dr = *dr;
+  } else if (s.has("screw_lead")) {
+    double lead = s.require_quantity("screw_lead", dim::length);
+    double steps = s.number("radial_motor_steps_per_rev").value_or(200);
+    double micro = s.number("radial_microstepping").value_or(1);
+    double gear = s.number("radial_gear_ratio").value_or(1);
+    if (!(steps > 0 && micro > 0 && gear > 0)) s.fail_section("radial motor steps, microstepping and gear ratio must be positive");
+    g.dr = lead / (steps * micro * gear);
+  } else {
+    s.fail_section("give 'radial_resolution' (e.g. \"0.001 in\") or 'screw_lead' with the radial motor's steps");
+  }
+  // angular resolution
+  if (auto n = s.integer("angular_steps_per_rev")) {
+    if (*n <= 0) s.fail("angular_steps_per_rev", "must be a positive whole number");
+    g.steps_per_rev = *n;
+    g.dtheta = dtheta_from_steps(*n);
+  } else if (auto dt = s.quantity("angular_resolution", dim::angle)) {
+    if (!(*dt > 0)) s.fail("angular_resolution", "must be positive");
+    g.steps_per_rev = steps_per_rev_from_dtheta(*dt);
+    g.dtheta = g.steps_per_rev > 0 ? dtheta_from_steps(g.steps_per_rev) : *dt;
+  } else if (s.has("angular_motor_steps_per_rev")) {
+    double steps = *s.number("angular_motor_steps_per_rev");
+    double micro = s.number("angular_microstepping").value_or(1);
+    double gear = s.number("angular_gear_ratio").value_or(1);
+    double per_rev = steps * micro * gear;
+    if (!(per_rev > 0)) s.fail_section("angular motor steps, microstepping and gear ratio must be positive");
+    g.dtheta = 2.0 * std::numbers::pi / per_rev;
+    g.steps_per_rev = steps_per_rev_from_dtheta(g.dtheta);
+    if (g.steps_per_rev > 0) g.dtheta = dtheta_from_steps(g.steps_per_rev);
+  } else {
+    s.fail_section("give 'angular_steps_per_rev' (e.g. 16000), 'angular_resolution' or 'angular_motor_steps_per_rev'");
+  }
+  g.r_min = s.quantity("r_min", dim::length, 0.0);
+  g.r_max = limit(s, "r_max", dim::length);
+  g.theta_min = limit(s, "theta_min", dim::angle);
+  g.theta_max = limit(s, "theta_max", dim::angle);
+  g.home_r = s.quantity("home_r", dim::length, g.r_min);
+  g.home_theta = s.quantity("home_theta", dim::angle, g.theta_min.value_or(0.0));
+  try {
+    g.validate();
+  } catch (const InputError& e) {
+    s.fail_section(e.what());
+  }
+  prov["radial_resolution_m"] = g.dr;
+  prov["angular_resolution_rad"] = g.dtheta;
+  prov["angular_steps_per_rev"] = g.steps_per_rev;
+  prov["r_min_m"] = g.r_min;
+  if (g.r_max) prov["r_max_m"] = *g.r_max;
+  if (g.theta_min) {
+    prov["theta_min_rad"] = *g.theta_min;
+    prov["theta_max_rad"] = *g.theta_max;
+  }
+  prov["home_r_m"] = g.home_r;
+  prov["home_theta_rad"] = g.home_theta;
+  return g;
+}
+
+ToolSide parse_side(Section& s, const std::string& v) {
+  if (v == "left") return ToolSide::left;
+  if (v == "right") return ToolSide::right;
+  if (v == "outside") return ToolSide::outside;
+  if (v == "inside") return ToolSide::inside;
+  s.fail("side", "must be left, right, outside or inside");
+}
+
+}  // namespace
+
+Job load_job(const std::string& path) {
+  Job job;
+  job.file = path;
+  const std::string base = std::filesystem::path(path).parent_path().string();
+  toml::table root = jobfile::parse_toml_file(path);
+  Section top(&root, path, "");
+
+  // [machine], optionally over a machine file
+  const toml::node* jm = root.get("machine");
+  if (jm && !jm->is_table()) throw InputError(path + ": 'machine' must be a table");
+  Section job_machine(jm ? jm->as_table() : nullptr, path, "machine");
+  top.node("machine");  // accounted for
+  toml::table machine_root;
+  std::optional<Section> machine_file_section;
+  std::string machine_file_name;
+  if (auto mf = job_machine.string("file")) {
+    std::filesystem::path mp(*mf);
+    if (mp.is_relative()) mp = std::filesystem::path(base) / mp;
+    machine_file_name = mp.lexically_normal().string();
+    try {
+      machine_root = jobfile::parse_toml_file(machine_file_name);
+    } catch (const InputError& e) {
+      job_machine.fail("file", e.what());
+    }
+    const toml::node* mt = machine_root.get("machine");
+    if (!mt || !mt->is_table()) throw InputError(machine_file_name + ": the [machine] section is missing");
+    for (const auto& [k, v] : machine_root)
+      if (k.str() != "machine")
+        throw InputError(machine_file_name + ":" + std::to_string(v.source().begin.line) + ": unknown section '" +
+                         std::string(k.str()) + "'");
+    machine_file_section.emplace(mt->as_table(), machine_file_name, "machine");
+  }
+  Section machine(jm ? jm->as_table() : nullptr, path, "machine", machine_file_section ? &*machine_file_section : nullptr);
+  if (!machine.present()) throw InputError(path + ": the [machine] section is missing");
+  if (machine_file_section) machine.string("file");  // consumed
+  json prov;
+  prov["format"] = "polarcam-job/1";
+  json& pm = prov["machine"];
+  job.grid = parse_grid(machine, pm, job.machine_name);
+  if (!job.machine_name.empty()) pm["name"] = job.machine_name;
+  {
+    const toml::node* fm = machine_file_section ? machine_root.get("machine") : nullptr;
+    job.dynamics = jobfile::parse_dynamics(
+        machine, {jm ? jm->as_table() : nullptr, path, fm ? fm->as_table() : nullptr, machine_file_name});
+  }
+  machine.finish();
+
+  // [contour]
+  Section contour = top.subsection("contour");
+  json& pc = prov["contour"];
+  job.contour = jobfile::parse_contour(contour, base, pc, job.contour_kind);
+
+  // [placement]
+  Section pl = top.subsection("placement");
+  job.placement.C = pl.quantity("C", dim::length, 0.0);
+  job.placement.beta = pl.quantity("beta", dim::angle, 0.0);
+  pl.finish();
+  prov["placement"] = {{"C_m", job.placement.C}, {"beta_rad", job.placement.beta}};
+
+  // [tool]
+  Section tool = top.subsection("tool");
+  job.tool.radius = tool.quantity("radius", dim::length, 0.0);
+  if (!(job.tool.radius >= 0.0)) tool.fail("radius", "must be zero or positive");
+  job.tool.side = job.contour->closed() ? ToolSide::outside : ToolSide::left;
+  if (auto side = tool.string("side")) job.tool.side = parse_side(tool, *side);
+  tool.finish();
+  static const char* side_names[] = {"left", "right", "outside", "inside"};
+  prov["tool"] = {{"radius_m", job.tool.radius}, {"side", side_names[static_cast<int>(job.tool.side)]}};
+
+  // [motion]
+  Section mo = top.subsection("motion");
+  if (!mo.present()) throw InputError(path + ": the [motion] section is missing");
+  json& pmo = prov["motion"];
+  const toml::node* table = mo.node("speed_profile");
+  if (table) {
+    const toml::array* arr = table->as_array();
+    if (!arr || arr->empty()) mo.fail("speed_profile", "expected a list of [\"arc length\", \"speed\"] pairs");
+    for (size_t i = 0; i < arr->size(); ++i) {
+      const toml::array* pr = arr->get(i)->as_array();
+      auto str = [&](size_t k) -> std::string {
+        auto v = pr ? pr->get(k)->value<std::string>() : std::nullopt;
+        if (!pr || pr->size() != 2 || !v) mo.fail("speed_profile", "row " + std::to_string(i + 1) + " is not a pair of quantity strings");
+        return *v;
+      };
+      try {
+        SpeedStation st{parse_quantity_as(str(0), dim::length), parse_quantity_as(str(1), dim::speed)};
+        job.motion.table.push_back(st);
+        pmo["speed_profile"].push_back({st.s, st.v});
+      } catch (const InputError& e) {
+        mo.fail("speed_profile", "row " + std::to_string(i + 1) + ": " + e.what());
+      }
+    }
+    if (mo.has("speed")) mo.fail("speed", "give either 'speed' or 'speed_profile', not both");
+  } else {
+    job.motion.speed = mo.require_quantity("speed", dim::speed);
+    if (!(job.motion.speed > 0.0)) mo.fail("speed", "must be positive");
+    pmo["speed_mps"] = job.motion.speed;
+  }
+  if (auto a = mo.quantity("accel", dim::acceleration)) {
+    if (!(*a > 0.0)) mo.fail("accel", "must be positive");
+    if (table) mo.fail("accel", "cannot be combined with 'speed_profile'");
+    job.motion.accel = *a;
+    pmo["accel_mps2"] = *a;
+  }
+  std::string rule = mo.string("rule").value_or("nearest");
+  if (rule == "nearest") {
+    job.motion.rule = StepRule::nearest;
+  } else if (rule == "thesis") {
+    job.motion.rule = StepRule::thesis;
+  } else {
+    mo.fail("rule", "must be \"nearest\" or \"thesis\"");
+  }
+  pmo["rule"] = rule;
+  std::string dir = mo.string("direction").value_or("forward");
+  if (dir != "forward" && dir != "reverse") mo.fail("direction", "must be \"forward\" or \"reverse\"");
+  job.motion.travel.reverse = dir == "reverse";
+  pmo["direction"] = dir;
+  if (auto sp = mo.number("start_parameter")) {
+    if (!job.contour->closed()) mo.fail("start_parameter", "applies to closed contours only");
+    job.motion.travel.start_parameter = *sp;
+    pmo["start_parameter"] = *sp;
+  }
+  mo.finish();
+
+  // [cartesian] (optional)
+  Section ca = top.subsection("cartesian");
+  CartesianSpec& cs = job.cartesian;
+  cs.resolution = ca.quantity("resolution", dim::length, job.grid.dr);
+  if (!(cs.resolution > 0.0)) ca.fail("resolution", "must be a positive length");
+  cs.tolerance = ca.quantity("tolerance", dim::length, 0.25 * cs.resolution);
+  if (!(cs.tolerance > 0.0)) ca.fail("tolerance", "must be a positive length");
+  if (cs.tolerance < 1e-6 * cs.resolution) ca.fail("tolerance", "is less than a millionth of the resolution");
+  cs.interrupt_rate = ca.quantity("interrupt_rate", dim::frequency, cs.interrupt_rate);
+  if (!(cs.interrupt_rate > 0.0) || cs.interrupt_rate > 1e9) ca.fail("interrupt_rate", "must be a frequency above 0 and up to 1 GHz");
+  ca.finish();
+  if (ca.present())
+    prov["cartesian"] = {{"resolution_m", cs.resolution}, {"tolerance_m", cs.tolerance},
+                         {"interrupt_rate_hz", cs.interrupt_rate}};
+  // [optimize]: read and checked here so that a job file has one set of keys for every command
+  Section op = top.subsection("optimize");
+  job.optimize = jobfile::parse_optimize(op);
+  // [load], [limits]: read by the dynamics (polarcam analyze); they do not change the tape
+  job.load = jobfile::parse_load(top.subsection("load"));
+  job.safety_factor = jobfile::parse_limits(top.subsection("limits"));
+
+  top.finish();
+  job.provenance = std::move(prov);
+  return job;
+}
+
+Grid load_machine_grid(const std::string& path, std::string* name) {
+  toml::table root = jobfile::parse_toml_file(path);
+  const toml::node* mt = root.get("machine");
+  if (!mt || !mt->is_table()) throw InputError(path + ": the [machine] section is missing");
+  Section machine(mt->as_table(), path, "machine");
+  json prov;
+  std::string n;
+  Grid g = parse_grid(machine, prov, n);
+  if (name) *name = n;
+  return g;
+}
+
+ToolPathPtr make_job_path(const Job& job) {
+  try {
+    return make_tool_path(job.contour, job.placement, job.tool, job.motion.travel);
+  } catch (const InputError& e) {
+    throw InputError(job.file + ": " + e.what());
+  }
+}
+
+SpeedProfilePtr make_job_profile(const Job& job, double length) {
+  if (!job.motion.table.empty()) return make_table_speed(job.motion.table, length);
+  if (job.motion.accel) return make_trapezoid_speed(job.motion.speed, *job.motion.accel, length);
+  return make_constant_speed(job.motion.speed, length);
+}
+
+}  // namespace polarcam

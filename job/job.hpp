@@ -1,0 +1,66 @@
+#pragma once
+// A polarcam job: the machine grid (and dynamics), the contour, its placement, the tool, the motion and the load,
+// read from a TOML job file (docs/job-format.md). Quantities are strings with units; the code works in SI. The CLI commands build
+// everything from a Job, so they contain no geometry or physics of their own.
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cam/curve.hpp"
+#include "cam/toolpath.hpp"
+#include "digitizer/digitize.hpp"
+#include "digitizer/grid.hpp"
+#include "digitizer/speed_profile.hpp"
+#include "optimize/placement.hpp"
+#include "machine/dynamics/axis_torque.hpp"
+#include "machine/dynamics/load.hpp"
+
+namespace polarcam {
+
+struct MotionSpec {
+  double speed = 0.0;                    // m/s, tangential speed of the tool centre
+  std::optional<double> accel;           // m/s^2: ramp from rest and back to rest
+  std::vector<SpeedStation> table;       // V(s) stations (overrides speed when given)
+  StepRule rule = StepRule::nearest;
+  TravelSpec travel;
+};
+
+// [cartesian]: the Cartesian machine polarcam compares the polar one with (docs/cartesian.md). Nodes (i, j) sit at
+// x = i BLU, y = j BLU in the contour's own frame; the placement does not apply to it.
+struct CartesianSpec {
+  double resolution = 0.0;          // m, BLU of both axes (default: the machine's radial resolution)
+  double tolerance = 0.0;           // m, chord tolerance of the lines and arcs the DDA follows (default: BLU / 4)
+  double interrupt_rate = 5000.0;   // Hz, the DDA control's interrupt rate (Appendix III of the Elbestawi thesis)
+};
+
+struct Job {
+  std::string file;                      // the job file as given
+  std::string machine_name;
+  Grid grid;
+  std::string contour_kind;
+  CurvePtr contour;                      // in the contour's own frame (origin = contour pole O1)
+  Placement placement;
+  ToolSpec tool;
+  MotionSpec motion;
+  CartesianSpec cartesian;
+  PlacementOptions optimize;             // [optimize]: options of `polarcam optimize` (not part of the provenance)
+  std::optional<MachineModel> dynamics;  // mechanics and motors, when the machine describes them (docs/dynamics.md)
+  LoadSpec load;                         // [load]
+  double safety_factor = 1.0;            // [limits]
+  nlohmann::ordered_json provenance;     // canonical description of the job (SI values, no paths)
+};
+
+// Reads and checks a job file. Throws InputError with "FILE:LINE: key 'section.key': what is wrong".
+Job load_job(const std::string& path);
+
+// Reads the grid and work area of a machine file ([machine] table, keys as in a job's [machine]). Keys that
+// other commands read from the same file (mechanics, motors) are left alone. Throws InputError naming the file.
+Grid load_machine_grid(const std::string& path, std::string* name = nullptr);
+
+// The tool-centre path in the machine frame.
+ToolPathPtr make_job_path(const Job& job);
+// The speed profile along a path of the given length.
+SpeedProfilePtr make_job_profile(const Job& job, double length);
+
+}  // namespace polarcam

@@ -1,0 +1,106 @@
+#pragma once
+// The stepper controller of the protocol (docs/controller-protocol.md), as firmware would run it: frames in,
+// frames out, the step schedule executed on its own tick clock. Used by the emulator (`polarcam
+// controller-sim`), by the in-process simulated machine and by tests. No ports and no wall clock: the caller
+// says what tick it is.
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "machine/link/protocol.hpp"
+#include "machine/player/schedule.hpp"
+
+namespace polarcam {
+
+struct ControllerSpec {
+  uint64_t tick_ps = 1000000;   // timer tick (1 us)
+  uint32_t slots = 4096;        // queue items it can buffer
+  std::string name = "polarcam controller emulator";
+  double dr = 0, dtheta = 0;    // its machine grid, when it knows one (0: accepts any)
+};
+
+class Controller {
+ public:
+  explicit Controller(ControllerSpec spec, uint32_t session = 1);
+
+  // Bytes that arrived at controller tick `now` (ticks since boot; never decreasing).
+  void receive(const uint8_t* data, size_t n, uint64_t now);
+  // Executes the schedule up to tick `now`.
+  void advance(uint64_t now);
+  // Frames to send to the host (cleared by the call).
+  std::string take_output();
+  // Fault injection: reboot (everything lost; a new session id; announces itself with BOOT).
+  void reboot(uint64_t now);
+
+  // Every executed step: time in ticks since START, axis, direction.
+  std::function<void(uint64_t t_ticks, int axis, int dir)> on_step;
+
+  // In-process use without the link (the simulated machine): configure, queue items and start directly.
+  bool configure(const proto::Configure& c, std::string* why);
+  bool push(const QueueItem& it);
+  void start(uint64_t now);
+  void hold();
+  void resume();
+
+  proto::Status status() const;
+  proto::State state() const { return state_; }
+  uint32_t free_slots() const;
+  const ControllerSpec& spec() const { return spec_; }
+
+ private:
+  struct Axis {
+    std::deque<QueueItem> q;
+    AxisClock clk;           // execution clock
+    AxisClock tail;          // clock at the end of the queued items (for the horizon)
+    bool ended_queued = false, ended = false;
+    RunCursor run;           // the current run
+    int dir = 1;             // its direction
+    bool has_next = false;   // next step computed
+    uint64_t next_tick = 0;  // schedule tick of the next step
+    uint64_t executed = 0;
+    int64_t node = 0;
+  };
+  void handle(const proto::Frame& f, uint64_t now);
+  void handle_queue(const std::string& payload);
+  void send(uint8_t type, uint16_t seq, const std::string& payload);
+  void send_ack();
+  void send_error(proto::ErrorCode code, const std::string& text, uint16_t seq);
+  bool fresh_request(uint8_t type, uint16_t id);
+  bool prepare_next(Axis& a);
+  uint64_t horizon(const Axis& a) const;
+  void run_to(uint64_t now);
+  void fire_due();
+  void start_ramp(int direction, proto::State during);
+
+  ControllerSpec spec_;
+  uint32_t session_;
+  proto::FrameDecoder dec_;
+  std::string out_;
+  proto::State state_ = proto::State::idle;
+  proto::ErrorCode error_ = proto::ErrorCode::none;
+  bool configured_ = false;
+  proto::Configure cfg_;
+  ItemCodec codec_;
+  Axis ax_[2];
+  uint16_t next_seq_ = 1;
+  std::map<uint16_t, proto::Frame> pending_;  // sequenced frames received ahead of a missing one
+  std::map<uint8_t, uint16_t> last_req_;      // last request id per out-of-band type
+  uint16_t last_nak_ = 0;
+  bool nak_sent_ = false;
+  uint32_t underruns_ = 0;
+  uint32_t queued_items_ = 0;
+  // clocks
+  uint64_t now_ = 0;             // ticks since boot
+  uint64_t start_ = 0;           // boot tick of START
+  uint64_t last_step_ = 0;       // ticks since START of the latest step
+  bool started_ = false;
+  uint64_t tau_ = 0;             // schedule time since START, 1/65536 ticks
+  uint64_t rate_ = 0;            // playback rate, in 1/ramp units (ramp_ == rate_ means 1)
+  uint64_t ramp_ = 0;
+  int ramp_dir_ = 0;             // -1 ramping down, +1 up, 0 steady
+};
+
+}  // namespace polarcam

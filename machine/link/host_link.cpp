@@ -1,0 +1,367 @@
+#include "machine/link/host_link.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <vector>
+
+#include "cam/error.hpp"
+
+namespace polarcam {
+
+using namespace proto;
+
+HostLink::HostLink(Transport& t, LinkOptions o) : t_(t), o_(o) {}
+
+void HostLink::send_raw(const std::string& f) {
+  if (!t_.write(f, o_.write_timeout_s))
+    throw PlayError(t_.describe() + ": the controller has stopped reading (nothing taken for " +
+                    std::to_string(o_.write_timeout_s) + " s)");
+  ++rep_.frames_sent;
+  rep_.bytes_sent += f.size();
+  const double now = t_.now();
+  line_free_at_ = std::max(line_free_at_, now) + (o_.baud > 0 ? static_cast<double>(f.size()) * 10.0 / o_.baud : 0.0);
+}
+
+void HostLink::on_frame(const Frame& f) {
+  switch (f.type) {
+    case ACK: {
+      Ack a;
+      if (!Ack::decode(f.payload, a)) return;
+      if (f.seq != 0) {  // the answer to an out-of-band request
+        reply_seq_ = f.seq;
+        got_reply_ = true;
+      }
+      if (!got_ack_ || seq_diff(a.next_seq, ack_.next_seq) >= 0) ack_ = a;
+      got_ack_ = true;
+      return;
+    }
+    case NAK:
+      if (f.payload.size() == 2) {
+        nak_seq_ = static_cast<uint16_t>(static_cast<uint8_t>(f.payload[0]) | (static_cast<uint8_t>(f.payload[1]) << 8));
+        got_nak_ = true;
+        ++rep_.naks;
+      }
+      return;
+    case IDENT:
+      if (Ident::decode(f.payload, ident_)) {
+        got_ident_ = true;
+        reply_seq_ = f.seq;
+      }
+      return;
+    case STATUS_REPLY:
+      if (Status::decode(f.payload, status_)) {
+        got_status_ = true;
+        if (got_ack_ && seq_diff(status_.next_seq, ack_.next_seq) >= 0) {  // fresher credits than the last ACK
+          ack_.next_seq = status_.next_seq;
+          ack_.free_slots = status_.free_slots;
+        }
+        if (have_session_ && status_.session != session_) {
+          rebooted_ = true;
+          boot_session_ = status_.session;
+        }
+      }
+      return;
+    case ERROR:
+      if (ErrorMsg::decode(f.payload, error_)) {
+        got_error_ = true;
+        reply_seq_ = f.seq;
+      }
+      return;
+    case BOOT:
+      rebooted_ = true;
+      if (f.payload.size() == 4) boot_session_ = static_cast<uint32_t>(Reader{f.payload}.u32());
+      return;
+    default:
+      return;
+  }
+}
+
+void HostLink::poll(double timeout_s) {
+  std::string in = t_.read(timeout_s);
+  if (in.empty()) return;
+  last_rx_ = t_.now();
+  std::vector<Frame> frames;
+  dec_.feed(reinterpret_cast<const uint8_t*>(in.data()), in.size(), frames);
+  rep_.bad_frames = dec_.bad_frames();
+  for (const Frame& f : frames) on_frame(f);
+}
+
+Ident HostLink::identify() {
+  for (int attempt = 0; attempt < o_.identify_tries; ++attempt) {
+    got_ident_ = false;
+    const uint16_t id = next_req();
+    send_raw(encode_frame(id, IDENTIFY, ""));
+    const double until = t_.now() + o_.identify_timeout_s;
+    while (t_.now() < until) {
+      poll(0.01);
+      if (got_ident_) {
+        if (ident_.version != kVersion)
+          throw InputError(t_.describe() + ": the controller speaks protocol version " + std::to_string(ident_.version) +
+                           ", this polarcam speaks version " + std::to_string(kVersion));
+        if (ident_.tick_ps == 0) throw InputError(t_.describe() + ": the controller reports a zero tick");
+        session_ = ident_.session;
+        have_session_ = true;
+        return ident_;
+      }
+    }
+  }
+  throw InputError(t_.describe() + ": no answer from a polarcam controller (" + std::to_string(o_.identify_tries) +
+                   " tries): check --port and --baud");
+}
+
+Ack HostLink::configure(const Configure& c) {
+  const double give_up = t_.now() + o_.link_timeout_s + o_.reconnect_timeout_s;
+  const uint16_t first = static_cast<uint16_t>(req_ + 1);
+  // a reply to any of this call's attempts will do (the same configuration each time)
+  auto ours = [&](uint16_t seq) { return seq_diff(seq, first) >= 0 && seq_diff(seq, req_) <= 0; };
+  while (t_.now() < give_up) {
+    const uint16_t id = next_req();
+    got_reply_ = false;
+    got_error_ = false;
+    send_raw(encode_frame(id, CONFIGURE, c.encode()));
+    const double until = line_free_at_ + o_.rto_s;
+    while (t_.now() < until) {
+      poll(0.01);
+      if (got_error_ && ours(reply_seq_)) {
+        if (error_.code == ErrorCode::grid_mismatch || error_.code == ErrorCode::bad_config || error_.code == ErrorCode::busy)
+          throw InputError(t_.describe() + ": the controller refuses the job: " + error_.text);
+        throw PlayError(t_.describe() + ": the controller refuses the job: " + error_.text);
+      }
+      if (got_reply_ && ours(reply_seq_)) return ack_;
+      if (rebooted_) throw PlayError(t_.describe() + ": the controller reset while being configured");
+    }
+  }
+  throw PlayError(t_.describe() + ": the controller does not answer CONFIGURE");
+}
+
+PlayReport HostLink::play(const PlayPlan& plan, const Schedule& sc) {
+  rep_ = PlayReport{};
+  rep_.controller = ident_.name;
+  rep_.tick_ps = sc.tick_ps;
+  rep_.steps_total = sc.steps[0] + sc.steps[1];
+  rep_.items = sc.items.size();
+  const double tick_s = static_cast<double>(sc.tick_ps) * 1e-12;
+  const double t0 = t_.now();
+
+  Configure c;
+  c.tick_ps = sc.tick_ps;
+  c.ramp_ticks = static_cast<uint64_t>(std::llround(o_.ramp_s / tick_s));
+  c.start[0] = plan.start[0];
+  c.start[1] = plan.start[1];
+  c.dr = plan.header.res[0];
+  c.dtheta = plan.header.res[1];
+  Ack a = configure(c);
+  uint16_t next_seq = a.next_seq;
+  ack_ = a;
+  const uint32_t slots = ident_.slots;
+
+  std::deque<Out> inflight;
+  size_t k = 0;  // next item to send
+  bool start_sent = false, resume_pending = false;
+  uint64_t steps_sent = 0;
+  uint32_t underruns_seen = 0;
+  double last_status = -1e9;
+  bool status_outstanding = false;
+  last_rx_ = t_.now();
+  ItemCodec codec;
+  const double prefill_ticks = o_.prefill_s / tick_s;
+  bool stopping = false;
+  double stop_sent = 0;
+  // frame size adapts to the line: halved at each retransmission, grown again by acknowledged frames
+  size_t payload_limit = o_.max_payload;
+  const size_t min_payload = std::min<size_t>(16, o_.max_payload);
+
+  auto inflight_slots = [&] {
+    uint64_t s = 0;
+    for (const Out& o : inflight) s += o.slots;
+    return s;
+  };
+  auto confirm_report = [&] {
+    rep_.steps_confirmed = status_.executed[0] + status_.executed[1];
+    rep_.end_node[0] = status_.node[0];
+    rep_.end_node[1] = status_.node[1];
+    rep_.underruns = status_.underruns;
+  };
+  auto where = [&] {
+    return "it confirmed " + std::to_string(status_.executed[0] + status_.executed[1]) + " of " +
+           std::to_string(rep_.steps_total) + " steps, axes at node (" + std::to_string(status_.node[0]) + ", " +
+           std::to_string(status_.node[1]) + ")";
+  };
+
+  for (;;) {
+    const double now = t_.now();
+    // acknowledged frames leave the window
+    while (!inflight.empty() && seq_diff(inflight.front().seq, ack_.next_seq) < 0) {
+      inflight.pop_front();
+      payload_limit = std::min(o_.max_payload, payload_limit + 2);
+    }
+    if (rebooted_) {
+      confirm_report();
+      throw PlayError(t_.describe() + ": the controller reset during the job (session " + std::to_string(session_) + " -> " +
+                      std::to_string(boot_session_) + "); before the reset " + where() +
+                      ". Its position is unknown now: re-home the machine and play the tape again");
+    }
+    if (got_error_) {
+      confirm_report();
+      throw PlayError(t_.describe() + ": controller error: " + error_.text + "; " + where());
+    }
+    // operator stop: hold, then abort once held
+    if (stop && stop->load() && !stopping) {
+      stopping = true;
+      stop_sent = now;
+      send_raw(encode_frame(next_req(), HOLD, ""));
+    }
+    if (stopping && got_status_ && (status_.state == State::held || status_.state == State::underrun ||
+                                    status_.state == State::ready || status_.state == State::done ||
+                                    now - stop_sent > o_.ramp_s + 5.0)) {
+      send_raw(encode_frame(next_req(), ABORT, ""));
+      confirm_report();
+      throw PlayError("stopped by the operator: " + where());
+    }
+    // feed hold and resume
+    if (hold_request && hold_request->exchange(false)) send_raw(encode_frame(next_req(), HOLD, ""));
+    if (resume_request && resume_request->exchange(false)) send_raw(encode_frame(next_req(), RESUME, ""));
+    // new frames, within the window and the credits
+    while (!stopping && inflight.size() < o_.window && line_free_at_ <= t_.now() + o_.pace_s) {
+      // START once the buffer holds the prefill, is full, or holds the whole job
+      const int64_t credits0 = static_cast<int64_t>(ack_.free_slots) - static_cast<int64_t>(inflight_slots());
+      const bool prefilled = k == sc.items.size() || credits0 <= 0 ||
+                             (k > 0 && static_cast<double>(sc.horizon[k - 1] == UINT64_MAX ? 0 : sc.horizon[k - 1]) >= prefill_ticks);
+      if (!start_sent && prefilled) {
+        const uint16_t seq = next_seq++;
+        Out o{seq, encode_frame(seq, START, ""), 0, 0, now};
+        send_raw(o.bytes);
+        o.sent = line_free_at_;
+        inflight.push_back(std::move(o));
+        start_sent = true;
+        continue;
+      }
+      const int64_t credits = static_cast<int64_t>(ack_.free_slots) - static_cast<int64_t>(inflight_slots());
+      if (k < sc.items.size() && credits > 0) {
+        std::string payload;
+        uint32_t n = 0;
+        uint64_t steps = 0;
+        while (k < sc.items.size() && n < credits) {
+          std::string one;
+          ItemCodec trial = codec;
+          trial.encode(sc.items[k], one);
+          if (!payload.empty() && payload.size() + one.size() > payload_limit) break;
+          codec = trial;
+          payload += one;
+          const QueueItem& it = sc.items[k];
+          if (it.kind == ItemKind::run) steps += it.count;
+          ++n;
+          ++k;
+        }
+        const uint16_t seq = next_seq++;
+        Out o{seq, encode_frame(seq, QUEUE, payload), n, steps, now};
+        send_raw(o.bytes);
+        o.sent = line_free_at_;
+        steps_sent += steps;
+        inflight.push_back(std::move(o));
+        continue;
+      }
+      break;
+    }
+    rep_.steps_sent = steps_sent;
+    // retransmissions: the frame the controller asks for, and any frame unacknowledged for rto_s
+    if (got_nak_) {
+      got_nak_ = false;
+      for (Out& o : inflight)
+        if (o.seq == nak_seq_ && now - o.sent > o_.rto_s / 4) {
+          send_raw(o.bytes);
+          o.sent = line_free_at_;
+          ++rep_.retransmissions;
+          payload_limit = std::max(min_payload, payload_limit / 2);
+        }
+    }
+    for (Out& o : inflight)
+      if (now - o.sent > o_.rto_s && line_free_at_ <= now + o_.pace_s) {
+        send_raw(o.bytes);
+        o.sent = line_free_at_;
+        ++rep_.retransmissions;
+        payload_limit = std::max(min_payload, payload_limit / 2);
+      }
+    // status
+    // one status request at a time (a slow line must not pile up stale replies)
+    if ((!status_outstanding && now - last_status >= o_.status_period_s) ||
+        (status_outstanding && now - last_status > std::max(1.0, 4 * o_.rto_s))) {
+      send_raw(encode_frame(next_req(), STATUS, ""));
+      last_status = now;
+      status_outstanding = true;
+    }
+    if (got_status_) {
+      got_status_ = false;
+      status_outstanding = false;
+      confirm_report();
+      if (status_.underruns > underruns_seen) {
+        underruns_seen = status_.underruns;
+        resume_pending = true;
+      }
+      if (on_progress) {
+        PlayProgress p;
+        p.steps_confirmed = rep_.steps_confirmed;
+        p.steps_total = rep_.steps_total;
+        p.schedule_s = static_cast<double>(status_.schedule_ticks) * tick_s;
+        p.total_s = static_cast<double>(sc.last_tick) * tick_s;
+        p.elapsed_s = now - t0;
+        p.buffer_fill = slots ? 1.0 - static_cast<double>(status_.free_slots) / slots : 0.0;
+        p.state = status_.state;
+        on_progress(p);
+      }
+      if (status_.state == State::fault || status_.state == State::aborted)
+        throw PlayError(t_.describe() + ": the controller stopped (" + state_name(status_.state) + "); " + where());
+      if (status_.state == State::done && k == sc.items.size() && inflight.empty()) {
+        rep_.duration_s = static_cast<double>(status_.now_ticks) * tick_s;
+        break;
+      }
+      // after an underrun stop, resume once the buffer is refilled
+      if (resume_pending && status_.state == State::underrun && inflight.empty() &&
+          (k == sc.items.size() || ack_.free_slots == 0 ||
+           static_cast<double>(sc.horizon[k - 1]) - static_cast<double>(status_.schedule_ticks) >= prefill_ticks)) {
+        send_raw(encode_frame(next_req(), RESUME, ""));
+        resume_pending = false;
+      }
+    }
+    // a silent link: reconnect, then carry on if it is the same controller session
+    if (now - last_rx_ > o_.link_timeout_s) {
+      const double until = now + o_.reconnect_timeout_s;
+      bool back = false;
+      bool reopened = false;
+      while (t_.now() < until && !back) {
+        // a port that vanished is reopened; either way the controller is asked who it is
+        if (!reopened && t_.reconnect()) {
+          reopened = true;
+          ++rep_.reconnects;
+        }
+        got_ident_ = false;
+        send_raw(encode_frame(next_req(), IDENTIFY, ""));
+        const double wait_until = t_.now() + o_.identify_timeout_s;
+        while (t_.now() < wait_until && !got_ident_) poll(0.01);
+        back = got_ident_;
+        if (!back) reopened = false;
+      }
+      if (!back)
+        throw PlayError(t_.describe() + ": the link to the controller is lost (no answer for " +
+                        std::to_string(o_.link_timeout_s + o_.reconnect_timeout_s) + " s); " + where());
+      if (ident_.session != session_) {
+        rebooted_ = true;
+        boot_session_ = ident_.session;
+      }
+      last_rx_ = t_.now();
+      continue;
+    }
+    poll(0.002);
+  }
+  rep_.wall_s = t_.now() - t0;
+  rep_.completed = true;
+  if (rep_.steps_confirmed != rep_.steps_total || rep_.end_node[0] != plan.end[0] || rep_.end_node[1] != plan.end[1])
+    throw PlayError(t_.describe() + ": the controller finished with " + std::to_string(rep_.steps_confirmed) + " of " +
+                    std::to_string(rep_.steps_total) + " steps at node (" + std::to_string(rep_.end_node[0]) + ", " +
+                    std::to_string(rep_.end_node[1]) + "), expected (" + std::to_string(plan.end[0]) + ", " +
+                    std::to_string(plan.end[1]) + ")");
+  return rep_;
+}
+
+}  // namespace polarcam

@@ -1,0 +1,130 @@
+#include "machine/player/play_plan.hpp"
+#include "machine/player/int128.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "cam/error.hpp"
+
+namespace polarcam {
+namespace {
+
+std::string num(double v, int digits = 6) {
+  char b[64];
+  std::snprintf(b, sizeof b, "%.*g", digits, v);
+  return b;
+}
+
+bool same(double a, double b) { return std::fabs(a - b) <= 1e-9 * std::max(std::fabs(a), std::fabs(b)); }
+
+}  // namespace
+
+PlayMachine machine_from_header(const TapeHeader& h) {
+  PlayMachine m;
+  m.source = "the tape's work area";
+  m.grid.dr = h.res[0];
+  m.grid.dtheta = h.res[1];
+  m.grid.steps_per_rev = h.steps_per_rev;
+  m.grid.r_min = h.r_min;
+  if (h.has_r_max) m.grid.r_max = h.r_max;
+  if (h.has_theta_range) {
+    m.grid.theta_min = h.theta_min;
+    m.grid.theta_max = h.theta_max;
+  }
+  return m;
+}
+
+PlayPlan plan_playback(const std::string& tape, const PlayScaling& sc, const std::optional<PlayMachine>& machine) {
+  PlayPlan p;
+  p.tape = tape;
+  p.scaling = sc;
+  p.header = verify_tape(tape);  // the whole tape, checksums and totals, before anything else
+  const TapeHeader& h = p.header;
+  if (h.axes != TapeAxes::polar) throw InputError(tape + ": a Cartesian tape; the player drives polar machines");
+  const PlayMachine m = machine ? *machine : machine_from_header(h);
+  if (machine) {
+    if (!same(m.grid.dr, h.res[0]) || !same(m.grid.dtheta, h.res[1]))
+      throw InputError(tape + ": made for another machine grid (dR = " + num(h.res[0] * 1e3) + " mm, dtheta = " +
+                       num(h.res[1]) + " rad, " + std::to_string(h.steps_per_rev) + " steps/rev) than " + m.source +
+                       " (dR = " + num(m.grid.dr * 1e3) + " mm, dtheta = " + num(m.grid.dtheta) + " rad, " +
+                       std::to_string(m.grid.steps_per_rev) + " steps/rev)");
+  }
+  const Ratio size = sc.size;
+  const bool spread = size.num > size.den;  // one tape step may give several machine steps
+
+  int64_t n = h.start[0];
+  int64_t N = scaled_radial_index(n, size);
+  int64_t M = h.start[1] + sc.angle_offset;
+  p.start[0] = N;
+  p.start[1] = M;
+  p.lo[0] = p.hi[0] = N;
+  p.lo[1] = p.hi[1] = M;
+  p.steps.reserve(h.record_count + (spread ? (h.plus[0] + h.minus[0]) * static_cast<uint64_t>(size.num / size.den) : 0));
+
+  std::vector<PlayStep> pending;  // angular steps since the last radial tape step (size scale > 1 only)
+  auto emit = [&](const PlayStep& s) {
+    p.steps.push_back(s);
+    int64_t& node = s.axis == 0 ? N : M;
+    node += s.dir;
+    p.lo[s.axis] = std::min(p.lo[s.axis], node);
+    p.hi[s.axis] = std::max(p.hi[s.axis], node);
+    ++p.steps_per_axis[s.axis];
+  };
+
+  TapeReader rd(tape);
+  StepRecord r;
+  uint64_t t = 0, t_radial = 0, rec = 0;
+  while (rd.next(r)) {
+    t += r.interval;
+    ++rec;
+    if (r.axis == 1) {
+      PlayStep s{t, rec, 1, static_cast<int8_t>(r.dir)};
+      if (spread) pending.push_back(s);
+      else emit(s);
+      continue;
+    }
+    const int64_t n_new = n + r.dir;
+    const int64_t N_new = scaled_radial_index(n_new, size);
+    const int64_t k = std::llabs(N_new - scaled_radial_index(n, size));
+    const int8_t d = N_new > scaled_radial_index(n, size) ? 1 : -1;
+    // k machine steps spread evenly over (t_radial, t]: the j-th at t_radial + floor((t - t_radial) j / k)
+    size_t a = 0;
+    for (int64_t j = 1; j <= k; ++j) {
+      const uint64_t tj = t_radial + static_cast<uint64_t>((static_cast<u128>(t - t_radial) * static_cast<uint64_t>(j)) /
+                                                             static_cast<uint64_t>(k));
+      while (a < pending.size() && pending[a].t <= tj) emit(pending[a++]);
+      emit(PlayStep{tj, rec, 0, d});
+    }
+    while (a < pending.size()) emit(pending[a++]);
+    pending.clear();
+    n = n_new;
+    t_radial = t;
+  }
+  for (const PlayStep& s : pending) emit(s);
+  p.end[0] = N;
+  p.end[1] = M;
+
+  // work area: every node the machine stands on, within half a resolution of the area (the nearest-node tolerance)
+  const Grid& g = m.grid;
+  const std::string scale_note = " with size scale " + to_string(size) + " and angle offset " + std::to_string(sc.angle_offset);
+  const double r_lo = static_cast<double>(p.lo[0]) * g.dr, r_hi = static_cast<double>(p.hi[0]) * g.dr;
+  if (p.lo[0] < 0 || r_lo < g.r_min - 0.5 * g.dr)
+    throw InputError(tape + ": leaves the work area" + scale_note + ": r falls to " + num(r_lo * 1e3) + " mm (node " +
+                     std::to_string(p.lo[0]) + ") < r_min " + num(g.r_min * 1e3) + " mm of " + m.source);
+  if (g.r_max && r_hi > *g.r_max + 0.5 * g.dr)
+    throw InputError(tape + ": leaves the work area" + scale_note + ": r reaches " + num(r_hi * 1e3) + " mm (node " +
+                     std::to_string(p.hi[0]) + ") > r_max " + num(*g.r_max * 1e3) + " mm of " + m.source);
+  if (g.theta_min) {
+    const double th_lo = static_cast<double>(p.lo[1]) * g.dtheta, th_hi = static_cast<double>(p.hi[1]) * g.dtheta;
+    if (th_lo < *g.theta_min - 0.5 * g.dtheta)
+      throw InputError(tape + ": leaves the work area" + scale_note + ": theta falls to " + num(th_lo) + " rad (node " +
+                       std::to_string(p.lo[1]) + ") < theta_min " + num(*g.theta_min) + " rad of " + m.source);
+    if (th_hi > *g.theta_max + 0.5 * g.dtheta)
+      throw InputError(tape + ": leaves the work area" + scale_note + ": theta reaches " + num(th_hi) + " rad (node " +
+                       std::to_string(p.hi[1]) + ") > theta_max " + num(*g.theta_max) + " rad of " + m.source);
+  }
+  return p;
+}
+
+}  // namespace polarcam

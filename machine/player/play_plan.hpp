@@ -1,0 +1,47 @@
+#pragma once
+// The player's first stage: a verified tape turned into the machine's step sequence after size scaling and the
+// angular offset, with the work area checked before anything is sent (docs/player.md). Times stay in tape ticks
+// here; the speed scale is applied when the steps are given controller-tick times (machine/player/schedule.hpp).
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "digitizer/grid.hpp"
+#include "digitizer/tape.hpp"
+#include "machine/player/scaling.hpp"
+
+namespace polarcam {
+
+struct PlayStep {
+  uint64_t t = 0;           // tape ticks from the start of the tape (before the speed scale)
+  uint64_t record = 0;      // 1-based tape record this machine step comes from
+  uint8_t axis = 0;         // 0 radial, 1 angular
+  int8_t dir = 1;           // +1 / -1
+};
+
+struct PlayPlan {
+  std::string tape;                 // path as given
+  TapeHeader header;                // verified header of the tape
+  PlayScaling scaling;
+  int64_t start[2] = {0, 0};        // machine node before the first step
+  int64_t end[2] = {0, 0};          // machine node after the last step
+  int64_t lo[2] = {0, 0}, hi[2] = {0, 0};  // extreme machine nodes along the way
+  uint64_t steps_per_axis[2] = {0, 0};
+  std::vector<PlayStep> steps;      // machine steps in execution order
+  double tape_tick_s() const { return static_cast<double>(header.tick_ps) * 1e-12; }
+};
+
+// The machine a tape is played on: its grid and work area. Without one, the tape's own header is used.
+struct PlayMachine {
+  std::string source;  // for messages (a machine file, or "the tape's header")
+  Grid grid;
+};
+PlayMachine machine_from_header(const TapeHeader& h);
+
+// Reads and verifies the whole tape, checks that it was made for `machine`'s grid, applies the scaling and
+// checks every machine node against the work area. Throws InputError (naming the tape or the option) before
+// anything could be sent.
+PlayPlan plan_playback(const std::string& tape, const PlayScaling& scaling, const std::optional<PlayMachine>& machine);
+
+}  // namespace polarcam

@@ -1,0 +1,211 @@
+#include "metrics/deviation.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace polarcam {
+namespace {
+constexpr double kGolden = 0.6180339887498949;
+}  // namespace
+
+double FootTracker::wrap(double u) const {
+  if (!closed_) return std::clamp(u, u0_, u1_);
+  const double span = u1_ - u0_;
+  double v = std::fmod(u - u0_, span);
+  if (v < 0) v += span;
+  return u0_ + v;
+}
+
+double FootTracker::d2(double u, Vec2 p) const {
+  const Vec2 q = c_.eval(wrap(u), 0).p - p;
+  return dot(q, q);
+}
+
+FootTracker::FootTracker(const Curve& c, bool)
+    : c_(c), u0_(c.u_begin()), u1_(c.u_end()), closed_(c.closed()), breaks_(c.breakpoints()) {}
+
+bool FootTracker::corner_in(double lo, double hi) const {
+  if (closed_) {
+    const double span = u1_ - u0_;
+    if (hi - lo >= span) return true;
+    // the seam of a closed path may be a corner (a polygon starting at a vertex)
+    const double a = wrap(lo), b = a + (hi - lo);
+    if (b >= u1_) return true;
+    lo = a, hi = b;
+  }
+  const auto it = std::upper_bound(breaks_.begin(), breaks_.end(), lo);
+  return it != breaks_.end() && *it < hi;
+}
+
+bool FootTracker::track(Vec2 p, double guess, double reach, double& u_out) {
+  CurvePoint c = c_.eval(wrap(guess), 2);
+  const double speed = norm(c.d1);
+  if (!(speed > 0.0)) return false;
+  const double w = reach / speed, lo = guess - w, hi = guess + w;
+  if (!closed_ && (lo < u0_ || hi > u1_)) return false;  // near an end the nearest point may be the end itself
+  if (corner_in(lo, hi)) return false;
+  double u = guess;
+  for (int it = 0; it < 8; ++it) {
+    if (it > 0) c = c_.eval(wrap(u), 2);
+    const Vec2 q = c.p - p;
+    const double s2 = dot(c.d1, c.d1), g = dot(q, c.d1), dg = s2 + dot(q, c.d2);
+    if (!(dg > 0.0)) return false;
+    const double du = -g / dg, un = u + du;
+    if (!(un > lo && un < hi)) return false;
+    u = un;
+    if (std::abs(du) * std::sqrt(s2) <= 1e-9 * norm(q) + 1e-15) {
+      // the window's only minimum: the squared distance along the arc length has the second derivative
+      // 2 (1 - kappa d) > 0 throughout when |kappa| (d + reach) <= 1/2
+      const double kappa = std::abs(cross(c.d1, c.d2)) / (s2 * std::sqrt(s2));
+      const double d = norm(c_.eval(wrap(u), 0).p - p);
+      if (!(kappa * (d + reach) <= 0.5)) return false;
+      dist_ = d;
+      u_out = wrap(u);
+      return true;
+    }
+  }
+  return false;
+}
+
+double FootTracker::find(Vec2 p, double guess, double reach) {
+  if (tracking_ && !full_) {
+    double u;
+    if (track(p, guess, reach, u)) return u;
+  }
+  tracking_ = true;
+  const double span = u1_ - u0_;
+  double speed = norm(c_.eval(wrap(guess), 1).d1);
+  double w = speed > 0.0 ? reach / speed : span;
+  w = std::min(w, closed_ ? 0.5 * span : span);
+  constexpr int K = 12;
+  double lo = 0, hi = 0, best_u = guess, best = 0;
+  for (int attempt = 0; attempt < 64; ++attempt) {
+    lo = guess - w, hi = guess + w;
+    if (!closed_) lo = std::max(lo, u0_), hi = std::min(hi, u1_);
+    int b = 0;
+    for (int i = 0; i <= K; ++i) {
+      const double u = lo + (hi - lo) * i / K, d = d2(u, p);
+      if (i == 0 || d < best) best = d, b = i, best_u = u;
+    }
+    if (b == 0 && (closed_ || lo > u0_)) {
+      guess = lo;
+      continue;
+    }
+    if (b == K && (closed_ || hi < u1_)) {
+      guess = hi;
+      continue;
+    }
+    const double h = (hi - lo) / K;
+    lo = std::max(best_u - h, closed_ ? best_u - h : u0_);
+    hi = std::min(best_u + h, closed_ ? best_u + h : u1_);
+    break;
+  }
+  // Newton on the stationarity condition g(u) = (C(u) - p) . C'(u) = 0 from the best sample, kept inside the
+  // bracket; where it does not settle quickly (a corner of the path, a point on its medial axis), golden section
+  if (newton(p, lo, hi, best_u, best)) {
+    dist_ = std::sqrt(best);
+    return wrap(best_u);
+  }
+  double x1 = hi - kGolden * (hi - lo), x2 = lo + kGolden * (hi - lo), f1 = d2(x1, p), f2 = d2(x2, p);
+  for (int it = 0; it < 40; ++it) {
+    if (f1 < f2) {
+      hi = x2, x2 = x1, f2 = f1, x1 = hi - kGolden * (hi - lo), f1 = d2(x1, p);
+    } else {
+      lo = x1, x1 = x2, f1 = f2, x2 = lo + kGolden * (hi - lo), f2 = d2(x2, p);
+    }
+  }
+  const double u = f1 < f2 ? x1 : x2, d = std::min(f1, f2);
+  if (d < best) best_u = u, best = d;
+  dist_ = std::sqrt(best);
+  return wrap(best_u);
+}
+
+bool FootTracker::newton(Vec2 p, double lo, double hi, double& u_io, double& d2_io) const {
+  double u = u_io;
+  for (int it = 0; it < 8; ++it) {
+    const CurvePoint c = c_.eval(wrap(u), 2);
+    const Vec2 q = c.p - p;
+    const double g = dot(q, c.d1), dg = dot(c.d1, c.d1) + dot(q, c.d2);
+    if (!(dg > 0.0)) return false;  // not a minimum nearby
+    const double du = -g / dg, un = u + du;
+    if (!(un > lo && un < hi)) return false;
+    u = un;
+    // converged once the step is far below the parameter's resolution of the distance (its effect on the
+    // distance is second order in it)
+    if (std::abs(du) * std::sqrt(dot(c.d1, c.d1)) <= 1e-9 * std::sqrt(dot(q, q)) + 1e-15) {
+      const double dn = d2(u, p);
+      if (!(dn <= d2_io * (1.0 + 1e-12) + 1e-30)) return false;  // another, worse minimum: search instead
+      if (dn < d2_io) u_io = u, d2_io = dn;
+      return true;
+    }
+  }
+  return false;
+}
+
+DeviationMeter::DeviationMeter(const Curve& path)
+    : c_(path), ft_(path), breaks_(path.breakpoints()), span_(path.u_end() - path.u_begin()), closed_(path.closed()) {}
+
+void DeviationMeter::consider(double d, Vec2 p) {
+  if (d > max_) {
+    max_ = d;
+    at_ = p;
+  }
+}
+
+void DeviationMeter::start(Vec2 node, double reach) {
+  max_ = 0.0;
+  at_ = node;
+  refined_ = 0;
+  u_ = ft_.find(node, c_.u_begin(), reach);
+  d_node_ = ft_.distance();
+  consider(d_node_, node);
+}
+
+bool DeviationMeter::breaks_between(double ua, double ub) const {
+  if (ua > ub) std::swap(ua, ub);
+  if (closed_ && ub - ua > 0.5 * span_) return true;  // across the seam of a closed path (a corner, perhaps)
+  const auto it = std::upper_bound(breaks_.begin(), breaks_.end(), ua);
+  return it != breaks_.end() && *it < ub;
+}
+
+double DeviationMeter::piece(const StairPiece& p, double reach) {
+  const double u_a = u_, d_a = d_node_;
+  const Vec2 pm = p.at(0.5), pb = p.at(1.0);
+  const double u_m = ft_.find(pm, u_a, reach);
+  const double d_m = ft_.distance();
+  const double u_b = ft_.find(pb, u_m, reach);
+  const double d_b = ft_.distance();
+  consider(d_m, pm);
+  consider(d_b, pb);
+  u_ = u_b;
+  d_node_ = d_b;
+
+  const double len = p.length();
+  const double bound = std::max({d_a, d_m, d_b}) + 0.25 * len;  // distance is 1-Lipschitz along the piece
+  // the parabola through the three samples has its maximum inside the piece
+  const double curv = 2.0 * d_m - d_a - d_b;
+  const bool inside = curv > 0.0 && std::abs(d_b - d_a) < 2.0 * curv;
+  if (bound > max_ && (inside || breaks_between(u_a, u_m) || breaks_between(u_m, u_b))) {
+    // golden-section search for the largest distance on the piece (it is unimodal there: concave where it has a
+    // kink, smooth otherwise)
+    ++refined_;
+    double lo = 0.0, hi = 1.0, u = u_m;
+    auto dist = [&](double tau) {
+      u = ft_.find(p.at(tau), u, reach);
+      return ft_.distance();
+    };
+    double x1 = hi - kGolden * (hi - lo), x2 = lo + kGolden * (hi - lo), f1 = dist(x1), f2 = dist(x2);
+    for (int it = 0; it < 30; ++it) {
+      if (f1 > f2) {
+        hi = x2, x2 = x1, f2 = f1, x1 = hi - kGolden * (hi - lo), f1 = dist(x1);
+      } else {
+        lo = x1, x1 = x2, f1 = f2, x2 = lo + kGolden * (hi - lo), f2 = dist(x2);
+      }
+    }
+    const double tau = f1 > f2 ? x1 : x2;
+    consider(std::max(f1, f2), p.at(tau));
+  }
+  return u_m;
+}
+
+}  // namespace polarcam

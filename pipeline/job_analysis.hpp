@@ -1,0 +1,48 @@
+#pragma once
+// Job -> dynamics glue for `polarcam analyze`, `capacity`, `optimize` and `report`: builds the tool path and its
+// track once, checks the work area, and analyses the torques along it for a speed and a load with the verdict and
+// the fastest speed at which the job passes (machine/dynamics_case, the model optimize/ calls too).
+#include <optional>
+
+#include "job/job.hpp"
+#include "machine/dynamics/dynamics_case.hpp"
+
+namespace polarcam {
+
+// What does not change with speed or load.
+struct PreparedDynamics {
+  ToolPathPtr path;
+  PolarTrack track;
+  double theta_shift = 0.0;  // rad, from place_on_grid
+  int side = 1;              // tool centre left (+1) or right (-1) of the travel
+};
+
+// Throws InputError naming the job file: no dynamics in the machine, a path outside the work area, and so on.
+PreparedDynamics prepare_dynamics(const Job& job);
+
+// One analysis: the job's speed (or `speed`, for a job with a constant speed or a ramp) and a load.
+struct DynamicsCase {
+  std::optional<double> speed;  // m/s, replaces the job's speed
+  LoadSpec load;
+};
+
+struct CaseResult {
+  DynamicsCase spec;
+  std::optional<double> speed;  // m/s: the cruise speed (none for a speed table)
+  Load load;
+  TorqueAnalysis analysis;
+  Verdict verdict;
+  SpeedSearch search;  // the largest factor on the speed at which the job passes
+};
+
+// The motion of the job (a constant-speed or ramp job at `speed` when given; a speed table refuses it), the load
+// and the safety factor: what the dynamics need besides the path. Throws InputError naming the job file.
+MotionLaw motion_law(const Job& job, std::optional<double> speed = std::nullopt);
+DynamicsSetup dynamics_setup(const Job& job, const DynamicsCase& c);
+PlacedPath placed_path(const PreparedDynamics& prep);
+
+// Throws InputError (with the job file) for a bad override or a step rate outside a motor's pull-out curve.
+CaseResult analyze_case(const Job& job, const PreparedDynamics& prep, const DynamicsCase& c, const AnalysisOptions& opt,
+                        bool search_speed = true);
+
+}  // namespace polarcam

@@ -1,0 +1,109 @@
+#include "pipeline/job_study.hpp"
+
+#include "cam/error.hpp"
+#include "pipeline/job_placement.hpp"
+
+namespace polarcam {
+namespace {
+
+// Both a step sink for the error meters and a log of the steps (for the magnified staircase).
+class Tee final : public StepSink {
+ public:
+  Tee(ErrorMeters& m, std::vector<uint8_t>& log) : m_(m), log_(log) {}
+  void step(int axis, int dir, int64_t t) override {
+    m_.step(axis, dir, t);
+    log_.push_back(static_cast<uint8_t>(axis | (dir > 0 ? 2 : 0)));
+  }
+
+ private:
+  ErrorMeters& m_;
+  std::vector<uint8_t>& log_;
+};
+
+}  // namespace
+
+JobStudy study_job(const Job& job, const StudyOptions& o) {
+  JobStudy st;
+  const int threads = o.threads > 0 ? o.threads : default_threads();
+
+  // --- the tape: digitize once, with the error meters and a log of the steps
+  st.path = make_job_path(job);
+  try {
+    const PolarTrack track = PolarTrack::build(*st.path);
+    const SpeedProfilePtr prof = make_job_profile(job, track.length());
+    ErrorMeters meters;
+    meters.reset(*st.path, track, job.grid, job.optimize.segments);
+    Tee tee(meters, st.staircase.steps);
+    st.dig = digitize(track, job.grid, job.motion.rule, *prof, &tee);
+    st.staircase.n0 = st.dig.start_n;
+    st.staircase.m0 = st.dig.start_m;
+    st.err = meters.finish(st.dig.start_n, st.dig.start_m);
+  } catch (const InputError& e) {
+    throw InputError(job.file + ": " + e.what());
+  }
+
+  // --- the dynamics at the job's placement, its capacity
+  const PreparedDynamics prep = prepare_dynamics(job);
+  st.side = prep.side;
+  AnalysisOptions ao;
+  st.dyn = analyze_case(job, prep, DynamicsCase{std::nullopt, job.load}, ao, true);
+  st.cap = job_capacity(job, prep, std::nullopt,
+                        load_measure(job.load) == LoadMeasure::none ? 0 : o.curve_points);
+  st.limit = st.dyn.verdict.limit;
+
+  // --- the pole study: survey, balanced optimum, least area within the torque limit
+  PlacementOptions po = job.optimize;
+  po.objective = PoleObjective::area;
+  po.pareto = false;
+  po.torque_limit = false;
+  po.threads = threads;
+  if (o.max_evaluations > 0) po.max_evaluations = o.max_evaluations;
+  const PoleProblem prob = job_pole_problem(job, po, true);
+  try {
+    st.survey = survey_poles(prob, feasible_box(prob, search_box(prob), 41, threads), o.map_size, o.map_size, threads);
+    st.cands.push_back({"this job", job.placement, job_area(job, job.placement), st.dyn});
+    {
+      PoleProblem pb = prob;
+      pb.objective = PoleObjective::balanced;
+      PlacementOptions ob = po;
+      ob.objective = PoleObjective::balanced;
+      const PlacementResult r = optimize_placement(pb, job.placement, ob);
+      st.cands.push_back({"balanced torque", r.placement, job_area(job, r.placement), job_dynamics_at(job, r.placement)});
+    }
+    {
+      PoleProblem pl = prob;
+      pl.torque_limit = st.limit;
+      try {
+        const PlacementResult r = optimize_placement(pl, job.placement, po);
+        st.limited = r.placement;
+        st.cands.push_back({"least area error within the torque limit", r.placement, job_area(job, r.placement),
+                            job_dynamics_at(job, r.placement)});
+      } catch (const InputError& e) {
+        st.limited_note = e.what();
+      }
+    }
+  } catch (const InputError& e) {
+    const std::string w = e.what();
+    throw InputError(w.rfind(job.file, 0) == 0 ? w : job.file + ": " + w);
+  }
+  // the front: the survey's non-dominated poles and the candidates
+  std::vector<ParetoPoint> pts;
+  for (int iy = 0; iy < st.survey.ny; ++iy)
+    for (int ix = 0; ix < st.survey.nx; ++ix)
+      pts.push_back({st.survey.pole(ix, iy), {}, st.survey.cells[static_cast<size_t>(iy) * st.survey.nx + ix], "survey"});
+  std::vector<Vec2> cpoles;
+  for (const Candidate& c : st.cands) cpoles.push_back(c.placement.pole());
+  const std::vector<PoleValue> cvals = evaluate_poles(prob, cpoles, threads);
+  for (size_t i = 0; i < st.cands.size(); ++i) {
+    st.cpts.push_back({cpoles[i], st.cands[i].placement, cvals[i], st.cands[i].name});
+    pts.push_back(st.cpts.back());
+  }
+  st.front = non_dominated(pts);
+
+  Job at0 = job;
+  at0.placement = Placement{0.0, 0.0};
+  st.contour = segment_points(*make_job_path(at0), 1500);
+  return st;
+}
+
+}  // namespace polarcam

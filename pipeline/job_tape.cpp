@@ -1,0 +1,60 @@
+#include "pipeline/job_tape.hpp"
+
+#include <cmath>
+
+#include "cam/error.hpp"
+
+#ifndef POLARCAM_VERSION
+#define POLARCAM_VERSION "0.0.0"
+#endif
+
+namespace polarcam {
+
+TapeHeader tape_header_for(const Job& job) {
+  TapeHeader h;
+  h.axes = TapeAxes::polar;
+  h.rule = job.motion.rule == StepRule::nearest ? TapeRule::nearest : TapeRule::thesis;
+  h.res[0] = job.grid.dr;
+  h.res[1] = job.grid.dtheta;
+  h.steps_per_rev = job.grid.steps_per_rev;
+  h.r_min = job.grid.r_min;
+  h.has_r_max = job.grid.r_max.has_value();
+  h.r_max = job.grid.r_max.value_or(0.0);
+  h.has_theta_range = job.grid.theta_min.has_value();
+  h.theta_min = job.grid.theta_min.value_or(0.0);
+  h.theta_max = job.grid.theta_max.value_or(0.0);
+  h.home[0] = job.grid.home_n();
+  h.home[1] = job.grid.home_m();
+  h.speed_mps = job.motion.table.empty() ? job.motion.speed : job.motion.table.front().v;
+  nlohmann::ordered_json p;
+  p["generator"] = std::string("polarcam ") + POLARCAM_VERSION;
+  p["job"] = job.provenance;
+  h.provenance = p.dump();
+  return h;
+}
+
+void complete_header(TapeHeader& h, const DigitizeResult& r) {
+  h.start[0] = r.start_n;
+  h.start[1] = r.start_m;
+  h.end[0] = r.end_n;
+  h.end[1] = r.end_m;
+  h.duration_ticks = static_cast<uint64_t>(r.duration_ns);
+  h.closed = r.closed;
+  h.returns_to_start = r.returns_to_start;
+  h.path_length_m = r.path_length_m;
+}
+
+DigitizedJob digitize_job(const Job& job, StepSink* sink) {
+  DigitizedJob d;
+  d.path = make_job_path(job);
+  try {
+    d.track = PolarTrack::build(*d.path);
+    d.profile = make_job_profile(job, d.track.length());
+    d.result = digitize(d.track, job.grid, job.motion.rule, *d.profile, sink);
+  } catch (const InputError& e) {
+    throw InputError(job.file + ": " + e.what());
+  }
+  return d;
+}
+
+}  // namespace polarcam

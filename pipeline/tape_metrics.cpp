@@ -1,0 +1,73 @@
+#include "pipeline/tape_metrics.hpp"
+
+#include "pipeline/job_cartesian.hpp"
+#include "cam/error.hpp"
+#include "digitizer/tape.hpp"
+#include "machine/cartesian/cartesian_track.hpp"
+
+namespace polarcam {
+
+PolarTapeMetrics polar_tape_metrics(const Job& job, const std::string& tape, int segments) {
+  const ToolPathPtr path = make_job_path(job);
+  PolarTrack track;
+  try {
+    track = PolarTrack::build(*path);
+  } catch (const InputError& e) {
+    throw InputError(job.file + ": " + e.what());
+  }
+  TapeReader rd(tape);
+  const TapeHeader& h = rd.header();
+  if (h.axes != TapeAxes::polar) throw InputError(tape + ": a Cartesian tape, not a polar one");
+  PolarTapeMetrics out;
+  out.rule = h.rule;
+  Grid& g = out.grid;
+  g.dr = h.res[0];
+  g.dtheta = h.res[1];
+  g.steps_per_rev = h.steps_per_rev;
+  try {
+    g.validate();
+  } catch (const InputError& e) {
+    throw InputError(tape + ": " + e.what());
+  }
+  ErrorMeters em;
+  em.reset(*path, track, g, segments > 0 ? segments : job.optimize.segments);
+  StepRecord r;
+  while (rd.next(r)) em.record(r.axis, r.dir);  // the reader checks totals and checksums at the end
+  try {
+    out.m = em.finish(h.start[0], h.start[1]);
+  } catch (const InputError& e) {
+    throw InputError(tape + " against " + job.file + ": " + e.what());
+  }
+  return out;
+}
+
+CartesianTapeMetrics cartesian_tape_metrics(const Job& job, const std::string& tape) {
+  const ToolPathPtr path = make_cartesian_job_path(job);
+  CartesianTrack track;
+  try {
+    track = CartesianTrack::build(*path);
+  } catch (const InputError& e) {
+    throw InputError(job.file + ": " + e.what());
+  }
+  TapeReader rd(tape);
+  const TapeHeader& h = rd.header();
+  if (h.axes != TapeAxes::cartesian) throw InputError(tape + ": a polar tape, not a Cartesian one");
+  if (!(h.res[0] > 0.0) || h.res[0] != h.res[1])
+    throw InputError(tape + ": the x and y resolutions must be equal and above zero (the header has " +
+                     std::to_string(h.res[0]) + " and " + std::to_string(h.res[1]) + " m)");
+  CartesianTapeMetrics out;
+  out.rule = h.rule;
+  out.blu = h.res[0];
+  CartesianErrorMeters em;
+  em.reset(*path, track, out.blu);
+  StepRecord r;
+  while (rd.next(r)) em.record(r.axis, r.dir);
+  try {
+    out.m = em.finish(h.start[0], h.start[1]);
+  } catch (const InputError& e) {
+    throw InputError(tape + " against " + job.file + ": " + e.what());
+  }
+  return out;
+}
+
+}  // namespace polarcam

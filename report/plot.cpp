@@ -1,0 +1,245 @@
+#include "report/plot.hpp"
+
+#include <plplot/plstream.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <mutex>
+
+#include "io/output.hpp"
+#include "cam/error.hpp"
+
+namespace polarcam::plot {
+
+Color palette(int i) {
+  static const Color c[] = {{0, 114, 178}, {213, 94, 0}, {0, 158, 115}, {204, 121, 167},
+                            {230, 159, 0}, {86, 180, 233}, {0, 0, 0},   {240, 228, 66}};
+  return c[((i % 8) + 8) % 8];
+}
+
+namespace {
+
+std::mutex& plplot_mutex() {
+  static std::mutex m;
+  return m;
+}
+
+struct Extent {
+  double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0;
+  void add(double x, double y) {
+    if (!std::isfinite(x) || !std::isfinite(y)) return;
+    x0 = std::min(x0, x);
+    x1 = std::max(x1, x);
+    y0 = std::min(y0, y);
+    y1 = std::max(y1, y);
+  }
+};
+
+// cmap0 indices: 0 background (white), 1 foreground (black), 2 grey, 3.. the series colour being drawn
+void draw_panel(plstream& pls, const Panel& p) {
+  Extent e;
+  if (p.map) {
+    e.add(p.map->x0, p.map->y0);
+    e.add(p.map->x1, p.map->y1);
+  }
+  for (const auto& s : p.series)
+    for (size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) e.add(s.x[i], s.y[i]);
+  for (double h : p.hlines) e.add(std::isfinite(e.x0) ? e.x0 : 0.0, h);
+  if (!std::isfinite(e.x0)) e = Extent{0, 1, 0, 1};
+  double dx = e.x1 - e.x0, dy = e.y1 - e.y0;
+  if (!(dx > 0)) dx = std::max(1e-9, std::abs(e.x0) * 0.1 + 1e-9);
+  if (!(dy > 0)) dy = std::max(1e-9, std::abs(e.y0) * 0.1 + 1e-9);
+  double m = p.map ? 0.0 : 0.04;
+  double xmin = p.xmin.value_or(e.x0 - m * dx), xmax = p.xmax.value_or(e.x1 + m * dx);
+  double ymin = p.ymin.value_or(e.y0 - m * dy), ymax = p.ymax.value_or(e.y1 + m * dy);
+  if (xmax <= xmin) xmax = xmin + 1;
+  if (ymax <= ymin) ymax = ymin + 1;
+
+  pls.col0(1);
+  pls.adv(0);
+  pls.vsta();
+  if (p.equal_aspect)
+    pls.wind(xmin, xmax, ymin, ymax), pls.vpas(0.15, 0.95, 0.12, 0.9, (ymax - ymin) / (xmax - xmin));
+  pls.wind(xmin, xmax, ymin, ymax);
+
+  std::string band_note;  // the colour scale, said in the title (dark = low, light = high)
+  if (p.map && p.map->nx >= 2 && p.map->ny >= 2) {
+    const Map& mp = *p.map;
+    std::vector<double> col(static_cast<size_t>(mp.nx) * mp.ny);
+    std::vector<const PLFLT*> rows(static_cast<size_t>(mp.nx));
+    double zmin = std::numeric_limits<double>::infinity(), zmax = -zmin;
+    auto tr = [&](double v) { return mp.log_scale ? (v > 0 ? std::log10(v) : std::numeric_limits<double>::quiet_NaN()) : v; };
+    for (int iy = 0; iy < mp.ny; ++iy)
+      for (int ix = 0; ix < mp.nx; ++ix) {
+        double v = tr(mp.z[static_cast<size_t>(iy) * mp.nx + ix]);
+        col[static_cast<size_t>(ix) * mp.ny + iy] = v;  // PLplot wants a[ix][iy]
+        if (std::isfinite(v)) {
+          zmin = std::min(zmin, v);
+          zmax = std::max(zmax, v);
+        }
+      }
+    if (std::isfinite(zmin)) {
+      if (zmax <= zmin) zmax = zmin + 1e-12;
+      // undefined cells get a value above every band so they stay blank
+      for (auto& v : col)
+        if (!std::isfinite(v)) v = zmax + 10 * (zmax - zmin);
+      for (int ix = 0; ix < mp.nx; ++ix) rows[static_cast<size_t>(ix)] = col.data() + static_cast<size_t>(ix) * mp.ny;
+      int nl = std::max(2, mp.levels + 1);
+      std::vector<PLFLT> lev(static_cast<size_t>(nl));
+      for (int i = 0; i < nl; ++i) lev[static_cast<size_t>(i)] = zmin + (zmax - zmin) * i / (nl - 1);
+      pls.scmap1n(256);
+      PLFLT pos[] = {0.0, 0.5, 1.0}, r[] = {0.27, 0.13, 0.99}, g[] = {0.0, 0.57, 0.91}, b[] = {0.33, 0.55, 0.14};
+      pls.scmap1l(true, 3, pos, r, g, b, nullptr);  // viridis-like: purple, teal, yellow
+      pls.shades(rows.data(), mp.nx, mp.ny, nullptr, mp.x0, mp.x1, mp.y0, mp.y1, lev.data(), nl, 1.0, 0, 0.0,
+                 plcallback::fill, true, nullptr, nullptr);
+      // contour lines over the bands
+      std::vector<PLFLT> xg(static_cast<size_t>(mp.nx)), yg(static_cast<size_t>(mp.ny));
+      for (int i = 0; i < mp.nx; ++i) xg[static_cast<size_t>(i)] = mp.x0 + (mp.x1 - mp.x0) * i / (mp.nx - 1);
+      for (int i = 0; i < mp.ny; ++i) yg[static_cast<size_t>(i)] = mp.y0 + (mp.y1 - mp.y0) * i / (mp.ny - 1);
+      PLcGrid cg{xg.data(), yg.data(), nullptr, mp.nx, mp.ny, 0};
+      char note[160];
+      auto shown = [&](double v) { return mp.log_scale ? std::pow(10.0, v) : v; };
+      std::snprintf(note, sizeof note, "(dark %.4g to light %.4g%s%s%s)", shown(zmin), shown(zmax),
+                    mp.colorbar_label.empty() ? "" : " ", mp.colorbar_label.c_str(), mp.log_scale ? ", log bands" : "");
+      band_note = note;
+      pls.col0(2);
+      pls.width(0.6);
+      pls.cont(rows.data(), mp.nx, mp.ny, 1, mp.nx, 1, mp.ny, lev.data(), nl, plcallback::tr1, &cg);
+    }
+  }
+
+  for (const Isoline& iso : p.isolines) {
+    const Map& f = iso.field;
+    if (f.nx < 2 || f.ny < 2 || f.z.size() != static_cast<size_t>(f.nx) * f.ny) continue;
+    std::vector<double> col(static_cast<size_t>(f.nx) * f.ny);
+    std::vector<const PLFLT*> rows(static_cast<size_t>(f.nx));
+    bool any_below = false, any_above = false;
+    for (int iy = 0; iy < f.ny; ++iy)
+      for (int ix = 0; ix < f.nx; ++ix) {
+        const double v = f.z[static_cast<size_t>(iy) * f.nx + ix];
+        // undefined cells lie beyond the line (so that it closes around the defined part)
+        const double w = std::isfinite(v) ? v : iso.level + 1e30;
+        col[static_cast<size_t>(ix) * f.ny + iy] = w;
+        (w < iso.level ? any_below : any_above) = true;
+      }
+    if (!any_below || !any_above) continue;
+    for (int ix = 0; ix < f.nx; ++ix) rows[static_cast<size_t>(ix)] = col.data() + static_cast<size_t>(ix) * f.ny;
+    std::vector<PLFLT> xg(static_cast<size_t>(f.nx)), yg(static_cast<size_t>(f.ny));
+    for (int i = 0; i < f.nx; ++i) xg[static_cast<size_t>(i)] = f.x0 + (f.x1 - f.x0) * i / (f.nx - 1);
+    for (int i = 0; i < f.ny; ++i) yg[static_cast<size_t>(i)] = f.y0 + (f.y1 - f.y0) * i / (f.ny - 1);
+    PLcGrid cg{xg.data(), yg.data(), nullptr, f.nx, f.ny, 0};
+    PLFLT lev[1] = {iso.level};
+    pls.scol0(15, iso.color.r, iso.color.g, iso.color.b);
+    pls.col0(15);
+    pls.width(iso.width);
+    pls.cont(rows.data(), f.nx, f.ny, 1, f.nx, 1, f.ny, lev, 1, plcallback::tr1, &cg);
+  }
+
+  pls.col0(1);
+  pls.width(1.0);
+  pls.syax(6, 0);  // enough digits for the tick labels of a narrow range far from zero (-1.0725)
+  pls.box("bcnst", 0.0, 0, "bcnstv", 0.0, 0);
+  std::string title = p.title;
+  if (!band_note.empty()) title += "  " + band_note;
+  pls.lab(p.xlabel.c_str(), "", title.c_str());
+  // clear of tick labels up to seven characters long; an equal-aspect panel (maps, contours: short tick labels)
+  // may have little room left of its viewport, so its label sits closer
+  pls.mtex("l", p.equal_aspect ? 5.0 : 7.0, 0.5, 0.5, p.ylabel.c_str());
+  for (double h : p.hlines) {
+    PLFLT x[2] = {xmin, xmax}, y[2] = {h, h};
+    pls.col0(2);
+    pls.lsty(2);
+    pls.line(2, x, y);
+    pls.lsty(1);
+  }
+  std::vector<std::string> texts;
+  std::vector<PLINT> opts, lcol, lsty, scol, snum;
+  std::vector<PLFLT> lw, sscale;
+  std::vector<std::string> syms;
+  int color_index = 3;
+  for (const auto& s : p.series) {
+    size_t n = std::min(s.x.size(), s.y.size());
+    pls.scol0(color_index, s.color.r, s.color.g, s.color.b);
+    pls.col0(color_index);
+    if (s.width > 0 && n >= 2) {
+      pls.width(s.width);
+      pls.lsty(s.dashed ? 2 : 1);
+      pls.line(static_cast<PLINT>(n), s.x.data(), s.y.data());
+      pls.lsty(1);
+    }
+    if (s.marker != 0 && n > 0) {
+      pls.ssym(0.0, s.marker_scale);
+      pls.poin(static_cast<PLINT>(n), s.x.data(), s.y.data(), s.marker);
+    }
+    if (!s.label.empty()) {
+      texts.push_back(s.label);
+      opts.push_back((s.width > 0 ? PL_LEGEND_LINE : 0) | (s.marker != 0 ? PL_LEGEND_SYMBOL : 0));
+      lcol.push_back(color_index);
+      lsty.push_back(s.dashed ? 2 : 1);
+      lw.push_back(s.width);
+      scol.push_back(color_index);
+      sscale.push_back(s.marker_scale);
+      snum.push_back(1);
+      syms.push_back(s.marker == 4 ? "o" : (s.marker == 2 ? "+" : (s.marker == 5 ? "x" : "*")));
+    }
+    // PLplot legends refer to cmap0 indices; keep each series' colour in its own index (up to 15)
+    color_index = std::min(color_index + 1, 15);
+  }
+  if (!texts.empty()) {
+    std::vector<const char*> tp, sp;
+    for (auto& t : texts) tp.push_back(t.c_str());
+    for (auto& s : syms) sp.push_back(s.c_str());
+    std::vector<PLINT> tcol(texts.size(), 1);
+    PLFLT lwid, lhei;
+    PLINT pos = PL_POSITION_INSIDE;
+    switch (p.legend) {
+      case Panel::Legend::top_right: pos |= PL_POSITION_TOP | PL_POSITION_RIGHT; break;
+      case Panel::Legend::top_left: pos |= PL_POSITION_TOP | PL_POSITION_LEFT; break;
+      case Panel::Legend::bottom_right: pos |= PL_POSITION_BOTTOM | PL_POSITION_RIGHT; break;
+      case Panel::Legend::bottom_left: pos |= PL_POSITION_BOTTOM | PL_POSITION_LEFT; break;
+    }
+    pls.legend(&lwid, &lhei, PL_LEGEND_BACKGROUND | PL_LEGEND_BOUNDING_BOX, pos, 0.02, 0.02, 0.08, 0, 1, 1, 0, 0, static_cast<PLINT>(texts.size()), opts.data(),
+               1.0, 0.8, 2.0, 0.0, tcol.data(), tp.data(), nullptr, nullptr, nullptr, nullptr, lcol.data(),
+               lsty.data(), lw.data(), scol.data(), sscale.data(), snum.data(), sp.data());
+  }
+  pls.width(1.0);
+}
+
+}  // namespace
+
+std::string render(const Figure& f, const std::string& format) {
+  if (format != "png" && format != "svg") throw InputError("plots are written as .png or .svg, not ." + format);
+  std::lock_guard<std::mutex> lock(plplot_mutex());
+  std::string tmp = "/tmp/polarcam-plot-" + std::to_string(::getpid()) + "." + format;
+  {
+    plstream pls;
+    pls.sdev(format == "png" ? "pngcairo" : "svgcairo");
+    pls.sfnam(tmp.c_str());
+    pls.spage(0, 0, f.width, f.height, 0, 0);
+    pls.scol0(0, 255, 255, 255);
+    pls.scol0(1, 0, 0, 0);
+    pls.scol0(2, 140, 140, 140);
+    pls.ssub(std::max(1, f.cols), std::max(1, f.rows));
+    pls.init();
+    pls.schr(0.0, 0.85);
+    for (const auto& p : f.panels) draw_panel(pls, p);
+  }  // the stream's destructor finishes the file
+  std::ifstream in(tmp, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), {});
+  std::remove(tmp.c_str());
+  if (bytes.empty()) throw InputError("the plot could not be rendered");
+  return bytes;
+}
+
+void save(const Figure& f, const std::string& path) {
+  auto dot = path.rfind('.');
+  std::string ext = dot == std::string::npos ? "" : path.substr(dot + 1);
+  cli::write_file_atomic(path, render(f, ext));
+}
+
+}  // namespace polarcam::plot
