@@ -45,7 +45,7 @@ int run(const Opts& o) {
   const auto depths = quantities(o.depths, dim::length, "--depth");
   if (!masses.empty() && !depths.empty()) throw InputError("give --mass or --depth, not both");
   if (!depths.empty() && job.load.kind != LoadKind::grinding)
-    throw InputError(job.file + ": --depth needs a job whose [load] is kind = \"grinding\"");
+    throw InputError("--depth needs a job whose [load] is kind = \"grinding\"", job.file);
 
   AnalysisOptions opt;
   if (!o.spacing.empty()) {

@@ -36,12 +36,12 @@ int run(const Opts& o) {
   }
   if (!o.plot.empty()) {
     const std::string ext = std::filesystem::path(o.plot).extension().string();
-    if (ext != ".png" && ext != ".svg") throw InputError(o.plot + ": the plot must be a .png or .svg file");
+    if (ext != ".png" && ext != ".svg") throw InputError("the plot must be a .png or .svg file", o.plot);
   }
   int points = o.curve;
   if (points == 0 && (!o.csv.empty() || !o.plot.empty())) points = 12;
   if (points > 0 && load_measure(job.load) == LoadMeasure::none)
-    throw InputError(job.file + ": a capacity curve needs a [load] (inertial, grinding or force)");
+    throw InputError("a capacity curve needs a [load] (inertial, grinding or force)", job.file);
   const PreparedDynamics prep = prepare_dynamics(job);
   const JobCapacity c = job_capacity(job, prep, at_speed, points);
   std::string csv;

@@ -94,7 +94,7 @@ void register_controller_sim(CLI::App& app, Action& action) {
       const int master = ::posix_openpt(O_RDWR | O_NOCTTY);
       if (master < 0 || ::grantpt(master) != 0 || ::unlockpt(master) != 0) {
         std::fclose(log);
-        throw InputError(std::string("cannot create a pseudo-terminal (") + std::strerror(errno) + ")");
+        throw DeviceError(std::string("cannot create a pseudo-terminal (") + std::strerror(errno) + ")");
       }
       const std::string path = ::ptsname(master);
       termios tio{};

@@ -51,7 +51,7 @@ int fit(const FitOpts& o) {
     MachineModel m = load_machine_dynamics(o.machine);
     const StepperMotor& sm = o.axis == "radial" ? m.radial : m.angular;
     if (!sm.electrical())
-      throw InputError(o.machine + ": the " + o.axis + " motor is a pull-out curve, not an electrical model");
+      throw InputError("the " + o.axis + " motor is a pull-out curve, not an electrical model", o.machine);
     known = std::get<ElectricalMotor>(sm.model);
   }
   if (!o.voltage.empty()) known.supply_voltage = quantity(o.voltage, dim::voltage, "--supply-voltage");
@@ -80,7 +80,7 @@ int fit(const FitOpts& o) {
   try {
     r = fit_electrical_motor(pts, known, fo);
   } catch (const InputError& e) {
-    throw InputError(o.points + ": " + e.what());
+    throw e.in_file(o.points);
   }
   const ElectricalMotor& m = r.motor;
   double fmax = 0.0;

@@ -68,7 +68,7 @@ int run_pareto(const Job& job, PlacementOptions opt, const Opts& o) {
   try {
     r = pareto_front(problem, job.placement, opt, po);
   } catch (const InputError& e) {
-    throw InputError(job.file + ": " + e.what());
+    throw e.in_file(job.file);
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double limit = 1.0 / job.safety_factor;
@@ -167,7 +167,7 @@ int run(const Opts& o) {
   try {
     r = optimize_placement(problem, job.placement, opt);
   } catch (const InputError& e) {
-    throw InputError(job.file + ": " + e.what());
+    throw e.in_file(job.file);
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double area = job_area(job, r.placement);

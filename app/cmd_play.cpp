@@ -230,7 +230,7 @@ void register_play(CLI::App& app, Action& action) {
       std::cout.flush();
       if (!error.empty()) {
         std::fprintf(stderr, "polarcam: error: %s\n", error.c_str());
-        return 1;
+        return exit_status(ErrorKind::device);
       }
       return 0;
     };

@@ -20,7 +20,7 @@ struct Opts {
 
 int run(const Opts& o) {
   const std::string ext = std::filesystem::path(o.output).extension().string();
-  if (ext != ".html" && ext != ".htm") throw InputError(o.output + ": the report is an .html file");
+  if (ext != ".html" && ext != ".htm") throw InputError("the report is an .html file", o.output);
   Job job = load_job(o.job);
   if (o.safety_factor != 0.0) {
     if (!(o.safety_factor >= 1.0)) throw InputError("--safety-factor must be at least 1");

@@ -43,13 +43,13 @@ int main(int argc, char** argv) {
   }
   try {
     return action ? action() : 2;
-  } catch (const InputError& e) {
+  } catch (const Error& e) {  // the one place where an error becomes an exit status
     std::cout.flush();
     std::fprintf(stderr, "polarcam: error: %s\n", e.what());
-    return 2;
+    return exit_status(e.kind());
   } catch (const std::exception& e) {
     std::cout.flush();
     std::fprintf(stderr, "polarcam: internal error: %s\n", e.what());
-    return 3;
+    return exit_status(ErrorKind::internal);
   }
 }

@@ -126,21 +126,21 @@ PathSegment reversed(PathSegment s) {
 DxfPath read_dxf_path(const std::string& path, const DxfOptions& opt) {
   {
     std::ifstream probe(path);
-    if (!probe) throw InputError(path + ": cannot open the DXF file");
+    if (!probe) throw InputError("cannot open the DXF file", path);
   }
   Collector col(opt);
   DL_Dxf dxf;
-  if (!dxf.in(path, &col)) throw InputError(path + ": not a readable DXF file");
+  if (!dxf.in(path, &col)) throw InputError("not a readable DXF file", path);
   col.flush_polyline();
   if (!col.refused.empty()) {
     std::string kinds;
     for (const auto& [k, n] : col.refused) kinds += (kinds.empty() ? "" : ", ") + std::to_string(n) + " " + k;
-    throw InputError(path + ": unsupported entities (" + kinds +
-                     "); polarcam reads LINE, ARC, CIRCLE and POLYLINE/LWPOLYLINE: convert curves to polylines");
+    throw InputError("unsupported entities (" + kinds +
+                     "); polarcam reads LINE, ARC, CIRCLE and POLYLINE/LWPOLYLINE: convert curves to polylines", path);
   }
   std::vector<PathSegment>& all = col.segs;
   if (all.empty())
-    throw InputError(path + ": no LINE, ARC, CIRCLE or POLYLINE entities" + (opt.layer ? " on layer '" + *opt.layer + "'" : ""));
+    throw InputError("no LINE, ARC, CIRCLE or POLYLINE entities" + (opt.layer ? " on layer '" + *opt.layer + "'" : ""), path);
 
   // chain the pieces end to end, in any order and direction
   const double tol = opt.join_tolerance * opt.unit_m;
@@ -172,9 +172,9 @@ DxfPath read_dxf_path(const std::string& path, const DxfOptions& opt) {
     }
   }
   if (n_used != all.size())
-    throw InputError(path + ": the drawing holds " + std::to_string(all.size() - n_used) +
+    throw InputError("the drawing holds " + std::to_string(all.size() - n_used) +
                      " entities that do not join the first chain of " + std::to_string(n_used) +
-                     "; give 'layer' to pick one contour, or close the gaps");
+                     "; give 'layer' to pick one contour, or close the gaps", path);
   for (size_t i = 1; i < chain.size(); ++i) chain[i].from = chain[i - 1].to;  // snap joints within tolerance
   DxfPath out;
   out.closed = norm(chain.back().to - chain.front().from) <= tol;

@@ -39,7 +39,7 @@ bool parse_numbers(const std::string& line, std::vector<double>& out) {
 template <class F>
 std::vector<Vec2> read_pairs(const std::string& path, const char* kind, F convert) {
   std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open the " + std::string(kind) + " file");
+  if (!in) throw InputError("cannot open the " + std::string(kind) + " file", path);
   std::vector<Vec2> pts;
   std::vector<double> nums;
   std::string line;
@@ -56,16 +56,16 @@ std::vector<Vec2> read_pairs(const std::string& path, const char* kind, F conver
         header_allowed = false;
         continue;
       }
-      throw InputError(path + ":" + std::to_string(lineno) + ": expected two numbers, got '" + line + "'");
+      throw InputError("expected two numbers, got '" + line + "'", path + ":" + std::to_string(lineno));
     }
     header_allowed = false;
     if (nums.size() != 2)
-      throw InputError(path + ":" + std::to_string(lineno) + ": expected two numbers, got " + std::to_string(nums.size()));
+      throw InputError("expected two numbers, got " + std::to_string(nums.size()), path + ":" + std::to_string(lineno));
     if (!std::isfinite(nums[0]) || !std::isfinite(nums[1]))
-      throw InputError(path + ":" + std::to_string(lineno) + ": not a finite number");
+      throw InputError("not a finite number", path + ":" + std::to_string(lineno));
     pts.push_back(convert(nums[0], nums[1]));
   }
-  if (pts.empty()) throw InputError(path + ": no points in the file");
+  if (pts.empty()) throw InputError("no points in the file", path);
   return pts;
 }
 

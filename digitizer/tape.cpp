@@ -129,17 +129,17 @@ std::vector<uint8_t> encode_header(const TapeHeader& h) {
 // ------------------------------------------------------------------------------------------------ writer
 
 TapeWriter::TapeWriter(const std::string& path, const TapeHeader& h) : path_(path) {
-  if (h.provenance.size() > kMaxProvenance) throw InputError(path + ": the provenance block is too large");
+  if (h.provenance.size() > kMaxProvenance) throw InputError("the provenance block is too large", path);
   tmp_ = path + ".partial-" + std::to_string(::getpid());
   f_ = std::fopen(tmp_.c_str(), "wb");
-  if (!f_) throw InputError(path + ": cannot create the file (" + std::strerror(errno) + ")");
+  if (!f_) throw DeviceError(std::string("cannot create the file (") + std::strerror(errno) + ")", path);
   header_size_ = kTapeFixedHeader + h.provenance.size();
   std::vector<uint8_t> zeros(header_size_, 0);
   if (std::fwrite(zeros.data(), 1, zeros.size(), f_) != zeros.size()) {
     std::fclose(f_);
     f_ = nullptr;
     std::remove(tmp_.c_str());
-    throw InputError(path + ": cannot write (" + std::strerror(errno) + ")");
+    throw DeviceError(std::string("cannot write (") + std::strerror(errno) + ")", path);
   }
   buf_.reserve(kBuf + 16);
   crc_ = static_cast<uint32_t>(crc32(0L, Z_NULL, 0));
@@ -177,7 +177,7 @@ void TapeWriter::flush() {
   if (buf_.empty()) return;
   crc_ = static_cast<uint32_t>(crc32(crc_, buf_.data(), static_cast<uInt>(buf_.size())));
   if (std::fwrite(buf_.data(), 1, buf_.size(), f_) != buf_.size())
-    throw InputError(path_ + ": cannot write (" + std::strerror(errno) + ")");
+    throw DeviceError(std::string("cannot write (") + std::strerror(errno) + ")", path_);
   bytes_ += buf_.size();
   buf_.clear();
 }
@@ -199,12 +199,12 @@ void TapeWriter::finish(TapeHeader h) {
   if (hb.size() != header_size_) throw std::logic_error("internal error: the provenance changed while writing");
   if (std::fseek(f_, 0, SEEK_SET) != 0 || std::fwrite(hb.data(), 1, hb.size(), f_) != hb.size() ||
       std::fflush(f_) != 0)
-    throw InputError(path_ + ": cannot write (" + std::strerror(errno) + ")");
+    throw DeviceError(std::string("cannot write (") + std::strerror(errno) + ")", path_);
   int rc = std::fclose(f_);
   f_ = nullptr;
-  if (rc != 0) throw InputError(path_ + ": cannot write (" + std::strerror(errno) + ")");
+  if (rc != 0) throw DeviceError(std::string("cannot write (") + std::strerror(errno) + ")", path_);
   if (std::rename(tmp_.c_str(), path_.c_str()) != 0)
-    throw InputError(path_ + ": cannot move the finished tape into place (" + std::strerror(errno) + ")");
+    throw DeviceError(std::string("cannot move the finished tape into place (") + std::strerror(errno) + ")", path_);
   done_ = true;
 }
 
@@ -212,7 +212,7 @@ void TapeWriter::finish(TapeHeader h) {
 
 TapeReader::TapeReader(const std::string& path) : path_(path) {
   f_ = std::fopen(path.c_str(), "rb");
-  if (!f_) throw InputError(path + ": cannot open the tape (" + std::strerror(errno) + ")");
+  if (!f_) throw InputError(std::string("cannot open the tape (") + std::strerror(errno) + ")", path);
   std::vector<uint8_t> fixed(kTapeFixedHeader);
   size_t got = std::fread(fixed.data(), 1, fixed.size(), f_);
   if (got < 16 || std::memcmp(fixed.data(), kMagic, 8) != 0) fail("not a polarcam tape (bad magic)");
@@ -283,7 +283,7 @@ TapeReader::~TapeReader() {
   if (f_) std::fclose(f_);
 }
 
-void TapeReader::fail(const std::string& what) const { throw InputError(path_ + ": " + what); }
+void TapeReader::fail(const std::string& what) const { throw InputError(what, path_); }
 
 bool TapeReader::fill() {
   len_ = std::fread(buf_.data(), 1, buf_.size(), f_);

@@ -15,13 +15,13 @@ namespace polarcam::cli {
 void write_file_atomic(const std::string& path, const std::string& content) {
   std::string tmp = path + ".partial-" + std::to_string(::getpid());
   std::FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (!f) throw InputError(path + ": cannot create the file (" + std::strerror(errno) + ")");
+  if (!f) throw DeviceError(std::string("cannot create the file (") + std::strerror(errno) + ")", path);
   bool ok = std::fwrite(content.data(), 1, content.size(), f) == content.size();
   ok = (std::fclose(f) == 0) && ok;
   if (!ok || std::rename(tmp.c_str(), path.c_str()) != 0) {
     int e = errno;
     std::remove(tmp.c_str());
-    throw InputError(path + ": cannot write the file (" + std::strerror(e) + ")");
+    throw DeviceError(std::string("cannot write the file (") + std::strerror(e) + ")", path);
   }
 }
 

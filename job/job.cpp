@@ -105,7 +105,7 @@ Job load_job(const std::string& path) {
 
   // [machine], optionally over a machine file
   const toml::node* jm = root.get("machine");
-  if (jm && !jm->is_table()) throw InputError(path + ": 'machine' must be a table");
+  if (jm && !jm->is_table()) throw InputError("'machine' must be a table", path);
   Section job_machine(jm ? jm->as_table() : nullptr, path, "machine");
   top.node("machine");  // accounted for
   toml::table machine_root;
@@ -121,15 +121,15 @@ Job load_job(const std::string& path) {
       job_machine.fail("file", e.what());
     }
     const toml::node* mt = machine_root.get("machine");
-    if (!mt || !mt->is_table()) throw InputError(machine_file_name + ": the [machine] section is missing");
+    if (!mt || !mt->is_table()) throw InputError("the [machine] section is missing", machine_file_name);
     for (const auto& [k, v] : machine_root)
       if (k.str() != "machine")
-        throw InputError(machine_file_name + ":" + std::to_string(v.source().begin.line) + ": unknown section '" +
-                         std::string(k.str()) + "'");
+        throw InputError("unknown section '" + std::string(k.str()) + "'",
+                         machine_file_name + ":" + std::to_string(v.source().begin.line));
     machine_file_section.emplace(mt->as_table(), machine_file_name, "machine");
   }
   Section machine(jm ? jm->as_table() : nullptr, path, "machine", machine_file_section ? &*machine_file_section : nullptr);
-  if (!machine.present()) throw InputError(path + ": the [machine] section is missing");
+  if (!machine.present()) throw InputError("the [machine] section is missing", path);
   if (machine_file_section) machine.string("file");  // consumed
   json prov;
   prov["format"] = "polarcam-job/1";
@@ -167,7 +167,7 @@ Job load_job(const std::string& path) {
 
   // [motion]
   Section mo = top.subsection("motion");
-  if (!mo.present()) throw InputError(path + ": the [motion] section is missing");
+  if (!mo.present()) throw InputError("the [motion] section is missing", path);
   json& pmo = prov["motion"];
   const toml::node* table = mo.node("speed_profile");
   if (table) {
@@ -249,7 +249,7 @@ Job load_job(const std::string& path) {
 Grid load_machine_grid(const std::string& path, std::string* name) {
   toml::table root = jobfile::parse_toml_file(path);
   const toml::node* mt = root.get("machine");
-  if (!mt || !mt->is_table()) throw InputError(path + ": the [machine] section is missing");
+  if (!mt || !mt->is_table()) throw InputError("the [machine] section is missing", path);
   Section machine(mt->as_table(), path, "machine");
   json prov;
   std::string n;
@@ -262,7 +262,7 @@ ToolPathPtr make_job_path(const Job& job) {
   try {
     return make_tool_path(job.contour, job.placement, job.tool, job.motion.travel);
   } catch (const InputError& e) {
-    throw InputError(job.file + ": " + e.what());
+    throw e.in_file(job.file);
   }
 }
 

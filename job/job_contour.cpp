@@ -205,7 +205,7 @@ CurvePtr parse_dxf(Section& s, const std::string& base_dir, nlohmann::ordered_js
 }  // namespace
 
 CurvePtr parse_contour(Section& s, const std::string& base_dir, nlohmann::ordered_json& prov, std::string& kind) {
-  if (!s.present()) throw InputError(s.file() + ": the [contour] section is missing");
+  if (!s.present()) throw InputError("the [contour] section is missing", s.file());
   kind = s.require_string("kind");
   prov["kind"] = kind;
   auto L = [&](const char* key) {
@@ -315,9 +315,8 @@ CurvePtr parse_contour(Section& s, const std::string& base_dir, nlohmann::ordere
                          "' (circle, line, limacon, witch, serpentine, spiral, rose, polar, cartesian, parametric, points, path, dxf)");
     }
   } catch (const InputError& e) {
-    std::string msg = e.what();
-    if (msg.rfind(s.file(), 0) == 0) throw;  // already names the file
-    s.fail_section(msg);
+    if (e.names(s.file())) throw;
+    s.fail_section(e.what());
   }
   s.finish();
   return c;

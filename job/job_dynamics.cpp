@@ -82,11 +82,11 @@ StepperMotor parse_motor(const MachineTables& tables, const std::string& axis, s
     bool any = false;
     for (const auto& l : all) any = any || l.t;
     if (!any)
-      throw InputError(tables.job_file + ": [machine]: no motor for the " + axis +
-                       " axis: give [machine.motor] (both axes) or [machine." + per_axis + "]");
+      throw InputError("[machine]: no motor for the " + axis +
+                       " axis: give [machine.motor] (both axes) or [machine." + per_axis + "]", tables.job_file);
     for (const auto& l : all)
       if (l.t)
-        throw InputError(l.file + ": [" + l.name + "]: the key 'model' is missing (\"electrical\" or \"curve\")");
+        throw InputError("[" + l.name + "]: the key 'model' is missing (\"electrical\" or \"curve\")", l.file);
   }
   const std::set<std::string>* own =
       *model == "electrical" ? &kElectricalKeys : (*model == "curve" ? &kCurveKeys : nullptr);
@@ -120,7 +120,7 @@ StepperMotor parse_motor(const MachineTables& tables, const std::string& axis, s
     // the voltage constant per rad/s of the shaft: "V s/rad", or "V s" read the same way
     {
       const toml::node* n = m.node("voltage_constant");
-      if (!n) throw InputError(m.file() + ": [" + m.name() + "]: the key 'voltage_constant' is missing (V s/rad)");
+      if (!n) throw InputError("[" + m.name() + "]: the key 'voltage_constant' is missing (V s/rad)", m.file());
       auto str = n->value<std::string>();
       if (!str) m.fail("voltage_constant", "expected a quantity string such as \"0.068 V s/rad\"");
       Quantity q;
@@ -135,7 +135,7 @@ StepperMotor parse_motor(const MachineTables& tables, const std::string& axis, s
       e.K_V = q.value;
     }
     auto teeth = m.integer("rotor_teeth");
-    if (!teeth) throw InputError(m.file() + ": [" + m.name() + "]: the key 'rotor_teeth' is missing (N_s)");
+    if (!teeth) throw InputError("[" + m.name() + "]: the key 'rotor_teeth' is missing (N_s)", m.file());
     if (*teeth <= 0 || *teeth > 100000) m.fail("rotor_teeth", "must be a positive whole number");
     e.rotor_teeth = static_cast<int>(*teeth);
     e.R_a = positive(m, "resistance", dim::resistance);
@@ -145,13 +145,13 @@ StepperMotor parse_motor(const MachineTables& tables, const std::string& axis, s
   if (*model == "curve") {
     auto spr = m.number("steps_per_rev");
     if (!spr)
-      throw InputError(m.file() + ": [" + m.name() +
-                       "]: the key 'steps_per_rev' is missing (motor steps per revolution as driven)");
+      throw InputError("[" + m.name() +
+                       "]: the key 'steps_per_rev' is missing (motor steps per revolution as driven)", m.file());
     if (!(*spr > 0.0)) m.fail("steps_per_rev", "must be positive");
     const toml::node* n = m.node("pullout_curve");
     if (!n)
-      throw InputError(m.file() + ": [" + m.name() +
-                       "]: the key 'pullout_curve' is missing ([[\"rate\", \"torque\"], ...])");
+      throw InputError("[" + m.name() +
+                       "]: the key 'pullout_curve' is missing ([[\"rate\", \"torque\"], ...])", m.file());
     const toml::array* arr = n->as_array();
     if (!arr) m.fail("pullout_curve", "expected a list of [\"step rate\", \"torque\"] pairs");
     std::vector<double> rate, torque;
@@ -226,7 +226,7 @@ std::optional<MachineModel> parse_dynamics(Section& machine, const MachineTables
     }
     worm->finish();
   } else {
-    throw InputError(tables.job_file + ": [machine]: give 'worm_factor' (K1) or a [machine.worm] table (Eq. 5.12)");
+    throw InputError("[machine]: give 'worm_factor' (K1) or a [machine.worm] table (Eq. 5.12)", tables.job_file);
   }
 
   Section* screw = layers.layer("screw");
@@ -250,7 +250,7 @@ std::optional<MachineModel> parse_dynamics(Section& machine, const MachineTables
     }
     screw->finish();
   } else {
-    throw InputError(tables.job_file + ": [machine]: give 'screw_factor' (K2) or a [machine.screw] table (Eq. 5.14)");
+    throw InputError("[machine]: give 'screw_factor' (K2) or a [machine.screw] table (Eq. 5.14)", tables.job_file);
   }
   try {
     k.validate();
@@ -284,7 +284,7 @@ LoadSpec parse_load(Section s) {
     GrindingSpec& g = l.grinding;
     g.k_c = positive(s, "k_c", dim::pressure);
     auto c1 = s.number("c1");
-    if (!c1) throw InputError(s.file() + ": [load]: the key 'c1' is missing (normal to tangential force ratio)");
+    if (!c1) throw InputError("[load]: the key 'c1' is missing (normal to tangential force ratio)", s.file());
     if (!(*c1 >= 0.0)) s.fail("c1", "must be zero or positive");
     g.c1 = *c1;
     g.depth = positive(s, "depth", dim::length);
@@ -319,10 +319,10 @@ namespace polarcam {
 MachineModel load_machine_dynamics(const std::string& path) {
   toml::table root = jobfile::parse_toml_file(path);
   const toml::node* m = root.get("machine");
-  if (!m || !m->is_table()) throw InputError(path + ": the [machine] section is missing");
+  if (!m || !m->is_table()) throw InputError("the [machine] section is missing", path);
   jobfile::Section machine(m->as_table(), path, "machine");
   auto d = jobfile::parse_dynamics(machine, {m->as_table(), path, nullptr, path});
-  if (!d) throw InputError(path + ": [machine] describes no dynamics (docs/dynamics.md)");
+  if (!d) throw InputError("[machine] describes no dynamics (docs/dynamics.md)", path);
   return *d;
 }
 

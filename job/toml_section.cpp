@@ -43,10 +43,10 @@ std::string Section::where(const std::string& key) const {
   return loc + ": key '" + (name_.empty() ? key : name_ + "." + key) + "'";
 }
 
-void Section::fail(const std::string& key, const std::string& what) const { throw InputError(where(key) + ": " + what); }
+void Section::fail(const std::string& key, const std::string& what) const { throw InputError(what, where(key)); }
 
 void Section::fail_section(const std::string& what) const {
-  throw InputError(file_ + ": [" + name_ + "]: " + what);
+  throw InputError("[" + name_ + "]: " + what, file_);
 }
 
 double Section::parse_q(const toml::node& n, const std::string& key, const Dim& d) const {
@@ -81,7 +81,7 @@ double Section::quantity(const std::string& key, const Dim& d, double default_va
 double Section::require_quantity(const std::string& key, const Dim& d) {
   auto v = quantity(key, d);
   if (!v) {
-    throw InputError(file_ + ": [" + name_ + "]: the key '" + key + "' is missing (" + describe(d) + ")");
+    throw InputError("[" + name_ + "]: the key '" + key + "' is missing (" + describe(d) + ")", file_);
   }
   return *v;
 }
@@ -96,7 +96,7 @@ std::optional<std::string> Section::string(const std::string& key) {
 
 std::string Section::require_string(const std::string& key) {
   auto v = string(key);
-  if (!v) throw InputError(file_ + ": [" + name_ + "]: the key '" + key + "' is missing");
+  if (!v) throw InputError("[" + name_ + "]: the key '" + key + "' is missing", file_);
   return *v;
 }
 
@@ -148,7 +148,7 @@ std::optional<Vec2> Section::point(const std::string& key) {
 
 Vec2 Section::require_point(const std::string& key) {
   auto p = point(key);
-  if (!p) throw InputError(file_ + ": [" + name_ + "]: the key '" + key + "' is missing (a point [\"x\", \"y\"])");
+  if (!p) throw InputError("[" + name_ + "]: the key '" + key + "' is missing (a point [\"x\", \"y\"])", file_);
   return *p;
 }
 
@@ -171,7 +171,7 @@ void Section::finish() const {
           loc += ':';
           loc += std::to_string(v.source().begin.line);
         }
-        throw InputError(loc + ": unknown key '" + (name_.empty() ? key : name_ + "." + key) + "'");
+        throw InputError("unknown key '" + (name_.empty() ? key : name_ + "." + key) + "'", loc);
       }
     }
   }
@@ -180,13 +180,13 @@ void Section::finish() const {
 
 toml::table parse_toml_file(const std::string& path) {
   std::ifstream probe(path);
-  if (!probe) throw InputError(path + ": cannot open the file");
+  if (!probe) throw InputError("cannot open the file", path);
   try {
     return toml::parse_file(path);
   } catch (const toml::parse_error& e) {
     const auto& b = e.source().begin;
-    throw InputError(path + ":" + std::to_string(b.line) + ":" + std::to_string(b.column) + ": " +
-                     std::string(e.description()));
+    throw InputError(std::string(e.description()),
+                     path + ":" + std::to_string(b.line) + ":" + std::to_string(b.column));
   }
 }
 

@@ -1,3 +1,6 @@
+// The three placement methods (Hooke-Jeeves, NLopt stages, sampling) and the pole surveys. One file of over 500
+// lines on purpose: the methods share the evaluation cache, the penalty and the stage bookkeeping, and split apart
+// each part would carry half of that machinery.
 #include "optimize/placement.hpp"
 
 #include <nlopt.hpp>

@@ -1,3 +1,5 @@
+// The polar machine against a Cartesian one (docs/compare.md). One file of over 500 lines on purpose: each
+// attribute of Table 3.1 is measured by its own routine over the same pair of tapes and the same verdict rules.
 #include "pipeline/compare.hpp"
 
 #include <unistd.h>
@@ -571,7 +573,7 @@ Comparison compare_job(const Job& job, const CompareOptions& opt) {
   try {
     track = CartesianTrack::build(*cpath);
   } catch (const InputError& e) {
-    throw InputError(job.file + ": " + e.what());
+    throw e.in_file(job.file);
   }
   c.closed = cpath->closed();
   c.path_length_m = track.length();

@@ -16,7 +16,7 @@ PreparedDynamics prepare_dynamics(const Job& job) {
     p.theta_shift = place_on_grid(p.track, job.grid);
     p.side = tool_side_sign(*job.contour, job.tool, job.motion.travel);
   } catch (const InputError& e) {
-    throw InputError(job.file + ": " + e.what());
+    throw e.in_file(job.file);
   }
   return p;
 }
@@ -39,7 +39,7 @@ PlacedPath placed_path(const PreparedDynamics& prep) {
 }
 
 DynamicsSetup dynamics_setup(const Job& job, const DynamicsCase& c) {
-  if (!job.dynamics) throw InputError(job.file + ": the machine has no dynamics");
+  if (!job.dynamics) throw InputError("the machine has no dynamics", job.file);
   try {
     DynamicsSetup s;
     s.machine = &*job.dynamics;
@@ -48,7 +48,7 @@ DynamicsSetup dynamics_setup(const Job& job, const DynamicsCase& c) {
     s.safety_factor = job.safety_factor;
     return s;
   } catch (const InputError& e) {
-    throw InputError(job.file + ": " + e.what());
+    throw e.in_file(job.file);
   }
 }
 
@@ -65,7 +65,7 @@ CaseResult analyze_case(const Job& job, const PreparedDynamics& prep, const Dyna
     r.verdict = d.verdict;
     r.search = d.search;
   } catch (const InputError& e) {
-    throw InputError(job.file + ": " + e.what());
+    throw e.in_file(job.file);
   }
   return r;
 }

@@ -61,9 +61,7 @@ JobCapacity job_capacity(const Job& job, const PreparedDynamics& prep, std::opti
       }
     }
   } catch (const InputError& e) {
-    const std::string w = e.what();
-    if (w.rfind(job.file, 0) == 0) throw;
-    throw InputError(job.file + ": " + w);
+    throw e.in_file(job.file);
   }
   return c;
 }

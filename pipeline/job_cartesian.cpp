@@ -33,7 +33,7 @@ ToolPathPtr make_cartesian_job_path(const Job& job) {
   try {
     return make_tool_path(job.contour, Placement{}, job.tool, job.motion.travel);
   } catch (const InputError& e) {
-    throw InputError(job.file + ": " + e.what());
+    throw e.in_file(job.file);
   }
 }
 
@@ -96,7 +96,7 @@ CartesianRun run_cartesian_job(const Job& job, CartesianMethod m, double interru
       run.result = run_dda(run.program, sink, &run.dda);
     }
   } catch (const InputError& e) {
-    throw InputError(job.file + ": " + e.what());
+    throw e.in_file(job.file);
   }
   return run;
 }

@@ -24,9 +24,7 @@ PoleProblem job_pole_problem(const Job& job, const PlacementOptions& opt, bool d
       if (opt.torque_limit) problem.torque_limit = 1.0 / job.safety_factor;
     }
   } catch (const InputError& e) {
-    const std::string w = e.what();
-    if (w.rfind(job.file, 0) == 0) throw;
-    throw InputError(job.file + ": " + w);
+    throw e.in_file(job.file);
   }
   return problem;
 }
@@ -44,8 +42,8 @@ double job_area(const Job& job, const Placement& pl) {
     const DigitizeResult d = digitize(track, j.grid, j.motion.rule, *prof, &meter);
     return meter.finish(d.start_n, d.start_m).area_m2;
   } catch (const InputError& e) {
-    throw InputError(job.file + ": at C = " + std::to_string(pl.C) + " m, beta = " + std::to_string(pl.beta) +
-                     " rad: " + e.what());
+    throw InputError("at C = " + std::to_string(pl.C) + " m, beta = " + std::to_string(pl.beta) +
+                     " rad: " + e.what(), job.file);
   }
 }
 

@@ -39,7 +39,7 @@ JobStudy study_job(const Job& job, const StudyOptions& o) {
     st.staircase.m0 = st.dig.start_m;
     st.err = meters.finish(st.dig.start_n, st.dig.start_m);
   } catch (const InputError& e) {
-    throw InputError(job.file + ": " + e.what());
+    throw e.in_file(job.file);
   }
 
   // --- the dynamics at the job's placement, its capacity
@@ -83,8 +83,7 @@ JobStudy study_job(const Job& job, const StudyOptions& o) {
       }
     }
   } catch (const InputError& e) {
-    const std::string w = e.what();
-    throw InputError(w.rfind(job.file, 0) == 0 ? w : job.file + ": " + w);
+    throw e.in_file(job.file);
   }
   // the front: the survey's non-dominated poles and the candidates
   std::vector<ParetoPoint> pts;

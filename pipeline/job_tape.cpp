@@ -52,7 +52,7 @@ DigitizedJob digitize_job(const Job& job, StepSink* sink) {
     d.profile = make_job_profile(job, d.track.length());
     d.result = digitize(d.track, job.grid, job.motion.rule, *d.profile, sink);
   } catch (const InputError& e) {
-    throw InputError(job.file + ": " + e.what());
+    throw e.in_file(job.file);
   }
   return d;
 }

@@ -13,11 +13,11 @@ PolarTapeMetrics polar_tape_metrics(const Job& job, const std::string& tape, int
   try {
     track = PolarTrack::build(*path);
   } catch (const InputError& e) {
-    throw InputError(job.file + ": " + e.what());
+    throw e.in_file(job.file);
   }
   TapeReader rd(tape);
   const TapeHeader& h = rd.header();
-  if (h.axes != TapeAxes::polar) throw InputError(tape + ": a Cartesian tape, not a polar one");
+  if (h.axes != TapeAxes::polar) throw InputError("a Cartesian tape, not a polar one", tape);
   PolarTapeMetrics out;
   out.rule = h.rule;
   Grid& g = out.grid;
@@ -27,7 +27,7 @@ PolarTapeMetrics polar_tape_metrics(const Job& job, const std::string& tape, int
   try {
     g.validate();
   } catch (const InputError& e) {
-    throw InputError(tape + ": " + e.what());
+    throw e.in_file(tape);
   }
   ErrorMeters em;
   em.reset(*path, track, g, segments > 0 ? segments : job.optimize.segments);
@@ -47,14 +47,14 @@ CartesianTapeMetrics cartesian_tape_metrics(const Job& job, const std::string& t
   try {
     track = CartesianTrack::build(*path);
   } catch (const InputError& e) {
-    throw InputError(job.file + ": " + e.what());
+    throw e.in_file(job.file);
   }
   TapeReader rd(tape);
   const TapeHeader& h = rd.header();
-  if (h.axes != TapeAxes::cartesian) throw InputError(tape + ": a polar tape, not a Cartesian one");
+  if (h.axes != TapeAxes::cartesian) throw InputError("a polar tape, not a Cartesian one", tape);
   if (!(h.res[0] > 0.0) || h.res[0] != h.res[1])
-    throw InputError(tape + ": the x and y resolutions must be equal and above zero (the header has " +
-                     std::to_string(h.res[0]) + " and " + std::to_string(h.res[1]) + " m)");
+    throw InputError("the x and y resolutions must be equal and above zero (the header has " +
+                     std::to_string(h.res[0]) + " and " + std::to_string(h.res[1]) + " m)", tape);
   CartesianTapeMetrics out;
   out.rule = h.rule;
   out.blu = h.res[0];

@@ -65,8 +65,9 @@ struct Scratch {
 };
 
 // A command that refused bad input: exit status 2 and one line on stderr that mentions `must_mention`.
-inline void expect_one_line_error(const CliResult& r, const std::string& must_mention) {
-  EXPECT_EQ(r.code, 2) << r.err;
+// Exit status 2 (bad input) unless told otherwise (3: device).
+inline void expect_one_line_error(const CliResult& r, const std::string& must_mention, int code = 2) {
+  EXPECT_EQ(r.code, code) << r.err;
   EXPECT_NE(r.err.find(must_mention), std::string::npos) << "message: " << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
 }

@@ -111,7 +111,8 @@ TEST(CompareCli, BadInputIsOneLineAndNoReport) {
   expect_one_line_error(run_cli("compare " + rj + " --report " + report), "ramp.toml");
   EXPECT_FALSE(std::filesystem::exists(report));
   // a report that cannot be written
-  expect_one_line_error(run_cli("compare " + job + " --report " + sc.path("no/such/dir/r.html")), "r.html");
+  // an output that cannot be created is an I/O error (exit status 3), still one line
+  expect_one_line_error(run_cli("compare " + job + " --report " + sc.path("no/such/dir/r.html")), "r.html", 3);
 }
 
 // `polarcam error` on a Cartesian tape: area error and deviation, refused against another job or with F1 options.

@@ -200,7 +200,7 @@ TEST(Link, SilentControllerIsAClearErrorBeforeAnyStep) {
   try {
     link.identify();
     FAIL();
-  } catch (const InputError& e) {
+  } catch (const DeviceError& e) {
     EXPECT_NE(std::string(e.what()).find("--baud"), std::string::npos) << e.what();
   }
   EXPECT_EQ(tr.emulator().controller().status().queued, 0u);

@@ -124,13 +124,13 @@ TEST(PlayCli, BadInputIsRefusedBeforeAnyStep) {
   const std::string tape = example_tape("circle");
   Emulator emu(s, "");
   ASSERT_FALSE(emu.pty.empty());
-  auto refused = [&](const std::string& args, const std::string& words) {
+  auto refused = [&](const std::string& args, const std::string& words, int code = 2) {
     SCOPED_TRACE(args);
-    expect_one_line_error(run_cli("play " + args), words);
+    expect_one_line_error(run_cli("play " + args), words, code);
   };
-  refused(tape + " --port /dev/polarcam-no-such-port", "cannot open serial port /dev/polarcam-no-such-port");
+  refused(tape + " --port /dev/polarcam-no-such-port", "cannot open serial port /dev/polarcam-no-such-port", 3);
   refused(tape + " --port " + emu.pty + " --baud 12345", "--baud 12345");
-  refused(tape + " --port " + emu.pty + " --baud 9600", "no answer");
+  refused(tape + " --port " + emu.pty + " --baud 9600", "no answer", 3);
   refused(tape + " --port " + emu.pty + " --size-scale 2/1", "r_max");
   refused(tape + " --port " + emu.pty + " --speed-scale 0", "--speed-scale");
   const std::string other = s.write("other.toml", "[machine]\nradial_resolution = \"0.0005 in\"\nangular_steps_per_rev = 16000\n");
@@ -145,7 +145,7 @@ TEST(PlayCli, ControllerResetStopsWithAClearMessage) {
   Emulator emu(s, "--faults reset@1.5");
   ASSERT_FALSE(emu.pty.empty());
   auto r = run_cli("play " + tape + " --port " + emu.pty + " --speed-scale 10 --json");
-  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_EQ(r.code, 3) << r.err;  // a device error
   EXPECT_NE(r.err.find("reset"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("re-home"), std::string::npos) << r.err;
   auto j = nlohmann::json::parse(r.out);

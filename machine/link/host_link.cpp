@@ -97,17 +97,17 @@ Ident HostLink::identify() {
       poll(0.01);
       if (got_ident_) {
         if (ident_.version != kVersion)
-          throw InputError(t_.describe() + ": the controller speaks protocol version " + std::to_string(ident_.version) +
-                           ", this polarcam speaks version " + std::to_string(kVersion));
-        if (ident_.tick_ps == 0) throw InputError(t_.describe() + ": the controller reports a zero tick");
+          throw InputError("the controller speaks protocol version " + std::to_string(ident_.version) +
+                           ", this polarcam speaks version " + std::to_string(kVersion), t_.describe());
+        if (ident_.tick_ps == 0) throw InputError("the controller reports a zero tick", t_.describe());
         session_ = ident_.session;
         have_session_ = true;
         return ident_;
       }
     }
   }
-  throw InputError(t_.describe() + ": no answer from a polarcam controller (" + std::to_string(o_.identify_tries) +
-                   " tries): check --port and --baud");
+  throw DeviceError("no answer from a polarcam controller (" + std::to_string(o_.identify_tries) +
+                   " tries): check --port and --baud", t_.describe());
 }
 
 Ack HostLink::configure(const Configure& c) {
@@ -125,7 +125,7 @@ Ack HostLink::configure(const Configure& c) {
       poll(0.01);
       if (got_error_ && ours(reply_seq_)) {
         if (error_.code == ErrorCode::grid_mismatch || error_.code == ErrorCode::bad_config || error_.code == ErrorCode::busy)
-          throw InputError(t_.describe() + ": the controller refuses the job: " + error_.text);
+          throw InputError("the controller refuses the job: " + error_.text, t_.describe());
         throw PlayError(t_.describe() + ": the controller refuses the job: " + error_.text);
       }
       if (got_reply_ && ours(reply_seq_)) return ack_;

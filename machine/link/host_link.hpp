@@ -9,16 +9,18 @@
 #include <stdexcept>
 #include <string>
 
+#include "cam/error.hpp"
 #include "machine/player/play_plan.hpp"
 #include "machine/link/protocol.hpp"
 #include "machine/player/schedule.hpp"
 
 namespace polarcam {
 
-// The playback failed after it began (link lost, controller reset or fault, operator stop): exit status 1.
-class PlayError : public std::runtime_error {
+// The playback failed after it began (link lost, controller reset or fault, operator stop): a device error,
+// exit status 3.
+class PlayError : public DeviceError {
  public:
-  using std::runtime_error::runtime_error;
+  using DeviceError::DeviceError;
 };
 
 class Transport {

@@ -72,7 +72,8 @@ void SerialTransport::open() {
   } catch (const std::exception& e) {
     sp_.reset();
     fd_ = -1;
-    throw InputError("cannot open serial port " + port_ + ": " + e.what() + (errno ? std::string(" (") + std::strerror(errno) + ")" : ""));
+    throw DeviceError("cannot open serial port " + port_ + ": " + e.what() +
+                      (errno ? std::string(" (") + std::strerror(errno) + ")" : ""));
   }
   // raw bytes, no line discipline, non-blocking I/O driven by poll()
   termios tio{};
@@ -146,7 +147,7 @@ bool SerialTransport::reconnect() {
   try {
     open();
     return true;
-  } catch (const InputError&) {
+  } catch (const DeviceError&) {
     return false;
   }
 }

@@ -41,14 +41,14 @@ PlayPlan plan_playback(const std::string& tape, const PlayScaling& sc, const std
   p.scaling = sc;
   p.header = verify_tape(tape);  // the whole tape, checksums and totals, before anything else
   const TapeHeader& h = p.header;
-  if (h.axes != TapeAxes::polar) throw InputError(tape + ": a Cartesian tape; the player drives polar machines");
+  if (h.axes != TapeAxes::polar) throw InputError("a Cartesian tape; the player drives polar machines", tape);
   const PlayMachine m = machine ? *machine : machine_from_header(h);
   if (machine) {
     if (!same(m.grid.dr, h.res[0]) || !same(m.grid.dtheta, h.res[1]))
-      throw InputError(tape + ": made for another machine grid (dR = " + num(h.res[0] * 1e3) + " mm, dtheta = " +
+      throw InputError("made for another machine grid (dR = " + num(h.res[0] * 1e3) + " mm, dtheta = " +
                        num(h.res[1]) + " rad, " + std::to_string(h.steps_per_rev) + " steps/rev) than " + m.source +
                        " (dR = " + num(m.grid.dr * 1e3) + " mm, dtheta = " + num(m.grid.dtheta) + " rad, " +
-                       std::to_string(m.grid.steps_per_rev) + " steps/rev)");
+                       std::to_string(m.grid.steps_per_rev) + " steps/rev)", tape);
   }
   const Ratio size = sc.size;
   const bool spread = size.num > size.den;  // one tape step may give several machine steps
@@ -110,19 +110,19 @@ PlayPlan plan_playback(const std::string& tape, const PlayScaling& sc, const std
   const std::string scale_note = " with size scale " + to_string(size) + " and angle offset " + std::to_string(sc.angle_offset);
   const double r_lo = static_cast<double>(p.lo[0]) * g.dr, r_hi = static_cast<double>(p.hi[0]) * g.dr;
   if (p.lo[0] < 0 || r_lo < g.r_min - 0.5 * g.dr)
-    throw InputError(tape + ": leaves the work area" + scale_note + ": r falls to " + num(r_lo * 1e3) + " mm (node " +
-                     std::to_string(p.lo[0]) + ") < r_min " + num(g.r_min * 1e3) + " mm of " + m.source);
+    throw InputError("leaves the work area" + scale_note + ": r falls to " + num(r_lo * 1e3) + " mm (node " +
+                     std::to_string(p.lo[0]) + ") < r_min " + num(g.r_min * 1e3) + " mm of " + m.source, tape);
   if (g.r_max && r_hi > *g.r_max + 0.5 * g.dr)
-    throw InputError(tape + ": leaves the work area" + scale_note + ": r reaches " + num(r_hi * 1e3) + " mm (node " +
-                     std::to_string(p.hi[0]) + ") > r_max " + num(*g.r_max * 1e3) + " mm of " + m.source);
+    throw InputError("leaves the work area" + scale_note + ": r reaches " + num(r_hi * 1e3) + " mm (node " +
+                     std::to_string(p.hi[0]) + ") > r_max " + num(*g.r_max * 1e3) + " mm of " + m.source, tape);
   if (g.theta_min) {
     const double th_lo = static_cast<double>(p.lo[1]) * g.dtheta, th_hi = static_cast<double>(p.hi[1]) * g.dtheta;
     if (th_lo < *g.theta_min - 0.5 * g.dtheta)
-      throw InputError(tape + ": leaves the work area" + scale_note + ": theta falls to " + num(th_lo) + " rad (node " +
-                       std::to_string(p.lo[1]) + ") < theta_min " + num(*g.theta_min) + " rad of " + m.source);
+      throw InputError("leaves the work area" + scale_note + ": theta falls to " + num(th_lo) + " rad (node " +
+                       std::to_string(p.lo[1]) + ") < theta_min " + num(*g.theta_min) + " rad of " + m.source, tape);
     if (th_hi > *g.theta_max + 0.5 * g.dtheta)
-      throw InputError(tape + ": leaves the work area" + scale_note + ": theta reaches " + num(th_hi) + " rad (node " +
-                       std::to_string(p.hi[1]) + ") > theta_max " + num(*g.theta_max) + " rad of " + m.source);
+      throw InputError("leaves the work area" + scale_note + ": theta reaches " + num(th_hi) + " rad (node " +
+                       std::to_string(p.hi[1]) + ") > theta_max " + num(*g.theta_max) + " rad of " + m.source, tape);
   }
   return p;
 }

@@ -29,10 +29,10 @@ InputError too_close(const PlayPlan& plan, uint64_t tick_ps, size_t i, bool firs
   const std::string what = first ? ") comes within the first controller tick after the start"
                                  : std::string(") comes less than one controller tick after the previous ") +
                                        axis_name(s.axis) + " step";
-  return InputError(plan.tape + ": machine step " + std::to_string(i + 1) + " (" + axis_name(s.axis) +
+  return InputError("machine step " + std::to_string(i + 1) + " (" + axis_name(s.axis) +
                     ", from tape record " + std::to_string(s.record) + what + " at speed scale " +
                     to_string(plan.scaling.speed) + " (tick " + std::to_string(tick_ps / 1000.0) +
-                    " ns): use a lower speed scale or a finer tick");
+                    " ns): use a lower speed scale or a finer tick", plan.tape);
 }
 
 // An axis steps at most once a tick, and never at tick 0 (its first interval is at least one tick): every valid
@@ -195,11 +195,11 @@ std::vector<StepWindow> step_windows(const PlayPlan& plan, uint64_t tick_ps) {
     for (size_t k = 0; k < m; ++k) {
       if (L[k] > U[k]) {
         const PlayStep& s = plan.steps[i + k];
-        throw InputError(plan.tape + ": steps " + std::to_string(i + 1) + " to " + std::to_string(e + 1) +
+        throw InputError("steps " + std::to_string(i + 1) + " to " + std::to_string(e + 1) +
                          " (from tape record " + std::to_string(s.record) +
                          ") fall so close together that a controller of tick " + std::to_string(tick_ps / 1000.0) +
                          " ns cannot keep their order at speed scale " + to_string(plan.scaling.speed) +
-                         ": use a lower speed scale or a controller with a finer tick");
+                         ": use a lower speed scale or a controller with a finer tick", plan.tape);
       }
     }
     // split tick s between steps a and a+1: a keeps [from, s], a+1 starts at s + delta; s lies in
