@@ -87,7 +87,7 @@ int run(const Opts& o) {
     nlohmann::ordered_json j;
     j["job"] = job.file;
     j["contour"] = job.contour->name();
-    j["machine"] = job.machine_name;
+    j["machine"] = job.machine.name;
     j["tool_side"] = side;
     if (cases.size() == 1) {
       const nlohmann::ordered_json one = case_json(job, cases.front());
@@ -101,9 +101,9 @@ int run(const Opts& o) {
     std::cout << "polarcam analyze " << job.file << "\n";
     std::cout << "  contour    " << job.contour->name() << (job.contour->closed() ? " (closed)" : " (open)")
               << ", tool centre " << side << " of the travel\n";
-    std::cout << "  machine    " << (job.machine_name.empty() ? "(unnamed)" : job.machine_name) << "\n";
-    std::cout << "  motors     radial: " << job.dynamics->radial.describe() << "\n";
-    std::cout << "             angular: " << job.dynamics->angular.describe() << "\n";
+    std::cout << "  machine    " << (job.machine.name.empty() ? "(unnamed)" : job.machine.name) << "\n";
+    std::cout << "  motors     radial: " << job.machine.dynamics->radial.describe() << "\n";
+    std::cout << "             angular: " << job.machine.dynamics->angular.describe() << "\n";
     for (size_t k = 0; k < cases.size(); ++k) {
       if (cases.size() > 1) std::cout << "  case " << k << "\n";
       std::cout << case_text(job, cases[k]);

@@ -82,7 +82,7 @@ void register_controller_sim(CLI::App& app, Action& action) {
       spec.tick_ps = static_cast<uint64_t>(o->tick_ns * 1000 + 0.5);
       spec.slots = o->slots;
       if (!o->machine.empty()) {
-        Grid g = load_machine_grid(o->machine);
+        const Grid g = load_machine(o->machine).grid;
         spec.dr = g.dr;
         spec.dtheta = g.dtheta;
       }

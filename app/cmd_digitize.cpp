@@ -37,9 +37,9 @@ nlohmann::ordered_json summary_json(const Job& job, const DigitizedJob& d, const
   j["end_node"] = {r.end_n, r.end_m};
   j["returns_to_start"] = r.returns_to_start;
   j["winding"] = r.winding;
-  j["radial_resolution_m"] = job.grid.dr;
-  j["angular_resolution_rad"] = job.grid.dtheta;
-  j["angular_steps_per_rev"] = job.grid.steps_per_rev;
+  j["radial_resolution_m"] = job.machine.grid.dr;
+  j["angular_resolution_rad"] = job.machine.grid.dtheta;
+  j["angular_steps_per_rev"] = job.machine.grid.steps_per_rev;
   j["r_min_path_m"] = d.track.r_min().value;
   j["r_max_path_m"] = d.track.r_max().value;
   j["theta_min_path_rad"] = d.track.theta_min().value + r.theta_shift;
@@ -57,8 +57,8 @@ std::string summary_text(const Job& job, const DigitizedJob& d, const std::strin
   os << "  contour    " << job.contour->name() << (r.closed ? " (closed)" : " (open)") << ", tool radius "
      << fmt(job.tool.radius * 1e3) << " mm\n";
   os << "  placement  C = " << fmt(job.placement.C * 1e3) << " mm, beta = " << fmt(job.placement.beta) << " rad\n";
-  os << "  grid       dR = " << fmt(job.grid.dr * 1e3) << " mm, dtheta = " << fmt(job.grid.dtheta) << " rad";
-  if (job.grid.steps_per_rev) os << " (" << job.grid.steps_per_rev << " steps/rev)";
+  os << "  grid       dR = " << fmt(job.machine.grid.dr * 1e3) << " mm, dtheta = " << fmt(job.machine.grid.dtheta) << " rad";
+  if (job.machine.grid.steps_per_rev) os << " (" << job.machine.grid.steps_per_rev << " steps/rev)";
   os << ", rule " << to_string(job.motion.rule) << "\n";
   os << "  path       " << fmt(r.path_length_m * 1e3) << " mm long, r " << fmt(d.track.r_min().value * 1e3) << " .. "
      << fmt(d.track.r_max().value * 1e3) << " mm, theta " << fmt(d.track.theta_min().value + r.theta_shift) << " .. "

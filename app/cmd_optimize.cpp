@@ -245,7 +245,7 @@ int run(const Opts& o) {
     st["beta_rad"] = job.placement.beta;
     st["feasible"] = r.start.feasible();
     if (start_area >= 0.0) st["area_error_mm2"] = start_area * 1e6;
-    st["F1"] = f1_chords(problem.f1_points, job.placement.pole(), job.grid.dr, job.grid.dtheta).F1;
+    st["F1"] = f1_chords(problem.f1_points, job.placement.pole(), job.machine.grid.dr, job.machine.grid.dtheta).F1;
     if (dyn_start) torque_fields(st, *dyn_start);
     j["start"] = st;
     for (const auto& s : r.stages) j["stages"].push_back({{"name", s.name}, {"evaluations", s.evaluations}, {"best", s.best}});

@@ -103,8 +103,7 @@ void register_play(CLI::App& app, Action& action) {
       std::optional<PlayMachine> machine;
       if (!o->machine.empty()) {
         PlayMachine m;
-        std::string name;
-        m.grid = load_machine_grid(o->machine, &name);
+        m.grid = load_machine(o->machine).grid;
         m.source = "machine file " + o->machine;
         machine = m;
       }

@@ -23,9 +23,9 @@ constexpr int kFiner = 46;
 
 Job fine_job() {
   Job job = load_job(std::string(POLARCAM_SOURCE_DIR) + "/examples/ch5/limacon_area.toml");
-  job.grid.dr /= kFiner;
-  job.grid.steps_per_rev *= kFiner;
-  job.grid.dtheta = dtheta_from_steps(job.grid.steps_per_rev);
+  job.machine.grid.dr /= kFiner;
+  job.machine.grid.steps_per_rev *= kFiner;
+  job.machine.grid.dtheta = dtheta_from_steps(job.machine.grid.steps_per_rev);
   return job;
 }
 
@@ -50,7 +50,7 @@ void BM_AnalyzeJob(benchmark::State& state) {
 void BM_AnalyzeJobPerStep(benchmark::State& state) {
   const Job job = fine_job();
   AnalysisOptions opt;
-  opt.spacing = std::min(job.grid.dr, 0.0381 * job.grid.dtheta);  // the step length at the path's smallest r
+  opt.spacing = std::min(job.machine.grid.dr, 0.0381 * job.machine.grid.dtheta);  // the step length at the path's smallest r
   size_t samples = 0;
   for (auto _ : state) {
     PreparedDynamics prep = prepare_dynamics(job);

@@ -86,6 +86,16 @@ Grid parse_grid(Section& s, json& prov, std::string& name) {
   return g;
 }
 
+// The whole [machine] table, once: grid and work area, then mechanics and motors; every key accounted for.
+Machine parse_machine(Section& machine, const jobfile::MachineTables& tables, json& pm) {
+  Machine m;
+  m.grid = parse_grid(machine, pm, m.name);
+  if (!m.name.empty()) pm["name"] = m.name;
+  m.dynamics = jobfile::parse_dynamics(machine, tables);
+  machine.finish();
+  return m;
+}
+
 ToolSide parse_side(Section& s, const std::string& v) {
   if (v == "left") return ToolSide::left;
   if (v == "right") return ToolSide::right;
@@ -134,14 +144,11 @@ Job load_job(const std::string& path) {
   json prov;
   prov["format"] = "polarcam-job/1";
   json& pm = prov["machine"];
-  job.grid = parse_grid(machine, pm, job.machine_name);
-  if (!job.machine_name.empty()) pm["name"] = job.machine_name;
   {
     const toml::node* fm = machine_file_section ? machine_root.get("machine") : nullptr;
-    job.dynamics = jobfile::parse_dynamics(
-        machine, {jm ? jm->as_table() : nullptr, path, fm ? fm->as_table() : nullptr, machine_file_name});
+    job.machine = parse_machine(
+        machine, {jm ? jm->as_table() : nullptr, path, fm ? fm->as_table() : nullptr, machine_file_name}, pm);
   }
-  machine.finish();
 
   // [contour]
   Section contour = top.subsection("contour");
@@ -223,7 +230,7 @@ Job load_job(const std::string& path) {
   // [cartesian] (optional)
   Section ca = top.subsection("cartesian");
   CartesianSpec& cs = job.cartesian;
-  cs.resolution = ca.quantity("resolution", dim::length, job.grid.dr);
+  cs.resolution = ca.quantity("resolution", dim::length, job.machine.grid.dr);
   if (!(cs.resolution > 0.0)) ca.fail("resolution", "must be a positive length");
   cs.tolerance = ca.quantity("tolerance", dim::length, 0.25 * cs.resolution);
   if (!(cs.tolerance > 0.0)) ca.fail("tolerance", "must be a positive length");
@@ -246,16 +253,13 @@ Job load_job(const std::string& path) {
   return job;
 }
 
-Grid load_machine_grid(const std::string& path, std::string* name) {
+Machine load_machine(const std::string& path) {
   toml::table root = jobfile::parse_toml_file(path);
   const toml::node* mt = root.get("machine");
   if (!mt || !mt->is_table()) throw InputError("the [machine] section is missing", path);
   Section machine(mt->as_table(), path, "machine");
   json prov;
-  std::string n;
-  Grid g = parse_grid(machine, prov, n);
-  if (name) *name = n;
-  return g;
+  return parse_machine(machine, {mt->as_table(), path, nullptr, path}, prov);
 }
 
 ToolPathPtr make_job_path(const Job& job) {

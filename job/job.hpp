@@ -34,10 +34,18 @@ struct CartesianSpec {
   double interrupt_rate = 5000.0;   // Hz, the DDA control's interrupt rate (Appendix III of the Elbestawi thesis)
 };
 
+// A machine, parsed once: its name, its grid and work area (the drive train's resolutions), and, when the file
+// describes them, its mechanics and motors. From a job's [machine] table (over its machine file) or from a
+// machine file alone (load_machine).
+struct Machine {
+  std::string name;                      // [machine] name (may be empty)
+  Grid grid;                             // resolutions, work area, home (docs/job-format.md)
+  std::optional<MachineModel> dynamics;  // mechanics and motors, when described (docs/dynamics.md)
+};
+
 struct Job {
   std::string file;                      // the job file as given
-  std::string machine_name;
-  Grid grid;
+  Machine machine;                       // [machine], over the machine file it names
   std::string contour_kind;
   CurvePtr contour;                      // in the contour's own frame (origin = contour pole O1)
   Placement placement;
@@ -45,7 +53,6 @@ struct Job {
   MotionSpec motion;
   CartesianSpec cartesian;
   PlacementOptions optimize;             // [optimize]: options of `polarcam optimize` (not part of the provenance)
-  std::optional<MachineModel> dynamics;  // mechanics and motors, when the machine describes them (docs/dynamics.md)
   LoadSpec load;                         // [load]
   double safety_factor = 1.0;            // [limits]
   nlohmann::ordered_json provenance;     // canonical description of the job (SI values, no paths)
@@ -54,9 +61,9 @@ struct Job {
 // Reads and checks a job file. Throws InputError with "FILE:LINE: key 'section.key': what is wrong".
 Job load_job(const std::string& path);
 
-// Reads the grid and work area of a machine file ([machine] table, keys as in a job's [machine]). Keys that
-// other commands read from the same file (mechanics, motors) are left alone. Throws InputError naming the file.
-Grid load_machine_grid(const std::string& path, std::string* name = nullptr);
+// Reads a machine file (a [machine] table, keys as in a job's [machine]): grid, work area and, when described,
+// mechanics and motors; every key checked. Throws InputError naming the file, line and key.
+Machine load_machine(const std::string& path);
 
 // The tool-centre path in the machine frame.
 ToolPathPtr make_job_path(const Job& job);

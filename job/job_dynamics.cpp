@@ -4,6 +4,7 @@
 #include <set>
 
 #include "cam/error.hpp"
+#include "job/job.hpp"
 
 namespace polarcam::jobfile {
 namespace {
@@ -317,13 +318,9 @@ double parse_limits(Section s) {
 namespace polarcam {
 
 MachineModel load_machine_dynamics(const std::string& path) {
-  toml::table root = jobfile::parse_toml_file(path);
-  const toml::node* m = root.get("machine");
-  if (!m || !m->is_table()) throw InputError("the [machine] section is missing", path);
-  jobfile::Section machine(m->as_table(), path, "machine");
-  auto d = jobfile::parse_dynamics(machine, {m->as_table(), path, nullptr, path});
-  if (!d) throw InputError("[machine] describes no dynamics (docs/dynamics.md)", path);
-  return *d;
+  Machine m = load_machine(path);
+  if (!m.dynamics) throw InputError("[machine] describes no dynamics (docs/dynamics.md)", path);
+  return *std::move(m.dynamics);
 }
 
 }  // namespace polarcam

@@ -30,22 +30,33 @@ enum class PoleHold { none, C, beta };
 const char* to_string(PoleMethod m);
 const char* to_string(PoleHold h);
 
-struct PlacementOptions {
-  PoleObjective objective = PoleObjective::area;
-  PoleMethod method = PoleMethod::automatic;  // hooke-jeeves for F1, nlopt for the others
-  PoleHold hold = PoleHold::none;
-  bool pole_outside = false;
+// The question: what the placement minimises and under which constraints (the [optimize] table of a job and
+// the options of `polarcam optimize` that change the answer).
+struct PlacementQuestion {
+  PoleObjective objective = PoleObjective::area;  // area error, F1, balanced torque or worst torque ratio
+  PoleHold hold = PoleHold::none;                 // keep C or beta at the job's value
+  bool pole_outside = false;   // the machine pole outside a closed contour
   bool torque_limit = false;   // also keep every torque ratio within 1 / safety factor (the job's dynamics)
   bool pareto = false;         // the trade-off front of area error and worst torque ratio (optimize/pareto.hpp)
   int segments = 100;          // F1: chords of the piecewise-linear approximation
+};
+
+// The solver: how the search runs. Changes the effort and (within the search's tolerance) where it stops, never
+// the question; the result does not depend on `threads`.
+struct PlacementSolver {
+  PoleMethod method = PoleMethod::automatic;  // hooke-jeeves for F1, nlopt for the others
   int max_evaluations = 0;     // 0: the default: nlopt on the area 1.2e7 / (steps of the job), within 200..4000;
                                // nlopt on F1 600; Hooke-Jeeves 400; balanced and torque 2000 (400 with C or beta
                                // held)
-  double hj_step = 0.003175;   // m, 0.125 in (HOKJEV's suggested initial move)
-  double hj_reduction = 0.5, hj_acceleration = 1.0;
-  double hj_min_step = 1e-6;   // m
+  double hj_step = 0.003175;   // m, Hooke-Jeeves: initial move, 0.125 in (HOKJEV's suggested initial move)
+  double hj_reduction = 0.5;   // Hooke-Jeeves: factor on the step after a failed exploration
+  double hj_acceleration = 1.0;  // Hooke-Jeeves: pattern-move factor
+  double hj_min_step = 1e-6;   // m, Hooke-Jeeves: stop below this step
   int threads = 0;             // 0: all cores
 };
+
+// Both, as the CLI and the job file give them (fields are read as PlacementOptions::objective etc.).
+struct PlacementOptions : PlacementQuestion, PlacementSolver {};
 
 struct SearchBox {
   double x0 = 0, x1 = 0, y0 = 0, y1 = 0;  // pole positions O - O1 (m)

@@ -159,7 +159,7 @@ void polar_side(const Job& job, const CompareOptions& opt, Comparison& c, const 
   s.method = to_string(job.motion.rule);
   s.axis[0] = "r";
   s.axis[1] = "theta";
-  const Grid& g = job.grid;
+  const Grid& g = job.machine.grid;
   s.grid = "ΔR = " + mm(g.dr) + ", Δθ = " + fmt(g.dtheta, 6) + " rad" +
            (g.steps_per_rev ? " (" + std::to_string(g.steps_per_rev) + " steps/rev)" : std::string()) +
            ", pole at C = " + mm(job.placement.C) + ", β = " + fmt(job.placement.beta) + " rad from the contour pole";
@@ -378,7 +378,7 @@ void figure_data(const Job& job, Comparison& c, const Curve& path, double length
       TapeReader rd(polar_tape.path());
       st[0] = rd.header().start[0], st[1] = rd.header().start[1];
     }
-    WindowCollector wp(true, job.grid.dr, job.grid.dtheta, c.polar_pole, st, c.windows[wi]);
+    WindowCollector wp(true, job.machine.grid.dr, job.machine.grid.dtheta, c.polar_pole, st, c.windows[wi]);
     replay(polar_tape.path(), wp, st);
     c.polar.detail[wi] = std::move(wp.runs);
     {

@@ -5,7 +5,7 @@
 namespace polarcam {
 
 PreparedDynamics prepare_dynamics(const Job& job) {
-  if (!job.dynamics)
+  if (!job.machine.dynamics)
     throw InputError(job.file +
                      ": the machine has no dynamics: give carriage_mass, arm_inertia, arm_friction_torque, " +
                      "worm_factor, screw_factor, screw_lead and [machine.motor] (docs/dynamics.md)");
@@ -13,7 +13,7 @@ PreparedDynamics prepare_dynamics(const Job& job) {
   p.path = make_job_path(job);
   try {
     p.track = PolarTrack::build(*p.path);
-    p.theta_shift = place_on_grid(p.track, job.grid);
+    p.theta_shift = place_on_grid(p.track, job.machine.grid);
     p.side = tool_side_sign(*job.contour, job.tool, job.motion.travel);
   } catch (const InputError& e) {
     throw e.in_file(job.file);
@@ -39,10 +39,10 @@ PlacedPath placed_path(const PreparedDynamics& prep) {
 }
 
 DynamicsSetup dynamics_setup(const Job& job, const DynamicsCase& c) {
-  if (!job.dynamics) throw InputError("the machine has no dynamics", job.file);
+  if (!job.machine.dynamics) throw InputError("the machine has no dynamics", job.file);
   try {
     DynamicsSetup s;
-    s.machine = &*job.dynamics;
+    s.machine = &*job.machine.dynamics;
     s.load = make_load(c.load);
     s.motion = motion_law(job, c.speed);
     s.safety_factor = job.safety_factor;

@@ -13,14 +13,14 @@ PoleProblem job_pole_problem(const Job& job, const PlacementOptions& opt, bool d
   const ToolPathPtr path0 = make_job_path(at0);
   PoleProblem problem;
   try {
-    problem = make_pole_problem(path0, job.grid, job.motion.rule, opt.objective, opt.segments, opt.pole_outside);
+    problem = make_pole_problem(path0, job.machine.grid, job.motion.rule, opt.objective, opt.segments, opt.pole_outside);
     if (dynamics) {
-      if (!job.dynamics)
+      if (!job.machine.dynamics)
         throw InputError("the machine has no dynamics: give carriage_mass, arm_inertia, arm_friction_torque, "
                          "worm_factor, screw_factor, screw_lead and [machine.motor] (docs/dynamics.md)");
       const DynamicsSetup setup = dynamics_setup(job, DynamicsCase{std::nullopt, job.load});
       const int side = tool_side_sign(*job.contour, job.tool, job.motion.travel);
-      problem.torque = make_torque_problem(*job.dynamics, setup, side);
+      problem.torque = make_torque_problem(*job.machine.dynamics, setup, side);
       if (opt.torque_limit) problem.torque_limit = 1.0 / job.safety_factor;
     }
   } catch (const InputError& e) {
@@ -37,9 +37,9 @@ double job_area(const Job& job, const Placement& pl) {
   PolarTrack track;
   try {
     track = PolarTrack::build(*path);
-    meter.reset(track, j.grid);
+    meter.reset(track, j.machine.grid);
     auto prof = make_job_profile(j, track.length());
-    const DigitizeResult d = digitize(track, j.grid, j.motion.rule, *prof, &meter);
+    const DigitizeResult d = digitize(track, j.machine.grid, j.motion.rule, *prof, &meter);
     return meter.finish(d.start_n, d.start_m).area_m2;
   } catch (const InputError& e) {
     throw InputError("at C = " + std::to_string(pl.C) + " m, beta = " + std::to_string(pl.beta) +

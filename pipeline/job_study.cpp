@@ -32,9 +32,9 @@ JobStudy study_job(const Job& job, const StudyOptions& o) {
     const PolarTrack track = PolarTrack::build(*st.path);
     const SpeedProfilePtr prof = make_job_profile(job, track.length());
     ErrorMeters meters;
-    meters.reset(*st.path, track, job.grid, job.optimize.segments);
+    meters.reset(*st.path, track, job.machine.grid, job.optimize.segments);
     Tee tee(meters, st.staircase.steps);
-    st.dig = digitize(track, job.grid, job.motion.rule, *prof, &tee);
+    st.dig = digitize(track, job.machine.grid, job.motion.rule, *prof, &tee);
     st.staircase.n0 = st.dig.start_n;
     st.staircase.m0 = st.dig.start_m;
     st.err = meters.finish(st.dig.start_n, st.dig.start_m);

@@ -14,17 +14,17 @@ TapeHeader tape_header_for(const Job& job) {
   TapeHeader h;
   h.axes = TapeAxes::polar;
   h.rule = job.motion.rule == StepRule::nearest ? TapeRule::nearest : TapeRule::thesis;
-  h.res[0] = job.grid.dr;
-  h.res[1] = job.grid.dtheta;
-  h.steps_per_rev = job.grid.steps_per_rev;
-  h.r_min = job.grid.r_min;
-  h.has_r_max = job.grid.r_max.has_value();
-  h.r_max = job.grid.r_max.value_or(0.0);
-  h.has_theta_range = job.grid.theta_min.has_value();
-  h.theta_min = job.grid.theta_min.value_or(0.0);
-  h.theta_max = job.grid.theta_max.value_or(0.0);
-  h.home[0] = job.grid.home_n();
-  h.home[1] = job.grid.home_m();
+  h.res[0] = job.machine.grid.dr;
+  h.res[1] = job.machine.grid.dtheta;
+  h.steps_per_rev = job.machine.grid.steps_per_rev;
+  h.r_min = job.machine.grid.r_min;
+  h.has_r_max = job.machine.grid.r_max.has_value();
+  h.r_max = job.machine.grid.r_max.value_or(0.0);
+  h.has_theta_range = job.machine.grid.theta_min.has_value();
+  h.theta_min = job.machine.grid.theta_min.value_or(0.0);
+  h.theta_max = job.machine.grid.theta_max.value_or(0.0);
+  h.home[0] = job.machine.grid.home_n();
+  h.home[1] = job.machine.grid.home_m();
   h.speed_mps = job.motion.table.empty() ? job.motion.speed : job.motion.table.front().v;
   nlohmann::ordered_json p;
   p["generator"] = std::string("polarcam ") + POLARCAM_VERSION;
@@ -50,7 +50,7 @@ DigitizedJob digitize_job(const Job& job, StepSink* sink) {
   try {
     d.track = PolarTrack::build(*d.path);
     d.profile = make_job_profile(job, d.track.length());
-    d.result = digitize(d.track, job.grid, job.motion.rule, *d.profile, sink);
+    d.result = digitize(d.track, job.machine.grid, job.motion.rule, *d.profile, sink);
   } catch (const InputError& e) {
     throw e.in_file(job.file);
   }

@@ -160,7 +160,7 @@ std::string verdict_line(const Job& job, const CaseResult& c) {
 }
 
 json case_json(const Job& job, const CaseResult& c) {
-  const MachineModel& m = *job.dynamics;
+  const MachineModel& m = *job.machine.dynamics;
   const TorqueAnalysis& a = c.analysis;
   const Verdict& v = c.verdict;
   json j;
@@ -199,7 +199,7 @@ json case_json(const Job& job, const CaseResult& c) {
 }
 
 std::string case_text(const Job& job, const CaseResult& c) {
-  const MachineModel& m = *job.dynamics;
+  const MachineModel& m = *job.machine.dynamics;
   const TorqueAnalysis& a = c.analysis;
   std::string s;
   s += fmt::format("  {:<10} {}, load {}\n", "motion", c.speed ? cms(*c.speed) : "speed table", load_text(c));

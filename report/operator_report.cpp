@@ -164,7 +164,7 @@ OperatorReport operator_report(const Job& job, const JobStudy& study) {
   rep.table({"item", "value"},
             {{"job file", name},
              {"contour", job.contour->name() + (job.contour->closed() ? " (closed)" : " (open)")},
-             {"machine", job.machine_name.empty() ? "(unnamed)" : job.machine_name},
+             {"machine", job.machine.name.empty() ? "(unnamed)" : job.machine.name},
              {"placement", placement_text(job.placement) + " (the machine pole seen from the contour's own origin)"},
              {"tool", fmt::format("radius {}, tool centre {} of the travel", mm(job.tool.radius), study.side > 0 ? "left" : "right")},
              {"speed", dyn.speed ? cms(*dyn.speed) : "speed table"},
@@ -175,8 +175,8 @@ OperatorReport operator_report(const Job& job, const JobStudy& study) {
   // work area
   rep.heading(2, "Where the contour sits", "workarea");
   const Vec2 wc = err.deviation_at;
-  const double rw = std::max(norm(wc), job.grid.dr);
-  const double half = std::max(12.0 * job.grid.dr, 8.0 * rw * job.grid.dtheta);
+  const double rw = std::max(norm(wc), job.machine.grid.dr);
+  const double half = std::max(12.0 * job.machine.grid.dr, 8.0 * rw * job.machine.grid.dtheta);
   rep.figure(workarea_figure(job, *study.path, study.staircase, wc, half),
              "Left: the tool-centre path on the machine's work area (the region the arm and carriage can reach), "
              "with the machine pole (the arm's pivot) and the contour's own origin. Right: the circled spot "
@@ -187,13 +187,13 @@ OperatorReport operator_report(const Job& job, const JobStudy& study) {
 
   // the tape
   rep.heading(2, "The step tape", "tape");
-  const MachineModel& mm_ = *job.dynamics;
+  const MachineModel& mm_ = *job.machine.dynamics;
   rep.table({"", "radial (carriage)", "angular (arm)"},
             {{"steps (out + in / anticlockwise + clockwise)",
               fmt::format("{} ({} + {})", dig.radial.steps(), dig.radial.plus, dig.radial.minus),
               fmt::format("{} ({} + {})", dig.angular.steps(), dig.angular.plus, dig.angular.minus)},
-             {"resolution", mm(job.grid.dr, 4), fmt::format("{} rad ({} steps per turn)", g(job.grid.dtheta, 4),
-                                                             job.grid.steps_per_rev)},
+             {"resolution", mm(job.machine.grid.dr, 4), fmt::format("{} rad ({} steps per turn)", g(job.machine.grid.dtheta, 4),
+                                                             job.machine.grid.steps_per_rev)},
              {"mean tape step rate", g(static_cast<double>(dig.radial.steps()) / dig.duration_s, 4) + " steps/s",
               g(static_cast<double>(dig.angular.steps()) / dig.duration_s, 4) + " steps/s"},
              {"highest tape step rate", g(dig.radial.max_rate_hz, 4) + " steps/s", g(dig.angular.max_rate_hz, 4) + " steps/s"},

@@ -77,7 +77,7 @@ plot::Figure workarea_figure(const Job& job, const Curve& path, const Staircase&
   f.width = 1200;
   f.height = 600;
   f.cols = 2;
-  const Grid& gr = job.grid;
+  const Grid& gr = job.machine.grid;
   // left: the whole work area, in mm
   plot::Panel a;
   a.title = "The contour on the machine's work area";

@@ -306,7 +306,7 @@ TEST(CompareJob, ClosedFormsThroughTheComparison) {
     }
     std::vector<Vec2> poly;
     for (int e = 0; e <= 4; ++e) poly.push_back(P[e % 4] * blu);
-    const double ref = area_error_cgal(poly, nodes, job.grid.dr, job.grid.dtheta, job.grid.steps_per_rev);
+    const double ref = area_error_cgal(poly, nodes, job.machine.grid.dr, job.machine.grid.dtheta, job.machine.grid.steps_per_rev);
     EXPECT_NEAR(c.polar.area_m2, ref, 1e-10 * ref);
   }
 }
