@@ -1,5 +1,7 @@
 #include "optimize/capacity.hpp"
 
+#include "machine/dynamics/largest_passing.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -34,57 +36,6 @@ Analysed analyse(const PlacedPath& path, const DynamicsSetup& setup, const Analy
   return r;
 }
 
-// The largest x reached from x0 with pass(x): upwards by `grow` when x0 passes (up to `cap`), else the largest
-// passing x in [x_min, x0] (x_min tried first: nullopt when it fails too); bisection to rel_tol of the bracket's top.
-struct Bracketed {
-  std::optional<double> x;
-  bool capped = false;
-};
-Bracketed largest_passing(const std::function<bool(double)>& pass, double x0, double x_min, double cap,
-                          const std::function<double(double)>& grow, double rel_tol, bool down_geometric) {
-  Bracketed out;
-  double lo, hi;
-  if (pass(x0)) {
-    lo = x0;
-    hi = grow(x0);
-    while (true) {
-      if (hi >= cap) {
-        if (pass(cap)) {
-          out.x = cap;
-          out.capped = true;
-          return out;
-        }
-        hi = cap;
-        break;
-      }
-      if (!pass(hi)) break;
-      lo = hi;
-      hi = grow(hi);
-    }
-  } else if (down_geometric) {
-    hi = x0;
-    lo = 0.8 * x0;
-    while (!pass(lo)) {
-      hi = lo;
-      lo *= 0.8;
-      if (lo < x_min) return out;
-    }
-  } else {
-    if (!pass(x_min)) return out;
-    lo = x_min;
-    hi = x0;
-  }
-  while (hi - lo > rel_tol * hi) {
-    const double mid = 0.5 * (lo + hi);
-    if (pass(mid))
-      lo = mid;
-    else
-      hi = mid;
-  }
-  out.x = lo;
-  return out;
-}
-
 }  // namespace
 
 double worst_ratio_at(const PlacedPath& path, const DynamicsSetup& setup, const AnalysisOptions& a, double f) {
@@ -109,9 +60,8 @@ SpeedCapacity speed_capacity(const PlacedPath& path, const DynamicsSetup& setup,
     }
     return ok;
   };
-  const Bracketed b =
-      largest_passing(pass, 1.0, o.min_speed_factor, o.max_speed_factor, [](double f) { return 1.25 * f; }, o.rel_tol,
-                      true);
+  const LargestPassing b = largest_passing(
+      pass, {1.0, o.min_speed_factor, o.max_speed_factor, [](double f) { return 1.25 * f; }, o.rel_tol, true, true});
   out.factor = b.x;
   out.capped = b.capped;
   if (b.x) out.worst = (last_f && *last_f == *b.x) ? last_worst : analyse(path, setup, o.analysis, *b.x).worst;
@@ -126,8 +76,8 @@ SpeedCapacity speed_capacity(const PlacedPath& path, const DynamicsSetup& setup,
         ++out.evaluations;
         return analyse(path, setup, o.analysis, f).rate_over <= 1.0;
       };
-      const Bracketed r = largest_passing(rate_ok, 1.0, o.min_speed_factor, o.max_speed_factor,
-                                          [](double f) { return 1.25 * f; }, o.rel_tol, true);
+      const LargestPassing r = largest_passing(
+          rate_ok, {1.0, o.min_speed_factor, o.max_speed_factor, [](double f) { return 1.25 * f; }, o.rel_tol, true, true});
       out.step_rate_factor = r.x;
     }
   }
@@ -204,7 +154,7 @@ LoadCapacity load_capacity(const PlacedPath& path, const DynamicsSetup& setup, c
     }
     return ok;
   };
-  const Bracketed b = largest_passing(pass, x0, x_min, cap, grow, o.rel_tol, false);
+  const LargestPassing b = largest_passing(pass, {x0, x_min, cap, grow, o.rel_tol, true, false});
   out.value = b.x;
   out.capped = b.capped;
   if (b.x) {

@@ -44,6 +44,8 @@ class Translated final : public Curve {
     return c;
   }
   std::vector<double> breakpoints() const override { return base_->breakpoints(); }
+  // As the digitizer's placed path (cam::ToolPath): the pole distance adds to the base's rounding scale.
+  double rounding_scale() const override { return norm(off_) + base_->rounding_scale(); }
 
  private:
   CurvePtr base_;

@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "cam/error.hpp"
+#include "machine/dynamics/largest_passing.hpp"
 
 namespace polarcam {
 
@@ -73,47 +74,9 @@ Verdict judge(const TorqueAnalysis& a, const MachineModel& m, double safety_fact
 
 SpeedSearch max_passing_speed_factor(const std::function<bool(double)>& passes, double f_min, double f_max,
                                      double rel_tol) {
-  SpeedSearch out;
-  auto test = [&](double f) {
-    ++out.evaluations;
-    return passes(f);
-  };
-  double lo, hi;
-  if (test(1.0)) {
-    lo = 1.0;
-    hi = 1.25;
-    while (true) {
-      if (hi >= f_max) {
-        if (test(f_max)) {
-          out.factor = f_max;
-          out.capped = true;
-          return out;
-        }
-        hi = f_max;
-        break;
-      }
-      if (!test(hi)) break;
-      lo = hi;
-      hi *= 1.25;
-    }
-  } else {
-    hi = 1.0;
-    lo = 0.8;
-    while (!test(lo)) {
-      hi = lo;
-      lo *= 0.8;
-      if (lo < f_min) return out;
-    }
-  }
-  while (hi - lo > rel_tol * lo) {
-    const double mid = 0.5 * (lo + hi);
-    if (test(mid))
-      lo = mid;
-    else
-      hi = mid;
-  }
-  out.factor = lo;
-  return out;
+  const LargestPassing r =
+      largest_passing(passes, {1.0, f_min, f_max, [](double f) { return 1.25 * f; }, rel_tol, false, true});
+  return SpeedSearch{r.x, r.capped, r.evaluations};
 }
 
 }  // namespace polarcam
