@@ -8,17 +8,14 @@ namespace polarcam::cli {
 
 using Action = std::function<int()>;
 
-void register_digitize(CLI::App& app, Action& action);
-void register_inspect(CLI::App& app, Action& action);
-void register_dda(CLI::App& app, Action& action);
-void register_play(CLI::App& app, Action& action);
-void register_controller_sim(CLI::App& app, Action& action);
-void register_error(CLI::App& app, Action& action);
-void register_optimize(CLI::App& app, Action& action);
-void register_analyze(CLI::App& app, Action& action);
-void register_motor(CLI::App& app, Action& action);
-void register_compare(CLI::App& app, Action& action);
-void register_capacity(CLI::App& app, Action& action);
-void register_report(CLI::App& app, Action& action);
+// Adds one subcommand to `app`; when it is chosen, stores what to run in `action`.
+using Register = void(CLI::App& app, Action& action);
+Register register_digitize, register_inspect, register_dda, register_play, register_controller_sim, register_error,
+    register_optimize, register_analyze, register_motor, register_compare, register_capacity, register_report;
+
+// The subcommands, in the order `polarcam --help` lists them.
+inline constexpr Register* kCommands[] = {
+    register_digitize, register_inspect, register_dda,     register_play,    register_controller_sim, register_error,
+    register_optimize, register_analyze, register_motor,   register_compare, register_capacity,       register_report};
 
 }  // namespace polarcam::cli

@@ -76,12 +76,7 @@ int fit(const FitOpts& o) {
   const double tu = unit_of(o.torque_unit, dim::torque, "--torque-unit");
   std::vector<PulloutPoint> pts;
   for (Vec2 p : read_points_csv(o.points, 1.0)) pts.push_back({p.x * ru, p.y * tu});
-  MotorFitResult r;
-  try {
-    r = fit_electrical_motor(pts, known, fo);
-  } catch (const InputError& e) {
-    throw e.in_file(o.points);
-  }
+  const MotorFitResult r = in_file(o.points, [&] { return fit_electrical_motor(pts, known, fo); });
   const ElectricalMotor& m = r.motor;
   double fmax = 0.0;
   for (const auto& p : pts) fmax = std::max(fmax, p.rate_hz);

@@ -64,12 +64,7 @@ int run_pareto(const Job& job, PlacementOptions opt, const Opts& o) {
   po.survey = o.survey;
   po.threads = opt.threads;
   const auto t0 = std::chrono::steady_clock::now();
-  ParetoResult r;
-  try {
-    r = pareto_front(problem, job.placement, opt, po);
-  } catch (const InputError& e) {
-    throw e.in_file(job.file);
-  }
+  const ParetoResult r = in_file(job.file, [&] { return pareto_front(problem, job.placement, opt, po); });
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double limit = 1.0 / job.safety_factor;
   // the least area error within the limit, among the front's points
@@ -163,12 +158,7 @@ int run(const Opts& o) {
 
   const PoleProblem problem = job_pole_problem(job, opt, dynamics);
   const auto t0 = std::chrono::steady_clock::now();
-  PlacementResult r;
-  try {
-    r = optimize_placement(problem, job.placement, opt);
-  } catch (const InputError& e) {
-    throw e.in_file(job.file);
-  }
+  const PlacementResult r = in_file(job.file, [&] { return optimize_placement(problem, job.placement, opt); });
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double area = job_area(job, r.placement);
   const double start_area = r.start.feasible() ? job_area(job, job.placement) : -1.0;

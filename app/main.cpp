@@ -17,18 +17,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("polarcam ") + POLARCAM_VERSION);
   app.require_subcommand(1);
   cli::Action action;
-  cli::register_digitize(app, action);
-  cli::register_inspect(app, action);
-  cli::register_dda(app, action);
-  cli::register_play(app, action);
-  cli::register_controller_sim(app, action);
-  cli::register_error(app, action);
-  cli::register_optimize(app, action);
-  cli::register_analyze(app, action);
-  cli::register_motor(app, action);
-  cli::register_compare(app, action);
-  cli::register_capacity(app, action);
-  cli::register_report(app, action);
+  for (cli::Register* add : cli::kCommands) add(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -68,6 +68,16 @@ class InputError : public Error {
   InputError in_file(const std::string& file) const { return InputError(message(), place_in(file)); }
 };
 
+// Runs f() and returns what it returns; an InputError it throws is placed in `file` (InputError::in_file).
+template <class F>
+decltype(auto) in_file(const std::string& file, F&& f) {
+  try {
+    return f();
+  } catch (const InputError& e) {
+    throw e.in_file(file);
+  }
+}
+
 // An I/O or device failure (exit status 3).
 class DeviceError : public Error {
  public:

@@ -1,6 +1,6 @@
 # Project-wide compile options: warnings on everywhere, optional ASan+UBSan.
 add_library(polarcam_options INTERFACE)
-target_compile_options(polarcam_options INTERFACE -Wall -Wextra -Wpedantic -Wshadow)
+target_compile_options(polarcam_options INTERFACE -Wall -Wextra -Wpedantic -Wshadow -Werror=return-type)
 # GCC 12 reports false -Wrestrict warnings inside std::string's operator+ at -O2 (GCC bug 105329).
 if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU" AND CMAKE_CXX_COMPILER_VERSION VERSION_LESS 13)
   target_compile_options(polarcam_options INTERFACE -Wno-restrict)

@@ -263,11 +263,7 @@ Machine load_machine(const std::string& path) {
 }
 
 ToolPathPtr make_job_path(const Job& job) {
-  try {
-    return make_tool_path(job.contour, job.placement, job.tool, job.motion.travel);
-  } catch (const InputError& e) {
-    throw e.in_file(job.file);
-  }
+  return in_file(job.file, [&] { return make_tool_path(job.contour, job.placement, job.tool, job.motion.travel); });
 }
 
 SpeedProfilePtr make_job_profile(const Job& job, double length) {

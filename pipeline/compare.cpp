@@ -569,12 +569,7 @@ Comparison compare_job(const Job& job, const CompareOptions& opt) {
   c.contour = job.contour->name();
   c.nominal_speed = nominal_speed(job);
   const ToolPathPtr cpath = make_cartesian_job_path(job);
-  CartesianTrack track;
-  try {
-    track = CartesianTrack::build(*cpath);
-  } catch (const InputError& e) {
-    throw e.in_file(job.file);
-  }
+  const CartesianTrack track = in_file(job.file, [&] { return CartesianTrack::build(*cpath); });
   c.closed = cpath->closed();
   c.path_length_m = track.length();
   const TempTape polar_tape("polar"), cart_tape("cartesian");

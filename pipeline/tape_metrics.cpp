@@ -9,12 +9,7 @@ namespace polarcam {
 
 PolarTapeMetrics polar_tape_metrics(const Job& job, const std::string& tape, int segments) {
   const ToolPathPtr path = make_job_path(job);
-  PolarTrack track;
-  try {
-    track = PolarTrack::build(*path);
-  } catch (const InputError& e) {
-    throw e.in_file(job.file);
-  }
+  const PolarTrack track = in_file(job.file, [&] { return PolarTrack::build(*path); });
   TapeReader rd(tape);
   const TapeHeader& h = rd.header();
   if (h.axes != TapeAxes::polar) throw InputError("a Cartesian tape, not a polar one", tape);
@@ -24,11 +19,7 @@ PolarTapeMetrics polar_tape_metrics(const Job& job, const std::string& tape, int
   g.dr = h.res[0];
   g.dtheta = h.res[1];
   g.steps_per_rev = h.steps_per_rev;
-  try {
-    g.validate();
-  } catch (const InputError& e) {
-    throw e.in_file(tape);
-  }
+  in_file(tape, [&] { g.validate(); });
   ErrorMeters em;
   em.reset(*path, track, g, segments > 0 ? segments : job.optimize.segments);
   StepRecord r;
@@ -43,12 +34,7 @@ PolarTapeMetrics polar_tape_metrics(const Job& job, const std::string& tape, int
 
 CartesianTapeMetrics cartesian_tape_metrics(const Job& job, const std::string& tape) {
   const ToolPathPtr path = make_cartesian_job_path(job);
-  CartesianTrack track;
-  try {
-    track = CartesianTrack::build(*path);
-  } catch (const InputError& e) {
-    throw e.in_file(job.file);
-  }
+  const CartesianTrack track = in_file(job.file, [&] { return CartesianTrack::build(*path); });
   TapeReader rd(tape);
   const TapeHeader& h = rd.header();
   if (h.axes != TapeAxes::cartesian) throw InputError("a polar tape, not a Cartesian one", tape);

@@ -7,17 +7,8 @@
 namespace polarcam {
 
 const char* to_string(LoadKind k) {
-  switch (k) {
-    case LoadKind::none:
-      return "none";
-    case LoadKind::inertial:
-      return "inertial";
-    case LoadKind::grinding:
-      return "grinding";
-    case LoadKind::force:
-      return "force";
-  }
-  return "?";
+  static constexpr const char* kNames[] = {"none", "inertial", "grinding", "force"};  // in the order of the enum
+  return kNames[static_cast<int>(k)];
 }
 
 double GrindingSpec::K_c() const { return k_c * std::sqrt(1.0 + c1 * c1) * depth * width / wheel_speed; }

@@ -21,15 +21,8 @@ std::optional<RobustLoss> parse_robust_loss(const std::string& s) {
 }
 
 const char* to_string(RobustLoss l) {
-  switch (l) {
-    case RobustLoss::none:
-      return "none";
-    case RobustLoss::huber:
-      return "huber";
-    case RobustLoss::cauchy:
-      return "cauchy";
-  }
-  return "?";
+  static constexpr const char* kNames[] = {"none", "huber", "cauchy"};  // in the order of the enum
+  return kNames[static_cast<int>(l)];
 }
 
 namespace {

@@ -25,15 +25,8 @@ std::string num(double v, int prec = 6) {
 }  // namespace
 
 const char* to_string(Energisation e) {
-  switch (e) {
-    case Energisation::wave:
-      return "wave";
-    case Energisation::full_one:
-      return "full_one";
-    case Energisation::full_two:
-      return "full_two";
-  }
-  return "?";
+  static constexpr const char* kNames[] = {"wave", "full_one", "full_two"};  // in the order of the enum
+  return kNames[static_cast<int>(e)];
 }
 
 std::optional<Energisation> parse_energisation(const std::string& s) {

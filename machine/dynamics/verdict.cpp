@@ -9,17 +9,8 @@
 namespace polarcam {
 
 const char* to_string(Failure f) {
-  switch (f) {
-    case Failure::none:
-      return "none";
-    case Failure::torque:
-      return "torque";
-    case Failure::no_pullout:
-      return "no_pullout";
-    case Failure::step_rate:
-      return "step_rate";
-  }
-  return "?";
+  static constexpr const char* kNames[] = {"none", "torque", "no_pullout", "step_rate"};  // in the order of the enum
+  return kNames[static_cast<int>(f)];
 }
 
 namespace {

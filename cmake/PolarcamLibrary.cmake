@@ -1,0 +1,26 @@
+# polarcam_library(NAME SOURCES a.cpp ... [PUBLIC deps ...] [PRIVATE deps ...])
+# One library of the pipeline: its headers are included as "folder/file.hpp" from the source root, the project's
+# warnings (and sanitizers) apply, and it links what it names.
+function(polarcam_library name)
+  cmake_parse_arguments(L "" "" "SOURCES;PUBLIC;PRIVATE" ${ARGN})
+  add_library(${name} ${L_SOURCES})
+  target_include_directories(${name} PUBLIC ${PROJECT_SOURCE_DIR})
+  target_link_libraries(${name} PUBLIC ${L_PUBLIC} polarcam_options PRIVATE ${L_PRIVATE})
+endfunction()
+
+# polarcam_cgal_unit(NAME SOURCE): CGAL confined to one translation unit, built as an object library that a
+# polarcam library links privately. CGAL is slow to compile and compiles its users with -frounding-math, which
+# the hot numerical code does not want.
+function(polarcam_cgal_unit name source)
+  add_library(${name} OBJECT ${source})
+  target_include_directories(${name} PRIVATE ${PROJECT_SOURCE_DIR})
+  target_link_libraries(${name} PRIVATE CGAL::CGAL polarcam_digitizer polarcam_options)
+  # GCC 12 reports -Wmaybe-uninitialized inside CGAL's kernel objects (Boost tuples) once sanitizers change
+  # inlining; CGAL's arrangement handles are classes derived from its DCEL records without data of their own, and
+  # its iterators downcast the records to them, which UBSan's vptr check reports.
+  set(opts -Wno-maybe-uninitialized)
+  if(POLARCAM_SANITIZE)
+    list(APPEND opts -fno-sanitize=vptr)
+  endif()
+  set_source_files_properties(${source} PROPERTIES COMPILE_OPTIONS "${opts}")
+endfunction()
