@@ -11,7 +11,7 @@
 //
 // The walker is a template on its style and its emitter, so the inner loop has no indirect calls: the polar
 // digitizer (digitize.cpp), the theta-rho digitizer and the exact Cartesian generator
-// (machine/cartesian_exact.cpp) are instances of it.
+// (machine/cartesian/cartesian_exact.cpp) are instances of it.
 #include <cmath>
 #include <cstdint>
 #include <vector>
