@@ -36,18 +36,18 @@ int cartesian(const Opts& o, const Job& job) {
     j["area_error_mm2"] = m.area.area_m2 * 1e6;
     j["deviation_max_mm"] = m.deviation_max_m * 1e3;
     j["deviation_at_mm"] = {m.deviation_at.x * 1e3, m.deviation_at.y * 1e3};
-    j["steps_x"] = m.area.steps_x;
-    j["steps_y"] = m.area.steps_y;
-    j["strips"] = m.area.strips;
-    j["general_strips"] = m.area.general_strips;
+    j["steps_x"] = m.area.run_steps;
+    j["steps_y"] = m.area.rise_steps;
+    j["strips"] = m.area.sectors;
+    j["general_strips"] = m.area.general_sectors;
     j["resolution_m"] = cm.blu;
     std::cout << j.dump(2) << "\n";
     return 0;
   }
   std::ostringstream os;
   os << "polarcam error " << o.tape << " (Cartesian, " << to_string(cm.rule) << ") against " << job.file << "\n";
-  os << "  area error   " << fmt(m.area.area_m2 * 1e6) << " mm^2 (" << m.area.strips << " strips of x, "
-     << m.area.general_strips << " by the general sweep)\n";
+  os << "  area error   " << fmt(m.area.area_m2 * 1e6) << " mm^2 (" << m.area.sectors << " strips of x, "
+     << m.area.general_sectors << " by the general sweep)\n";
   os << "  deviation    " << fmt(m.deviation_max_m * 1e3) << " mm at x = " << fmt(m.deviation_at.x * 1e3)
      << " mm, y = " << fmt(m.deviation_at.y * 1e3) << " mm (contour frame); BLU " << fmt(cm.blu * 1e3) << " mm\n";
   std::cout << os.str();
@@ -94,8 +94,8 @@ void register_error(CLI::App& app, Action& action) {
         j["F_dif_chords"] = m.f_chords.F_dif;
         j["F1_chords"] = m.f_chords.F1;
         j["segments"] = m.segments;
-        j["steps_radial"] = m.area.radial_steps;
-        j["steps_angular"] = m.area.angular_steps;
+        j["steps_radial"] = m.area.rise_steps;
+        j["steps_angular"] = m.area.run_steps;
         j["sectors"] = m.area.sectors;
         j["general_sectors"] = m.area.general_sectors;
         j["radial_resolution_m"] = g.dr;

@@ -84,7 +84,7 @@ void BM_DigitizeAndArea(benchmark::State& state) {
     meter.reset(tr, g);
     DigitizeResult d = digitize(tr, g, StepRule::nearest, *prof, &meter);
     AreaErrorResult a = meter.finish(d.start_n, d.start_m);
-    steps = a.radial_steps + a.angular_steps;
+    steps = a.rise_steps + a.run_steps;
     area = a.area_m2;
   }
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * steps));

@@ -7,7 +7,7 @@
 #include <stdexcept>
 
 #include "cam/error.hpp"
-#include "digitizer/level_crossing.hpp"
+#include "digitizer/step_walker.hpp"
 
 namespace polarcam {
 
@@ -24,28 +24,12 @@ std::string fmt(double v, int prec = 6) {
   return os.str();
 }
 
-std::string where(const PolarTrack& tr, const TrackExtent& e, double shift) {
+// The point of an extent; the radial motor stands at q = r + c theta (theta before the shift).
+std::string where(const AxisTrack& tr, const TrackExtent& e, double shift, double c) {
   const TrackPiece& p = tr.pieces()[e.piece];
-  double r = tr.r(e.piece, e.t), th = tr.theta(e.piece, e.t) + shift;
+  const double th0 = tr.q(1, e.piece, e.t), r = tr.q(0, e.piece, e.t) - c * th0, th = th0 + shift;
   return "at path parameter " + fmt(p.u_at(e.t)) + " (r = " + fmt(r * 1e3) + " mm, theta = " + fmt(th) +
          " rad, machine x = " + fmt(r * std::cos(th) * 1e3) + " mm, y = " + fmt(r * std::sin(th) * 1e3) + " mm)";
-}
-
-struct PieceGrid {  // a piece in grid units
-  Cheb g[2];
-  double base[2];  // value at t = -1
-  double end[2];   // value at t = +1
-};
-
-void to_grid(const TrackPiece& p, const Grid& grid, double shift, PieceGrid& pg) {
-  pg.g[0] = p.R;
-  pg.g[0].scale(1.0 / grid.dr);
-  pg.g[1] = p.Th;
-  pg.g[1].scale(1.0 / grid.dtheta);
-  pg.base[0] = p.r_a / grid.dr;
-  pg.base[1] = (p.th_a + shift) / grid.dtheta;
-  pg.end[0] = p.r_b / grid.dr;
-  pg.end[1] = (p.th_b + shift) / grid.dtheta;
 }
 
 struct Emitter {
@@ -56,7 +40,7 @@ struct Emitter {
   int64_t last_axis_ns[2] = {0, 0};
   uint64_t count[2] = {0, 0};
 
-  void emit(int axis, int dir, double s) {
+  void operator()(int axis, int dir, double s) {
     double t = profile->time_at(s);
     int64_t ns = std::llround(t * 1e9);
     if (ns < last_ns) ns = last_ns;
@@ -73,100 +57,17 @@ struct Emitter {
   }
 };
 
-struct Cursor {
-  int dir = 0;
-  bool has = false;
-  double level = 0, t = 0, s = 0;  // pending event
-  double lo = 0, flo = 0;          // bracket start and g(lo) - level
-  double hist[3] = {0, 0, 0};
-  int nh = 0;
-};
-
-// The quantiser over all pieces. With kEmit false only the nodes are tracked (no root finding).
-template <bool kEmit>
-void run(const PolarTrack& tr, const Grid& grid, double shift, double h, double closed_end_m, int64_t node[2],
-         Emitter* em) {
-  const auto& P = tr.pieces();
-  const auto& E = tr.extrema();
-  PieceGrid pg;
-  std::vector<double> ts;
-  for (size_t i = 0; i < P.size(); ++i) {
-    const TrackPiece& pc = P[i];
-    to_grid(pc, grid, shift, pg);
-    if (i + 1 == P.size() && tr.closed() && !std::isnan(closed_end_m)) pg.end[1] = closed_end_m;
-    ts.clear();
-    ts.push_back(-1.0);
-    for (uint32_t k = pc.ext_begin; k < pc.ext_end; ++k) ts.push_back(E[k]);
-    ts.push_back(1.0);
-    double fprev[2] = {pg.base[0], pg.base[1]};
-    for (size_t k = 0; k + 1 < ts.size(); ++k) {
-      const double tl = ts[k], trr = ts[k + 1];
-      double fend[2];
-      for (int a = 0; a < 2; ++a) fend[a] = (k + 2 == ts.size()) ? pg.end[a] : pg.base[a] + pg.g[a](trr);
-      if constexpr (!kEmit) {
-        for (int a = 0; a < 2; ++a) {
-          if (fend[a] > fprev[a]) {
-            double v = std::floor(fend[a] - h) + 1.0;
-            if (v > static_cast<double>(node[a])) node[a] = static_cast<int64_t>(v);
-          } else if (fend[a] < fprev[a]) {
-            double v = std::floor(fend[a] + h);
-            if (v < static_cast<double>(node[a])) node[a] = static_cast<int64_t>(v);
-          }
-        }
-      } else {
-        Cursor cur[2];
-        auto advance = [&](int a) {
-          Cursor& c = cur[a];
-          c.has = false;
-          if (c.dir == 0) return;
-          double level = static_cast<double>(node[a]) + (c.dir > 0 ? h : -h);
-          bool fires = c.dir > 0 ? (fend[a] >= level) : (fend[a] < level);
-          if (!fires) return;
-          double y = level - pg.base[a];
-          double flo = (c.nh > 0) ? c.level - level : fprev[a] - level;
-          double guess = -2.0;
-          if (c.nh >= 3)
-            guess = 3.0 * c.hist[0] - 3.0 * c.hist[1] + c.hist[2];
-          else if (c.nh == 2)
-            guess = 2.0 * c.hist[0] - c.hist[1];
-          LevelCrossing r = solve_crossing(pg.g[a], pc.S, y, c.lo, trr, flo, fend[a] - level, guess);
-          c.has = true;
-          c.level = level;
-          c.t = r.t;
-          c.s = r.s;
-        };
-        for (int a = 0; a < 2; ++a) {
-          cur[a].dir = fend[a] > fprev[a] ? 1 : (fend[a] < fprev[a] ? -1 : 0);
-          cur[a].lo = tl;
-          advance(a);
-        }
-        while (cur[0].has || cur[1].has) {
-          int a = (cur[0].has && (!cur[1].has || cur[0].t <= cur[1].t)) ? 0 : 1;
-          Cursor& c = cur[a];
-          em->emit(a, c.dir, pc.s0 + c.s);
-          node[a] += c.dir;
-          c.lo = c.t;
-          c.hist[2] = c.hist[1];
-          c.hist[1] = c.hist[0];
-          c.hist[0] = c.t;
-          if (c.nh < 3) ++c.nh;
-          advance(a);
-        }
-      }
-      fprev[0] = fend[0];
-      fprev[1] = fend[1];
-    }
-  }
-}
+// The digitizer's walk: the arc length rides in the solver (most crossings are steps), guesses are quadratic.
+using DigitizerStyle = WalkStyle<true, 3>;
 
 // Max over the path of V(s) |df/ds| / resolution for both axes, sampled and refined.
-void max_rates(const PolarTrack& tr, const Grid& grid, const SpeedProfile& prof, DigitizeResult& res) {
+void max_rates(const AxisTrack& tr, const Grid& grid, const SpeedProfile& prof, DigitizeResult& res) {
   const auto& P = tr.pieces();
   auto rate = [&](size_t i, double t, int axis) {
     const TrackPiece& p = P[i];
     double v = p.V(t);
     if (!(v > 0.0)) return 0.0;
-    double d = axis == 0 ? p.dR(t) / grid.dr : p.dTh(t) / grid.dtheta;
+    double d = axis == 0 ? p.dQ[0](t) / grid.dr : p.dQ[1](t) / grid.dtheta;
     return prof.speed_at(p.s0 + p.S(t)) * std::abs(d) / v;
   };
   for (int axis = 0; axis < 2; ++axis) {
@@ -208,11 +109,10 @@ void max_rates(const PolarTrack& tr, const Grid& grid, const SpeedProfile& prof,
 
 }  // namespace
 
-double place_on_grid(const PolarTrack& tr, const Grid& grid) {
+double place_on_grid_arm(const AxisTrack& tr, double c, const Grid& grid) {
   grid.validate();
-  const TrackExtent rmin = tr.r_min(), rmax = tr.r_max();
   double shift = 0.0;
-  const TrackExtent thmin = tr.theta_min(), thmax = tr.theta_max();
+  const TrackExtent thmin = tr.q_min(1), thmax = tr.q_max(1);
   if (grid.theta_min) {
     // smallest whole-turn shift putting the path's lowest angle at or above theta_min
     double k = std::ceil((*grid.theta_min - thmin.value) / kTwoPi - 1e-12);
@@ -222,29 +122,35 @@ double place_on_grid(const PolarTrack& tr, const Grid& grid) {
       if (span > *grid.theta_max - *grid.theta_min)
         throw InputError("the path leaves the work area: it sweeps " + fmt(span) + " rad about the pole, more than the " +
                          fmt(*grid.theta_max - *grid.theta_min) + " rad from theta_min " + fmt(*grid.theta_min) +
-                         " to theta_max " + fmt(*grid.theta_max) + "; from " + where(tr, thmin, shift) + " to " +
-                         where(tr, thmax, shift));
+                         " to theta_max " + fmt(*grid.theta_max) + "; from " + where(tr, thmin, shift, c) + " to " +
+                         where(tr, thmax, shift, c));
       throw InputError("the path leaves the work area: theta reaches " + fmt(thmax.value + shift) + " rad > theta_max " +
-                       fmt(*grid.theta_max) + " rad " + where(tr, thmax, shift) + " while its lowest angle " +
+                       fmt(*grid.theta_max) + " rad " + where(tr, thmax, shift, c) + " while its lowest angle " +
                        fmt(thmin.value + shift) + " rad needs theta >= theta_min " + fmt(*grid.theta_min) + " rad");
     }
   } else {
-    double a0 = tr.pieces().front().th_a;
+    double a0 = tr.pieces().front().q_a[1];
     shift = -kTwoPi * std::floor(a0 / kTwoPi);
   }
-  if (rmin.value < grid.r_min)
-    throw InputError("the path leaves the work area: r falls to " + fmt(rmin.value * 1e3) + " mm < r_min " +
-                     fmt(grid.r_min * 1e3) + " mm " + where(tr, rmin, shift));
-  if (grid.r_max && rmax.value > *grid.r_max)
-    throw InputError("the path leaves the work area: r reaches " + fmt(rmax.value * 1e3) + " mm > r_max " +
-                     fmt(*grid.r_max * 1e3) + " mm " + where(tr, rmax, shift));
+  // the radial motor's travel: r itself on a polar machine, q = r + c theta on a coupled arm
+  const TrackExtent rmin = tr.q_min(0), rmax = tr.q_max(0);
+  const double qmin = rmin.value + c * shift, qmax = rmax.value + c * shift;
+  const char* what = c == 0.0 ? "r" : "the radial motor position";
+  if (qmin < grid.r_min)
+    throw InputError(std::string("the path leaves the work area: ") + what + " falls to " + fmt(qmin * 1e3) +
+                     " mm < r_min " + fmt(grid.r_min * 1e3) + " mm " + where(tr, rmin, shift, c));
+  if (grid.r_max && qmax > *grid.r_max)
+    throw InputError(std::string("the path leaves the work area: ") + what + " reaches " + fmt(qmax * 1e3) +
+                     " mm > r_max " + fmt(*grid.r_max * 1e3) + " mm " + where(tr, rmax, shift, c));
   return shift;
 }
 
-DigitizeResult digitize(const PolarTrack& tr, const Grid& grid, StepRule rule, const SpeedProfile& profile,
-                        StepSink* sink) {
+double place_on_grid(const PolarTrack& tr, const Grid& grid) { return place_on_grid_arm(tr, 0.0, grid); }
+
+DigitizeResult digitize_arm(const AxisTrack& tr, double c, const Grid& grid, StepRule rule,
+                            const SpeedProfile& profile, StepSink* sink) {
   DigitizeResult res;
-  const double shift = place_on_grid(tr, grid);
+  const double shift = place_on_grid_arm(tr, c, grid);
   res.theta_shift = shift;
   res.closed = tr.closed();
   res.winding = tr.winding();
@@ -252,22 +158,27 @@ DigitizeResult digitize(const PolarTrack& tr, const Grid& grid, StepRule rule, c
   res.duration_s = profile.time_at(tr.length());
   res.duration_ns = std::llround(res.duration_s * 1e9);
 
-  const double h = rule == StepRule::nearest ? 0.5 : 1.0;
+  WalkGrid wg;
+  wg.res[0] = grid.dr;
+  wg.res[1] = grid.dtheta;
+  wg.offset[0] = c * shift;  // the radial motor turns with the arm's whole-turn shift
+  wg.offset[1] = shift;
+  wg.h = rule == StepRule::nearest ? 0.5 : 1.0;
   const TrackPiece& first = tr.pieces().front();
-  const double f0[2] = {first.r_a / grid.dr, (first.th_a + shift) / grid.dtheta};
+  const double f0[2] = {(first.q_a[0] + wg.offset[0]) / grid.dr, (first.q_a[1] + shift) / grid.dtheta};
   // a closed path ends at its start advanced by whole turns; with a whole number of steps per turn its end value
-  // in angular steps is exact
-  const double closed_end_m = (tr.closed() && grid.steps_per_rev > 0)
-                                  ? f0[1] + static_cast<double>(tr.winding()) * static_cast<double>(grid.steps_per_rev)
-                                  : std::nan("");
+  // in angular steps is exact. The radial motor of a coupled arm ends 2 pi c per turn away from its start.
+  const bool radial_closes = c == 0.0 || tr.winding() == 0;
+  if (tr.closed() && grid.steps_per_rev > 0)
+    wg.last_end[1] = f0[1] + static_cast<double>(tr.winding()) * static_cast<double>(grid.steps_per_rev);
   int64_t node[2];
   for (int a = 0; a < 2; ++a)
     node[a] = static_cast<int64_t>(rule == StepRule::nearest ? std::floor(f0[a] + 0.5) : std::floor(f0[a]));
   if (rule == StepRule::thesis && tr.closed()) {
     // start from the node the quantiser holds after one lap, so the tape is periodic
     int64_t lap[2] = {node[0], node[1]};
-    run<false>(tr, grid, shift, h, closed_end_m, lap, nullptr);
-    node[0] = lap[0];
+    walk_steps<false, DigitizerStyle>(tr, wg, lap, [](int, int, double) {});
+    if (radial_closes) node[0] = lap[0];
     if (grid.steps_per_rev > 0 || tr.winding() == 0)
       node[1] = lap[1] - static_cast<int64_t>(tr.winding()) * grid.steps_per_rev;
   }
@@ -275,7 +186,7 @@ DigitizeResult digitize(const PolarTrack& tr, const Grid& grid, StepRule rule, c
   res.start_m = node[1];
 
   Emitter em{&profile, sink, &res};
-  run<true>(tr, grid, shift, h, closed_end_m, node, &em);
+  walk_steps<true, DigitizerStyle>(tr, wg, node, em);
   res.end_n = node[0];
   res.end_m = node[1];
   res.last_step_ns = em.last_ns;
@@ -286,11 +197,16 @@ DigitizeResult digitize(const PolarTrack& tr, const Grid& grid, StepRule rule, c
                            (grid.steps_per_rev > 0
                                 ? res.end_m == res.start_m + static_cast<int64_t>(tr.winding()) * grid.steps_per_rev
                                 : res.end_m == res.start_m);
-    if (!res.returns_to_start && (grid.steps_per_rev > 0 || tr.winding() == 0))
+    if (!res.returns_to_start && radial_closes && (grid.steps_per_rev > 0 || tr.winding() == 0))
       throw std::logic_error("internal error: a closed path did not return to its start node");
   }
   max_rates(tr, grid, profile, res);
   return res;
+}
+
+DigitizeResult digitize(const PolarTrack& tr, const Grid& grid, StepRule rule, const SpeedProfile& profile,
+                        StepSink* sink) {
+  return digitize_arm(tr, 0.0, grid, rule, profile, sink);
 }
 
 }  // namespace polarcam

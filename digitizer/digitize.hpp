@@ -40,6 +40,9 @@ class StepSink {
 // the track's theta so that the whole path lies in [theta_min, theta_max] (or, without an angular range, so that
 // the start angle lies in [0, 2 pi)). Throws InputError naming where the path leaves the work area.
 double place_on_grid(const PolarTrack& track, const Grid& grid);
+// The same for an arm whose radial motor stands at q = r + c theta (track axis 0; c in m/rad, 0 on the polar
+// machine) and whose angular motor at theta (axis 1): r_min and r_max bound q (theta_rho.hpp).
+double place_on_grid_arm(const AxisTrack& track, double c, const Grid& grid);
 
 struct AxisSummary {
   uint64_t plus = 0, minus = 0;
@@ -64,5 +67,8 @@ struct DigitizeResult {
 // Digitizes the track. `sink` may be null (counting and timing only).
 DigitizeResult digitize(const PolarTrack& track, const Grid& grid, StepRule rule, const SpeedProfile& profile,
                         StepSink* sink);
+// Digitizes the track of an arm with radial coupling c (m/rad) as above; digitize() of a polar track is c = 0.
+DigitizeResult digitize_arm(const AxisTrack& track, double c, const Grid& grid, StepRule rule,
+                            const SpeedProfile& profile, StepSink* sink);
 
 }  // namespace polarcam

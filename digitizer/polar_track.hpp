@@ -1,71 +1,65 @@
 #pragma once
-// The polar track: the tool-centre path as the machine sees it, r(u) and the unwrapped theta(u) about the machine
-// pole, with arc length s(u), as adaptive piecewise Chebyshev series accurate to a few units in the last place.
-// Each piece [u_a, u_b] carries on t in [-1, 1]:
-//   R(t) = r - r_a,  Th(t) = theta - theta_a,  V(t) = ds/dt,  S(t) = s - s_a (the integral of V),
-// plus the interior extrema of r and theta (roots of R' and Th'), so that between consecutive extrema both
-// coordinates are monotone. The digitizer, the error metrics and the dynamics all read the path through it.
-#include <cstdint>
-#include <vector>
+// The polar track: the tool-centre path as a polar machine sees it, r(u) and the unwrapped theta(u) about the
+// machine pole, with arc length s(u): the axis track (axis_track.hpp) of the polar axis map,
+//   q0 = r = |p|,  q1 = theta = atan2(y, x) unwrapped (continuous along the path),
+// for a path whose origin is the machine pole. The digitizer, the error metrics and the dynamics read it.
+#include <cmath>
+#include <limits>
+#include <numbers>
 
 #include "cam/curve.hpp"
-#include "digitizer/chebyshev.hpp"
+#include "digitizer/axis_track.hpp"
 
 namespace polarcam {
 
-struct TrackPiece {
-  double ua = 0, ub = 0;        // path parameter at the ends
-  double s0 = 0, len = 0;       // arc length from the path start to ua; arc length of the piece
-  double r_a = 0, r_b = 0;      // r at the ends (evaluated exactly, shared with the neighbours)
-  double th_a = 0, th_b = 0;    // unwrapped theta at the ends
-  Cheb R, dR, Th, dTh, V, S;    // series on t in [-1, 1] (derivatives with respect to t)
-  uint32_t ext_begin = 0, ext_end = 0;  // [begin, end) into PolarTrack::extrema(): sorted t in (-1, 1)
+// The polar axis map (track_builder.hpp): r and the unwrapped angle about the origin.
+struct PolarMap {
+  static constexpr double kTwoPi = 2.0 * std::numbers::pi;
+  static constexpr double kEps = std::numeric_limits<double>::epsilon();
+  static constexpr double kPoleDistance = 1e-9;  // m: a path this close to the pole passes through it
+  static constexpr double kJump = 0.25 * std::numbers::pi;  // largest angle between neighbouring samples
+  static constexpr const char* kFrame = "machine ";
+  static constexpr const char* kSingular = "passes through the machine pole";
+  static constexpr const char* kRough = "it passes too close to the machine pole or is not smooth";
 
-  double u_at(double t) const { return 0.5 * (ua + ub) + 0.5 * (ub - ua) * t; }
+  double scale = 0.0;  // the rounding scale of the path's numbers (Curve::rounding_scale)
+
+  static double unwrap(double a, double ref) { return a + kTwoPi * std::nearbyint((ref - a) / kTwoPi); }
+  bool coords(Vec2 p, const double ref[2], double q[2], double& aux) const {
+    q[0] = aux = std::sqrt(p.x * p.x + p.y * p.y);
+    q[1] = unwrap(std::atan2(p.y, p.x), ref[1]);
+    return q[0] >= kPoleDistance;
+  }
+  bool smooth(const double a[2], const double b[2]) const { return std::abs(b[1] - a[1]) <= kJump; }
+  // A few units in the last place of the numbers r and theta come from: r itself and, for a placed path, the
+  // pole distance and tool radius (the rounding scale), which dominate near the pole (aux_min: the least r).
+  void tolerances(const double qa[2], const double span[2], double aux_min, double tol[2]) const {
+    tol[0] = 16 * kEps * (std::abs(qa[0]) + span[0] + scale) + 1e-300;
+    tol[1] = 16 * kEps * (std::abs(qa[1]) + span[1] + 1.0 + scale / aux_min) + 1e-300;
+  }
+  // A closed path ends exactly where it starts: same r, theta advanced by whole turns.
+  int close(const double first[2], double last[2]) const {
+    const double turns = std::nearbyint((last[1] - first[1]) / kTwoPi);
+    last[0] = first[0];
+    last[1] = first[1] + kTwoPi * turns;
+    return static_cast<int>(turns);
+  }
 };
 
-struct TrackExtent {
-  double value;
-  size_t piece;
-  double t;
-};
-
-class PolarTrack {
+class PolarTrack : public AxisTrack {
  public:
   // Builds the track of `path`, whose origin is the machine pole. Throws InputError when the path is not finite,
   // passes through the pole, or cannot be resolved.
   static PolarTrack build(const Curve& path);
 
-  const std::vector<TrackPiece>& pieces() const { return pieces_; }
-  const std::vector<double>& extrema() const { return extrema_; }
-  double length() const { return length_; }
-  bool closed() const { return closed_; }
-  // Number of turns a closed path makes about the pole (theta_end - theta_start) / 2 pi; 0 for open paths.
-  int winding() const { return winding_; }
+  TrackExtent r_min() const { return q_min(0); }
+  TrackExtent r_max() const { return q_max(0); }
+  TrackExtent theta_min() const { return q_min(1); }
+  TrackExtent theta_max() const { return q_max(1); }
 
-  TrackExtent r_min() const { return rmin_; }
-  TrackExtent r_max() const { return rmax_; }
-  TrackExtent theta_min() const { return thmin_; }
-  TrackExtent theta_max() const { return thmax_; }
-
-  // r, theta and s at (piece, t)
-  double r(size_t piece, double t) const { return pieces_[piece].r_a + pieces_[piece].R(t); }
-  double theta(size_t piece, double t) const { return pieces_[piece].th_a + pieces_[piece].Th(t); }
-  double s(size_t piece, double t) const { return pieces_[piece].s0 + pieces_[piece].S(t); }
-
-  // Piece and t at arc length s (clamped to the path).
-  std::pair<size_t, double> locate(double s) const;
-
- private:
-  std::vector<TrackPiece> pieces_;
-  std::vector<double> extrema_;
-  double length_ = 0;
-  bool closed_ = false;
-  int winding_ = 0;
-  TrackExtent rmin_{}, rmax_{}, thmin_{}, thmax_{};
+  // r and theta at (piece, t)
+  double r(size_t piece, double t) const { return q(0, piece, t); }
+  double theta(size_t piece, double t) const { return q(1, piece, t); }
 };
-
-// Roots of a series in (-1, 1) where it changes sign (sampling plus a search at dips), appended in order.
-void cheb_sign_changes(const Cheb& d, std::vector<double>& out);
 
 }  // namespace polarcam

@@ -518,15 +518,7 @@ void PolarAreaMeter::reset(const PolarTrack& track, const Grid& grid) {
 
 AreaErrorResult PolarAreaMeter::finish(int64_t n0, int64_t m0) {
   grid_.validate();
-  const StairAreaResult r = core_.finish(n0, m0);
-  AreaErrorResult out;
-  out.area_m2 = r.area_m2;
-  out.radial_steps = r.rise_steps;
-  out.angular_steps = r.run_steps;
-  out.sectors = r.sectors;
-  out.general_sectors = r.general_sectors;
-  out.theta_shift = r.shift;
-  return out;
+  return core_.finish(n0, m0);
 }
 
 }  // namespace polarcam

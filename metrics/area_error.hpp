@@ -114,38 +114,44 @@ class StairAreaMeter {
   int open_ = -1;  // index of the visit being built
 };
 
-struct AreaErrorResult {
-  double area_m2 = 0.0;
-  uint64_t radial_steps = 0, angular_steps = 0;
-  uint64_t sectors = 0;          // sectors (plane angle intervals of one angular step) holding part of the cycle
-  uint64_t general_sectors = 0;  // of which were computed by the general sweep (ends, reversals, crossings)
-  double theta_shift = 0.0;      // rad added to the track's angle to put it on the tape's angular branch
-};
-
-class PolarAreaMeter final : public StepSink {
+// A StairAreaMeter fed by a tape: steps of the tape axis `rise_axis` are the staircase's rises (its height
+// axis), those of the other axis its runs. The polar and Cartesian meters are this with their track and grid.
+class StairStepMeter : public StepSink {
  public:
-  // Binds the meter to the path's track (which must outlive finish()) and the grid of the staircase (dr, dtheta,
-  // steps_per_rev); forgets recorded steps.
-  void reset(const PolarTrack& track, const Grid& grid);
-
   void step(int axis, int dir, int64_t) override { record(axis, dir); }
   void record(int axis, int dir) {
-    if (axis == kAxisRadial)
+    if (axis == rise_axis_)
       core_.rise(dir);
     else
       core_.run(dir);
   }
+  // Testing: compute every sector or strip with the general sweep.
+  void set_force_general(bool on) { core_.set_force_general(on); }
 
+ protected:
+  explicit StairStepMeter(int rise_axis) : rise_axis_(rise_axis) {}
+  StairAreaMeter core_;
+
+ private:
+  int rise_axis_;
+};
+
+// The polar meter: rises are radial steps, runs angular steps, sectors of one DeltaTheta; shift is the rad added
+// to the track's angle to put it on the tape's angular branch.
+using AreaErrorResult = StairAreaResult;
+
+class PolarAreaMeter final : public StairStepMeter {
+ public:
+  PolarAreaMeter() : StairStepMeter(kAxisRadial) {}
+  // Binds the meter to the path's track (which must outlive finish()) and the grid of the staircase (dr, dtheta,
+  // steps_per_rev); forgets recorded steps.
+  void reset(const PolarTrack& track, const Grid& grid);
   // The staircase starts on node (n0, m0). Throws InputError when the staircase does not follow the path (its
   // start or end is more than two grid cells from the path's, or it leaves the path's angular range).
   AreaErrorResult finish(int64_t n0, int64_t m0);
 
-  // Testing: compute every sector with the general sweep.
-  void set_force_general(bool on) { core_.set_force_general(on); }
-
  private:
   Grid grid_;
-  StairAreaMeter core_;
 };
 
 }  // namespace polarcam

@@ -14,14 +14,7 @@ void CartesianAreaMeter::reset(const CartesianTrack& track, double blu) {
 }
 
 CartesianAreaResult CartesianAreaMeter::finish(int64_t i0, int64_t j0) {
-  const StairAreaResult r = core_.finish(j0, i0);  // the core's nodes are (height, abscissa)
-  CartesianAreaResult out;
-  out.area_m2 = r.area_m2;
-  out.steps_x = r.run_steps;
-  out.steps_y = r.rise_steps;
-  out.strips = r.sectors;
-  out.general_strips = r.general_sectors;
-  return out;
+  return core_.finish(j0, i0);  // the core's nodes are (height, abscissa)
 }
 
 void CartesianErrorMeters::reset(const Curve& path, const CartesianTrack& track, double blu) {

@@ -19,31 +19,17 @@
 
 namespace polarcam {
 
-struct CartesianAreaResult {
-  double area_m2 = 0.0;
-  uint64_t steps_x = 0, steps_y = 0;
-  uint64_t strips = 0;          // strips of x, one BLU wide, holding part of the cycle
-  uint64_t general_strips = 0;  // of which were computed by the general sweep
-};
+// The Cartesian meter: rises are y steps, runs x steps, "sectors" strips of x one BLU wide.
+using CartesianAreaResult = StairAreaResult;
 
-class CartesianAreaMeter final : public StepSink {
+class CartesianAreaMeter final : public StairStepMeter {
  public:
+  CartesianAreaMeter() : StairStepMeter(kAxisY) {}
   // Binds the meter to the path's Cartesian track (which must outlive finish()) on a grid of `blu` metres;
   // forgets recorded steps.
   void reset(const CartesianTrack& track, double blu);
-  void step(int axis, int dir, int64_t) override { record(axis, dir); }
-  void record(int axis, int dir) {
-    if (axis == kAxisX)
-      core_.run(dir);
-    else
-      core_.rise(dir);
-  }
   // The staircase starts on node (i0, j0). Throws InputError when it does not follow the path.
   CartesianAreaResult finish(int64_t i0, int64_t j0);
-  void set_force_general(bool on) { core_.set_force_general(on); }
-
- private:
-  StairAreaMeter core_;
 };
 
 struct CartesianErrorMetrics {

@@ -2,13 +2,15 @@
 // A path's track as the area sweep sees it (sector_sweep.hpp): pieces with an abscissa g(t) and a height h(t),
 // Chebyshev series on t in [-1, 1], both monotone between consecutive extrema. The polar track gives g = theta about
 // the machine pole and h = r (digitizer/polar_track.hpp); the Cartesian track gives g = x and h = y
-// (machine/cartesian/cartesian_track.hpp). The views point into the track, which must outlive them.
+// (machine/cartesian/cartesian_track.hpp); both are axis tracks (digitizer/axis_track.hpp) read through one
+// function. The views point into the track, which must outlive them.
 #include <cstdint>
 #include <vector>
 
 #include "digitizer/chebyshev.hpp"
 
 namespace polarcam {
+class AxisTrack;
 class PolarTrack;
 class CartesianTrack;
 }  // namespace polarcam
@@ -35,6 +37,9 @@ struct TrackView {
   double g_min = 0, g_max = 0;  // the path's range of abscissa
 };
 
+// The view of an axis track: polar, abscissa theta = axis 1, height r = axis 0; Cartesian, abscissa x = axis 0,
+// height y = axis 1.
+TrackView view_of(const AxisTrack& track, Geometry geo);
 TrackView view_of(const PolarTrack& track);
 TrackView view_of(const CartesianTrack& track);
 

@@ -190,7 +190,7 @@ PoleValue PoleEvaluator::run(Vec2 pole, bool want_area, bool want_value, bool on
     const DigitizeResult d = digitize(tr, unlimited_, p_.rule, *prof, &meter_);
     const AreaErrorResult a = meter_.finish(d.start_n, d.start_m);
     out.area_m2 = a.area_m2;
-    out.steps = a.radial_steps + a.angular_steps;
+    out.steps = a.rise_steps + a.run_steps;
   }
   out.computed = true;
   if (want_value) {

@@ -38,8 +38,8 @@ TEST(AreaError, CircleAboutThePoleIsAnAnnulus) {
       AreaRun r = area_run(*path, g, rule);
       const double n = rule == StepRule::nearest ? std::nearbyint(R / g.dr) : std::floor(R / g.dr);
       const double expect = kPi * std::abs(R * R - n * g.dr * n * g.dr);
-      EXPECT_EQ(r.area.radial_steps, 0u);
-      EXPECT_EQ(r.area.angular_steps, 720u);
+      EXPECT_EQ(r.area.rise_steps, 0u);
+      EXPECT_EQ(r.area.run_steps, 720u);
       EXPECT_NEAR(r.area.area_m2, expect, 1e-12 * expect) << to_string(rule) << " frac " << frac;
     }
   }
@@ -62,7 +62,7 @@ TEST(AreaError, RadialLineIsAQuadrilateral) {
     std::vector<Vec2> quad{{r1 * std::cos(phi), r1 * std::sin(phi)}, {r2 * std::cos(phi), r2 * std::sin(phi)},
                            pt(nodes.back()), pt(nodes.front())};
     const double expect = std::abs(shoelace(quad));
-    EXPECT_EQ(r.area.angular_steps, 0u);
+    EXPECT_EQ(r.area.run_steps, 0u);
     EXPECT_NEAR(r.area.area_m2, expect, 1e-12 * expect) << to_string(rule);
   }
 }

@@ -103,8 +103,8 @@ TEST(CartesianError, AxisAlignedRectangleIsASymmetricDifference) {
                      std::max(0.0, std::min(q.y1, Y1) - std::max(q.y0, Y0));
     const double expect = (A + B - 2 * I) * blu * blu;
     EXPECT_TRUE(r.res.returns_to_start);
-    EXPECT_EQ(r.m.area.steps_x, static_cast<uint64_t>(2 * (X1 - X0)));
-    EXPECT_EQ(r.m.area.steps_y, static_cast<uint64_t>(2 * (Y1 - Y0)));
+    EXPECT_EQ(r.m.area.run_steps, static_cast<uint64_t>(2 * (X1 - X0)));
+    EXPECT_EQ(r.m.area.rise_steps, static_cast<uint64_t>(2 * (Y1 - Y0)));
     EXPECT_NEAR(r.m.area.area_m2, expect, 1e-12 * expect) << q.x0;
     EXPECT_NEAR(r.general.area_m2, expect, 1e-12 * expect) << q.x0;
 
@@ -168,7 +168,7 @@ TEST(CartesianError, PolygonsAgainstCgal) {
     XYRun r = exact_run(*path, blu);
     const double ref = area_error_cgal_cartesian(closed_poly, nodes_of(r.res.start, r.steps), blu);
     EXPECT_GT(ref, 0.0);
-    EXPECT_NEAR(r.m.area.area_m2, ref, 1e-10 * ref) << r.m.area.strips << " strips, " << r.m.area.general_strips
+    EXPECT_NEAR(r.m.area.area_m2, ref, 1e-10 * ref) << r.m.area.sectors << " strips, " << r.m.area.general_sectors
                                                       << " general";
     EXPECT_NEAR(r.general.area_m2, ref, 1e-10 * ref);
 

@@ -134,7 +134,7 @@ TEST(CartesianExact, TrackIsAccurateToRounding) {
   CartesianTrack tr = CartesianTrack::build(*lim);
   double worst = 0;
   for (size_t i = 0; i < tr.pieces().size(); ++i) {
-    const XYPiece& p = tr.pieces()[i];
+    const TrackPiece& p = tr.pieces()[i];
     for (int j = 0; j <= 10; ++j) {
       const double t = -1.0 + 0.2 * j;
       const Vec2 q = lim->eval(0.5 * (p.ua + p.ub) + 0.5 * (p.ub - p.ua) * t, 0).p;

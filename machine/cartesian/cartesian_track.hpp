@@ -1,56 +1,60 @@
 #pragma once
-// The Cartesian track: a path's x(u), y(u) and arc length s(u) as adaptive piecewise Chebyshev series accurate
-// to a few units in the last place, with the interior extrema of x and y, so that between consecutive extrema
-// both coordinates are monotone. The Cartesian counterpart of the polar track (digitizer/polar_track.hpp), built
-// from the same Chebyshev machinery (digitizer/chebyshev.hpp); the exact Cartesian step generator reads the path
-// through it. Each piece [u_a, u_b] carries on t in [-1, 1]:
-//   X(t) = x - x_a,  Y(t) = y - y_a,  V(t) = ds/dt,  S(t) = s - s_a (the integral of V).
-#include <cstdint>
-#include <vector>
+// The Cartesian track: a path's x(u), y(u) and arc length s(u): the axis track (digitizer/axis_track.hpp) of the
+// Cartesian axis map q0 = x, q1 = y (metres). The exact Cartesian step generator and the Cartesian error meters
+// read the path through it.
+#include <algorithm>
+#include <cmath>
+#include <limits>
 
 #include "cam/curve.hpp"
-#include "digitizer/chebyshev.hpp"
+#include "digitizer/axis_track.hpp"
 
 namespace polarcam {
 
-struct XYPiece {
-  double ua = 0, ub = 0;          // path parameter at the ends
-  double s0 = 0, len = 0;         // arc length from the path start to ua; arc length of the piece
-  double x_a = 0, x_b = 0;        // x at the ends (evaluated exactly, shared with the neighbours)
-  double y_a = 0, y_b = 0;        // y at the ends
-  Cheb X, Y, V, S;                // series on t in [-1, 1]
-  uint32_t ext_begin = 0, ext_end = 0;  // [begin, end) into CartesianTrack::extrema(): sorted t in (-1, 1)
+// The Cartesian axis map (digitizer/track_builder.hpp): the point's own coordinates; no singularity.
+struct CartesianMap {
+  static constexpr double kEps = std::numeric_limits<double>::epsilon();
+  static constexpr const char* kFrame = "";
+  static constexpr const char* kSingular = "is singular";  // never: every point maps
+  static constexpr const char* kRough = "it is not smooth";
+
+  bool coords(Vec2 p, const double[2], double q[2], double& aux) const {
+    q[0] = p.x;
+    q[1] = p.y;
+    aux = 0.0;
+    return true;
+  }
+  bool smooth(const double[2], const double[2]) const { return true; }
+  // The scale of a coordinate is its size on the piece, not its distance from the origin alone.
+  void tolerances(const double qa[2], const double span[2], double, double tol[2]) const {
+    tol[0] = 16 * kEps * (std::abs(qa[0]) + span[0] + span[1]) + 1e-300;
+    tol[1] = 16 * kEps * (std::abs(qa[1]) + span[0] + span[1]) + 1e-300;
+  }
+  int close(const double first[2], double last[2]) const {  // a closed path ends exactly where it starts
+    last[0] = first[0];
+    last[1] = first[1];
+    return 0;
+  }
 };
 
-class CartesianTrack {
+class CartesianTrack : public AxisTrack {
  public:
   // Builds the track of `path` (coordinates in metres). Throws InputError when the path is not finite or
   // cannot be resolved.
   static CartesianTrack build(const Curve& path);
 
-  const std::vector<XYPiece>& pieces() const { return pieces_; }
-  const std::vector<double>& extrema() const { return extrema_; }
-  double length() const { return length_; }
-  bool closed() const { return closed_; }
-
-  double x(size_t piece, double t) const { return pieces_[piece].x_a + pieces_[piece].X(t); }
-  double y(size_t piece, double t) const { return pieces_[piece].y_a + pieces_[piece].Y(t); }
-  double s(size_t piece, double t) const { return pieces_[piece].s0 + pieces_[piece].S(t); }
-  // Largest |x| and |y| on the path (for range checks).
-  double max_abs_coordinate() const { return max_abs_; }
+  double x(size_t piece, double t) const { return q(0, piece, t); }
+  double y(size_t piece, double t) const { return q(1, piece, t); }
   // The path's bounding box (its ends and the extrema of x and y).
   struct Bounds {
     double x0 = 0, x1 = 0, y0 = 0, y1 = 0;
   };
-  Bounds bounds() const { return bounds_; }
-
- private:
-  std::vector<XYPiece> pieces_;
-  std::vector<double> extrema_;
-  double length_ = 0;
-  double max_abs_ = 0;
-  Bounds bounds_;
-  bool closed_ = false;
+  Bounds bounds() const { return {q_min(0).value, q_max(0).value, q_min(1).value, q_max(1).value}; }
+  // Largest |x| and |y| on the path (for range checks).
+  double max_abs_coordinate() const {
+    const Bounds b = bounds();
+    return std::max({std::abs(b.x0), std::abs(b.x1), std::abs(b.y0), std::abs(b.y1)});
+  }
 };
 
 }  // namespace polarcam

@@ -163,7 +163,7 @@ TorqueAnalysis analyze_torques(const DynamicsInput& in, const AnalysisOptions& o
   for (size_t i = 0; i < pieces.size(); ++i) {
     const TrackPiece& p = pieces[i];
     cuts.assign({-1.0, 1.0});
-    cheb_sign_changes(p.dTh, cuts);  // reversals of the arm
+    cheb_sign_changes(p.dQ[1], cuts);  // reversals of the arm
     for (const auto& k : kinks)
       if (k.first == i) cuts.push_back(k.second);
     std::sort(cuts.begin(), cuts.end());

@@ -1,0 +1,122 @@
+#include "digitizer/axis_track.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+namespace polarcam {
+
+void cheb_sign_changes(const Cheb& d, std::vector<double>& out) {
+  if (d.max_abs() == 0.0) return;
+  constexpr int kMaxSamples = 48;
+  // a degree-d series has at most d - 1 turning points: sample it four times as densely
+  const int M = std::min(kMaxSamples, std::max(8, 4 * d.deg));
+  std::array<double, kMaxSamples + 1> t, g;
+  for (int i = 0; i <= M; ++i) {
+    t[i] = -std::cos(std::numbers::pi * i / M);
+    g[i] = d(t[i]);
+  }
+  t[0] = -1.0;
+  t[M] = 1.0;
+  auto solve = [&](double lo, double hi, double glo, double ghi) { return cheb_solve(d, 0.0, lo, hi, glo, ghi); };
+  for (int i = 0; i < M; ++i) {
+    if (i > 0 && g[i] == 0.0) {
+      if ((g[i - 1] < 0) != (g[i + 1] < 0) && g[i - 1] != 0.0 && g[i + 1] != 0.0) out.push_back(t[i]);
+      continue;
+    }
+    if (g[i] != 0.0 && g[i + 1] != 0.0 && (g[i] < 0) != (g[i + 1] < 0)) {
+      out.push_back(solve(t[i], t[i + 1], g[i], g[i + 1]));
+      continue;
+    }
+    // a dip: |g| has a local minimum at an interior sample and the neighbours share its sign
+    if (i > 0 && g[i] != 0.0 && (g[i - 1] < 0) == (g[i] < 0) && (g[i + 1] < 0) == (g[i] < 0) &&
+        std::abs(g[i]) <= std::abs(g[i - 1]) && std::abs(g[i]) <= std::abs(g[i + 1])) {
+      double sg = g[i] < 0 ? -1.0 : 1.0;
+      // minimise sg * d on [t[i-1], t[i+1]] by Newton on d' = 0 with golden fallback
+      double lo = t[i - 1], hi = t[i + 1];
+      const double gr = 0.6180339887498949;
+      double x1 = hi - gr * (hi - lo), x2 = lo + gr * (hi - lo), f1 = sg * d(x1), f2 = sg * d(x2);
+      for (int it = 0; it < 80 && hi - lo > 1e-15; ++it) {
+        if (f1 < f2) {
+          hi = x2;
+          x2 = x1;
+          f2 = f1;
+          x1 = hi - gr * (hi - lo);
+          f1 = sg * d(x1);
+        } else {
+          lo = x1;
+          x1 = x2;
+          f1 = f2;
+          x2 = lo + gr * (hi - lo);
+          f2 = sg * d(x2);
+        }
+      }
+      double tm = f1 < f2 ? x1 : x2, fm = std::min(f1, f2);
+      if (fm < 0.0) {
+        out.push_back(solve(t[i - 1], tm, g[i - 1], sg * fm));
+        out.push_back(solve(tm, t[i + 1], sg * fm, g[i + 1]));
+      }
+    }
+  }
+}
+
+void AxisTrack::finish() {
+  auto& P = pieces_;
+  // arc length (compensated summation) and extrema
+  double s = 0.0, comp = 0.0;
+  std::vector<double> roots;
+  for (auto& pc : P) {
+    pc.s0 = s;
+    double y = pc.len - comp, t = s + y;
+    comp = (t - s) - y;
+    s = t;
+    roots.clear();
+    cheb_sign_changes(pc.dQ[0], roots);
+    cheb_sign_changes(pc.dQ[1], roots);
+    std::sort(roots.begin(), roots.end());
+    pc.ext_begin = static_cast<uint32_t>(extrema_.size());
+    double last = -1.0;
+    for (double r : roots) {
+      if (r <= -1.0 + 1e-14 || r >= 1.0 - 1e-14 || r - last <= 1e-14) continue;
+      extrema_.push_back(r);
+      last = r;
+    }
+    pc.ext_end = static_cast<uint32_t>(extrema_.size());
+  }
+  length_ = s;
+
+  // ranges of the axis coordinates: the ends of the pieces and the extrema
+  for (int a = 0; a < 2; ++a) {
+    qmin_[a] = {std::numeric_limits<double>::infinity(), 0, -1};
+    qmax_[a] = {-std::numeric_limits<double>::infinity(), 0, -1};
+  }
+  auto consider = [&](size_t i, double t, const double q[2]) {
+    for (int a = 0; a < 2; ++a) {
+      if (q[a] < qmin_[a].value) qmin_[a] = {q[a], i, t};
+      if (q[a] > qmax_[a].value) qmax_[a] = {q[a], i, t};
+    }
+  };
+  for (size_t i = 0; i < P.size(); ++i) {
+    consider(i, -1.0, P[i].q_a);
+    for (uint32_t k = P[i].ext_begin; k < P[i].ext_end; ++k) {
+      const double t = extrema_[k], q[2] = {this->q(0, i, t), this->q(1, i, t)};
+      consider(i, t, q);
+    }
+  }
+  consider(P.size() - 1, 1.0, P.back().q_b);
+}
+
+std::pair<size_t, double> AxisTrack::locate(double s) const {
+  if (s <= 0.0) return {0, -1.0};
+  if (s >= length_) return {pieces_.size() - 1, 1.0};
+  auto it = std::upper_bound(pieces_.begin(), pieces_.end(), s, [](double v, const TrackPiece& p) { return v < p.s0; });
+  size_t i = static_cast<size_t>(it - pieces_.begin()) - 1;
+  const TrackPiece& p = pieces_[i];
+  double target = s - p.s0;
+  double t = cheb_solve(p.S, target, -1.0, 1.0, -target, p.len - target);
+  return {i, t};
+}
+
+}  // namespace polarcam

@@ -1,0 +1,61 @@
+#pragma once
+// The theta-rho coupled arm (sand tables): an arm turned by the angular motor about the pole, carrying a radial
+// carriage driven by the radial motor through a mechanism geared to the arm, so that turning the arm alone moves
+// the ball radially. The motors' positions are
+//   theta (rad, the angular motor, as on the polar machine),
+//   q = r + c theta (m, the radial motor),
+// with c the coupling in metres per radian (the gear ratio; 0: the plain polar machine, negative when turning
+// the arm draws the ball inward). The digitizer steps q on DeltaR = grid.dr and theta on DeltaTheta with the
+// polar machine's rules; tape axis 0 is the radial motor, axis 1 the angular motor. The work area's r_min /
+// r_max bound the radial motor's travel q. A closed path that winds about the pole does not bring the radial
+// motor back to its start (it ends 2 pi c per turn away), so such a tape is not periodic.
+#include "digitizer/digitize.hpp"
+#include "digitizer/polar_track.hpp"
+
+namespace polarcam {
+
+// The theta-rho axis map (track_builder.hpp): the polar map with q = r + c theta in place of r.
+struct ThetaRhoMap {
+  static constexpr const char* kFrame = PolarMap::kFrame;
+  static constexpr const char* kSingular = PolarMap::kSingular;
+  static constexpr const char* kRough = PolarMap::kRough;
+
+  PolarMap polar;
+  double c = 0.0;  // m/rad
+
+  bool coords(Vec2 p, const double ref[2], double q[2], double& aux) const {
+    const bool ok = polar.coords(p, ref, q, aux);
+    q[0] += c * q[1];
+    return ok;
+  }
+  bool smooth(const double a[2], const double b[2]) const { return polar.smooth(a, b); }
+  // q carries the rounding of r and that of c theta
+  void tolerances(const double qa[2], const double span[2], double aux_min, double tol[2]) const {
+    polar.tolerances(qa, span, aux_min, tol);
+    tol[0] += std::abs(c) * tol[1];
+  }
+  // Same r and theta advanced by whole turns: q advanced by 2 pi c a turn.
+  int close(const double first[2], double last[2]) const {
+    const int turns = polar.close(first, last);
+    last[0] = first[0] + c * (PolarMap::kTwoPi * turns);
+    return turns;
+  }
+};
+
+class ThetaRhoTrack : public AxisTrack {
+ public:
+  // Builds the track of `path` (origin at the pole) for coupling c (m/rad). Throws InputError as PolarTrack.
+  static ThetaRhoTrack build(const Curve& path, double c);
+  double coupling() const { return c_; }
+  double q_radial(size_t piece, double t) const { return q(0, piece, t); }
+  double theta(size_t piece, double t) const { return q(1, piece, t); }
+
+ private:
+  double c_ = 0.0;
+};
+
+// Every step of both motors along the track (as digitize() for the polar machine).
+DigitizeResult digitize(const ThetaRhoTrack& track, const Grid& grid, StepRule rule, const SpeedProfile& profile,
+                        StepSink* sink);
+
+}  // namespace polarcam
