@@ -1,5 +1,7 @@
 #include "io/output.hpp"
 
+#include "cam/format.hpp"
+
 #include <unistd.h>
 
 #include <cerrno>
@@ -36,12 +38,7 @@ std::string thousands(unsigned long long v) {
   return out;
 }
 
-std::string significant(double v, int digits) {
-  std::ostringstream os;
-  os.precision(digits);
-  os << v;
-  return os.str();
-}
+std::string significant(double v, int digits) { return polarcam::significant(v, digits); }
 
 double parse_rate_option(const std::string& text) {
   try {

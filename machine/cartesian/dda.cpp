@@ -10,6 +10,7 @@
 
 #include "cam/arc_fit.hpp"  // segment_length
 #include "cam/error.hpp"
+#include "cam/format.hpp"
 
 namespace polarcam {
 namespace {
@@ -19,12 +20,7 @@ constexpr double kHalfPi = 0.5 * std::numbers::pi;
 constexpr int kSign[4][2] = {{1, 1}, {-1, 1}, {-1, -1}, {1, -1}};  // signs of (x, y) in each quadrant
 constexpr int64_t kUnit[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};  // direction of the axis at k pi/2
 
-std::string num(double v, int prec = 6) {
-  std::ostringstream os;
-  os.precision(prec);
-  os << v;
-  return os.str();
-}
+std::string num(double v, int prec = 6) { return significant(v, prec); }
 
 class Builder {
  public:

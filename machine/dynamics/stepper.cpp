@@ -1,5 +1,7 @@
 #include "machine/dynamics/stepper.hpp"
 
+#include "cam/format.hpp"
+
 // Boost 1.74's pchip.hpp calls isnan unqualified: <math.h> puts it in the global namespace first.
 #include <math.h>
 
@@ -15,12 +17,7 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-std::string num(double v, int prec = 6) {
-  std::ostringstream os;
-  os.precision(prec);
-  os << v;
-  return os.str();
-}
+std::string num(double v, int prec = 6) { return significant(v, prec); }
 
 }  // namespace
 

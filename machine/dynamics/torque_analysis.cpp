@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "cam/error.hpp"
+#include "cam/format.hpp"
 
 namespace polarcam {
 namespace {
@@ -39,12 +40,7 @@ double quantity(const TorqueSample& x, int q) {
   }
 }
 
-std::string num(double v) {
-  std::ostringstream os;
-  os.precision(6);
-  os << v;
-  return os.str();
-}
+std::string num(double v) { return significant(v, 6); }
 
 // Whether a sample is the end of a segment, evaluated as the limit from below (path geometry, acceleration of the
 // speed profile, friction before a reversal), so that a jump at the boundary shows on both sides; every other
