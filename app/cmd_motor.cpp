@@ -97,13 +97,10 @@ int fit(const FitOpts& o) {
     write_file_atomic(o.csv, s);
   }
   if (!o.plot.empty()) {
-    plot::Figure fig;
-    fig.width = 900;
-    fig.height = 600;
-    plot::Panel p;
-    p.title = "Pull-out torque: measured points and the fitted model (Eq. 5.17)";
-    p.xlabel = "step rate (Hz)";
-    p.ylabel = "pull-out torque (N m)";
+    plot::Figure fig = plot::figure(900, 600);
+    plot::Panel p = plot::panel("Pull-out torque: measured points and the fitted model (Eq. 5.17)",
+                                "step rate (Hz)",
+                                "pull-out torque (N m)");
     plot::Series in, out, model;
     for (size_t i = 0; i < pts.size(); ++i) {
       plot::Series& s = r.outlier[i] ? out : in;

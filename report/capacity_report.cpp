@@ -104,9 +104,7 @@ std::string capacity_csv(const Job& job, const JobCapacity& c) {
 }
 
 plot::Figure capacity_figure(const Job& job, const JobCapacity& c) {
-  plot::Figure f;
-  f.width = 1000;
-  f.height = 620;
+  plot::Figure f = plot::figure(1000, 620);
   plot::Panel p;
   const char* unit = load_display_unit(c.measure);
   p.title = std::string("Largest ") + load_display_name(c.measure) + " the drives carry, against speed";

@@ -59,14 +59,8 @@ plot::Panel::Legend emptiest_corner(const std::vector<plot::Series>& series, dou
 }
 
 plot::Figure overview_figure(const Comparison& c) {
-  plot::Figure f;
-  f.width = 900;
-  f.height = 680;
-  plot::Panel p;
-  p.title = "The tool path and where the details are";
-  p.xlabel = "x (mm), contour frame";
-  p.ylabel = "y (mm)";
-  p.equal_aspect = true;
+  plot::Figure f = plot::figure(900, 680);
+  plot::Panel p = plot::panel("The tool path and where the details are", "x (mm), contour frame", "y (mm)", true);
   plot::Series s;
   double xmin = 1e300, xmax = -1e300, ymin = 1e300, ymax = -1e300;
   for (const Vec2& q : c.outline) {
@@ -103,18 +97,15 @@ plot::Figure overview_figure(const Comparison& c) {
 }
 
 plot::Figure detail_figure(const Comparison& c) {
-  plot::Figure f;
-  f.width = 1400;
-  f.height = 720;
+  plot::Figure f = plot::figure(1400, 720);
   f.cols = 2;
   f.rows = 1;
   for (int w = 0; w < 2; ++w) {
     const DetailWindow& win = c.windows[w];
-    plot::Panel p;
-    p.title = w == 0 ? "At the polar machine's worst point" : "At the Cartesian machine's worst point";
-    p.xlabel = "x (mm)";
-    p.ylabel = "y (mm)";
-    p.equal_aspect = true;
+    plot::Panel p = plot::panel(w == 0 ? "At the polar machine's worst point" : "At the Cartesian machine's worst point",
+                                "x (mm)",
+                                "y (mm)",
+                                true);
     const double cx = win.center.x * 1e3, cy = win.center.y * 1e3, h = win.half * 1e3;
     p.xmin = cx - h;
     p.xmax = cx + h;
@@ -139,9 +130,7 @@ plot::Figure detail_figure(const Comparison& c) {
 }
 
 plot::Figure speed_figure(const Comparison& c) {
-  plot::Figure f;
-  f.width = 1300;
-  f.height = 760;
+  plot::Figure f = plot::figure(1300, 760);
   f.cols = 1;
   f.rows = 2;
   const double V = c.nominal_speed * 1e3;

@@ -4,6 +4,7 @@
 // or nothing. PLplot keeps global state, so rendering is serialised internally.
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace polarcam::plot {
@@ -61,6 +62,22 @@ struct Figure {
   int cols = 1, rows = 1;
   std::vector<Panel> panels;       // row-major, cols * rows at most
 };
+
+// A figure of the given size (pixels), one panel per cell; a panel with its title and axis labels.
+inline Figure figure(int width, int height) {
+  Figure f;
+  f.width = width;
+  f.height = height;
+  return f;
+}
+inline Panel panel(std::string title, std::string xlabel, std::string ylabel, bool equal_aspect = false) {
+  Panel p;
+  p.title = std::move(title);
+  p.xlabel = std::move(xlabel);
+  p.ylabel = std::move(ylabel);
+  p.equal_aspect = equal_aspect;
+  return p;
+}
 
 // Renders to `path` (.png or .svg); throws InputError for another extension or an unwritable file.
 void save(const Figure& f, const std::string& path);

@@ -35,14 +35,11 @@ std::string map_csv(const ObjectiveMap& m, PoleObjective objective) {
 
 plot::Figure map_figure(const ObjectiveMap& m, PoleObjective objective, const std::vector<Vec2>& contour,
                         const Placement& start, const PlacementResult& r, const std::string& title) {
-  plot::Figure f;
-  f.width = 1000;
-  f.height = 900;
-  plot::Panel p;
-  p.title = title;
-  p.xlabel = "machine pole x - contour pole x (mm)";
-  p.ylabel = "machine pole y - contour pole y (mm)";
-  p.equal_aspect = true;
+  plot::Figure f = plot::figure(1000, 900);
+  plot::Panel p = plot::panel(title,
+                              "machine pole x - contour pole x (mm)",
+                              "machine pole y - contour pole y (mm)",
+                              true);
   plot::Map mp;
   mp.nx = m.nx;
   mp.ny = m.ny;

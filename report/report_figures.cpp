@@ -73,17 +73,11 @@ void arc(plot::Series& s, double r, double a0, double a1, int n) {
 }  // namespace
 
 plot::Figure workarea_figure(const Job& job, const Curve& path, const Staircase& st, Vec2 c, double half) {
-  plot::Figure f;
-  f.width = 1200;
-  f.height = 600;
+  plot::Figure f = plot::figure(1200, 600);
   f.cols = 2;
   const Grid& gr = job.machine.grid;
   // left: the whole work area, in mm
-  plot::Panel a;
-  a.title = "The contour on the machine's work area";
-  a.xlabel = "x from the machine pole (mm)";
-  a.ylabel = "y (mm)";
-  a.equal_aspect = true;
+  plot::Panel a = plot::panel("The contour on the machine's work area", "x from the machine pole (mm)", "y (mm)", true);
   const double t0 = gr.theta_min.value_or(0.0), t1 = gr.theta_max.value_or(2.0 * std::numbers::pi);
   if (gr.r_max) {
     plot::Series w;
@@ -122,11 +116,10 @@ plot::Figure workarea_figure(const Job& job, const Curve& path, const Staircase&
   f.panels.push_back(a);
 
   // right: the window, relative to its centre, in mm
-  plot::Panel b;
-  b.title = fmt::format("Staircase magnified around ({}, {}) mm", g(c.x * 1e3, 5), g(c.y * 1e3, 5));
-  b.xlabel = "x - x0 (mm)";
-  b.ylabel = "y - y0 (mm)";
-  b.equal_aspect = true;
+  plot::Panel b = plot::panel(fmt::format("Staircase magnified around ({}, {}) mm", g(c.x * 1e3, 5), g(c.y * 1e3, 5)),
+                              "x - x0 (mm)",
+                              "y - y0 (mm)",
+                              true);
   const double h = half * 1.0;
   auto inside = [&](Vec2 q) { return std::abs(q.x - c.x) <= 1.2 * h && std::abs(q.y - c.y) <= 1.2 * h; };
   // the staircase: radial steps straight, angular steps arcs about the pole
@@ -201,16 +194,13 @@ plot::Figure workarea_figure(const Job& job, const Curve& path, const Staircase&
 }
 
 plot::Figure torque_figure(const Job& job, const CaseResult& c) {
-  plot::Figure f;
-  f.width = 1100;
-  f.height = 820;
+  plot::Figure f = plot::figure(1100, 820);
   f.rows = 2;
   const double sf = c.verdict.safety_factor;
   for (int axis = 0; axis < 2; ++axis) {
-    plot::Panel p;
-    p.title = std::string(axis == 0 ? "Radial" : "Angular") + " drive: torque needed and available";
-    p.xlabel = "distance along the path (mm)";
-    p.ylabel = "torque (N m)";
+    plot::Panel p = plot::panel(std::string(axis == 0 ? "Radial" : "Angular") + " drive: torque needed and available",
+                                "distance along the path (mm)",
+                                "torque (N m)");
     plot::Series need, avail, lim;
     for (const TorqueSample& x : c.analysis.series) {
       const AxisDemand& d = axis == 0 ? x.radial : x.angular;
@@ -251,14 +241,11 @@ plot::Figure torque_figure(const Job& job, const CaseResult& c) {
 
 plot::Figure pole_map_figure(const Job& job, const PoleSurvey& sv, double limit, const std::vector<Vec2>& contour,
                              const std::vector<PoleMark>& marks) {
-  plot::Figure f;
-  f.width = 1000;
-  f.height = 900;
-  plot::Panel p;
-  p.title = "Area error by machine-pole position";
-  p.xlabel = "machine pole x - contour pole x (mm)";
-  p.ylabel = "machine pole y - contour pole y (mm)";
-  p.equal_aspect = true;
+  plot::Figure f = plot::figure(1000, 900);
+  plot::Panel p = plot::panel("Area error by machine-pole position",
+                              "machine pole x - contour pole x (mm)",
+                              "machine pole y - contour pole y (mm)",
+                              true);
   plot::Map m, w;
   m.nx = w.nx = sv.nx;
   m.ny = w.ny = sv.ny;
@@ -327,13 +314,10 @@ plot::Figure pole_map_figure(const Job& job, const PoleSurvey& sv, double limit,
 
 plot::Figure tradeoff_figure(const PoleSurvey& sv, const std::vector<ParetoPoint>& front, double limit,
                              const std::vector<std::pair<ParetoPoint, PoleMark>>& marks) {
-  plot::Figure f;
-  f.width = 1000;
-  f.height = 650;
-  plot::Panel p;
-  p.title = "Accuracy against torque: every surveyed pole, and the best trade-offs";
-  p.xlabel = "worst torque ratio (needed / pull-out)";
-  p.ylabel = "area error (mm^2)";
+  plot::Figure f = plot::figure(1000, 650);
+  plot::Panel p = plot::panel("Accuracy against torque: every surveyed pole, and the best trade-offs",
+                              "worst torque ratio (needed / pull-out)",
+                              "area error (mm^2)");
   plot::Series all;
   all.label = "surveyed poles";
   all.color = plot::palette(5);
