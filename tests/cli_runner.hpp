@@ -1,15 +1,16 @@
 #pragma once
-// Runs the polarcam executable for end-to-end tests.
+// Runs the polarcam executable for end-to-end tests (POLARCAM_BIN): only the CLI test targets include this.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <string>
+
+#include "tests/scratch.hpp"
 
 namespace polarcam::test {
 
@@ -17,11 +18,6 @@ struct CliResult {
   int code = -1;
   std::string out, err;
 };
-
-inline std::string read_file(const std::string& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
 
 inline CliResult run_cli(const std::string& args) {
   static int counter = 0;
@@ -36,33 +32,6 @@ inline CliResult run_cli(const std::string& args) {
   std::remove((base + ".err").c_str());
   return r;
 }
-
-// `s` with the first occurrence of `from` replaced by `to` (a failed expectation when `from` is missing): the bad
-// job files of the CLI tests are a good one with one thing changed.
-inline std::string replace(std::string s, const std::string& from, const std::string& to) {
-  auto p = s.find(from);
-  EXPECT_NE(p, std::string::npos) << from;
-  if (p != std::string::npos) s.replace(p, from.size(), to);
-  return s;
-}
-
-// A scratch directory with the examples' machine file, removed at the end of the test.
-struct Scratch {
-  std::filesystem::path dir;
-  Scratch() {
-    dir = std::filesystem::temp_directory_path() / ("polarcam-scratch-" + std::to_string(::getpid()) + "-" +
-                                                    std::to_string(reinterpret_cast<uintptr_t>(this)));
-    std::filesystem::create_directories(dir / "machines");
-    std::filesystem::copy_file(std::string(POLARCAM_SOURCE_DIR) + "/examples/machines/fahim1983.toml",
-                               dir / "machines" / "fahim1983.toml");
-  }
-  ~Scratch() { std::filesystem::remove_all(dir); }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(dir / name) << text;
-    return (dir / name).string();
-  }
-  std::string path(const std::string& name) const { return (dir / name).string(); }
-};
 
 // A command that refused bad input: exit status 2 and one line on stderr that mentions `must_mention`.
 // Exit status 2 (bad input) unless told otherwise (3: device).

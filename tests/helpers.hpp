@@ -1,13 +1,12 @@
 #pragma once
 // Small helpers shared by the tests.
-#include <unistd.h>
-
 #include <cstdint>
 #include <string>
 #include <vector>
 
 #include "cam/toolpath.hpp"
 #include "digitizer/digitize.hpp"
+#include "tests/temp_path.hpp"
 
 namespace polarcam::test {
 
@@ -44,10 +43,6 @@ inline Run run_digitizer(const Curve& path, const Grid& g, StepRule rule, double
   r.result = digitize(r.track, g, rule, *prof, &sink);
   r.steps = std::move(sink.steps);
   return r;
-}
-
-inline std::string temp_path(const std::string& name) {
-  return "/tmp/polarcam-test-" + std::to_string(::getpid()) + "-" + name;
 }
 
 }  // namespace polarcam::test
