@@ -26,6 +26,11 @@ inline std::string replace(std::string s, const std::string& from, const std::st
   return s;
 }
 
+// A job file of the CLI tests (tests/data/cli/<name>), as text.
+inline std::string cli_job(const std::string& name) {
+  return read_file((std::filesystem::path(POLARCAM_SOURCE_DIR) / "tests" / "data" / "cli" / name).string());
+}
+
 // A scratch directory with the examples' machine file, removed at the end of the test.
 struct Scratch {
   std::filesystem::path dir;

@@ -13,33 +13,10 @@ using json = nlohmann::json;
 
 namespace {
 
-const char* kGoodJob = R"(
-[machine]
-file = "machines/fahim1983.toml"
-r_min = "0 cm"
-theta_min = "none"
-theta_max = "none"
-[contour]
-kind = "limacon"
-a = "5.08 cm"
-b = "7.62 cm"
-[placement]
-C = "1.27 cm"
-beta = "0 rad"
-[tool]
-radius = "0 mm"
-[motion]
-speed = "1.52 cm/s"
-rule = "nearest"
-)";
+const std::string kGoodJob = cli_job("limacon.toml");
 
 void expect_bad(const Scratch& sc, const std::string& job_text, const std::string& must_mention) {
-  SCOPED_TRACE("expecting: " + must_mention);
-  std::string job = sc.write("bad.toml", job_text), tape = sc.path("bad.tape");
-  std::filesystem::remove(tape);
-  CliResult r = run_cli("digitize " + job + " -o " + tape);
-  expect_refused(r, sc, tape, must_mention);
-  EXPECT_NE(r.err.find("bad.toml"), std::string::npos) << "message does not name the file: " << r.err;
+  expect_bad_job(sc, "digitize", "-o", "tape", job_text, "", must_mention);
 }
 
 }  // namespace
@@ -47,9 +24,7 @@ void expect_bad(const Scratch& sc, const std::string& job_text, const std::strin
 TEST(Cli, DigitizeAndInspectAgree) {
   Scratch sc;
   std::string job = sc.write("lim.toml", kGoodJob), tape = sc.path("lim.tape");
-  CliResult d = run_cli("digitize " + job + " -o " + tape + " --json");
-  ASSERT_EQ(d.code, 0) << d.err;
-  json s = json::parse(d.out);
+  json s = cli_json("digitize " + job + " -o " + tape + " --json");
   EXPECT_EQ(s["steps_total"].get<int>(), s["steps_radial"].get<int>() + s["steps_angular"].get<int>());
   EXPECT_EQ(s["steps_angular"].get<int>(), 16000);  // the pole is inside: one full turn
   EXPECT_EQ(s["start_node"][1].get<int>() + 16000, s["end_node"][1].get<int>());
@@ -57,9 +32,7 @@ TEST(Cli, DigitizeAndInspectAgree) {
   for (const char* k : {"duration_s", "path_length_m", "max_step_rate_radial_hz", "max_step_rate_angular_hz"})
     EXPECT_TRUE(s[k].is_number()) << k;
 
-  CliResult j = run_cli("inspect " + tape + " --json");
-  ASSERT_EQ(j.code, 0) << j.err;
-  json h = json::parse(j.out);
+  json h = cli_json("inspect " + tape + " --json");
   EXPECT_EQ(h["steps_total"], s["steps_total"]);
   EXPECT_EQ(h["start_node"], s["start_node"]);
   EXPECT_EQ(h["end_node"], s["end_node"]);
@@ -106,22 +79,28 @@ TEST(Cli, SameJobSameBytes) {
 TEST(Cli, BadInputGivesOneClearLine) {
   Scratch sc;
   expect_bad(sc, std::string(kGoodJob) + "[contour2]\nx = 1\n", "unknown key 'contour2'");
-  expect_bad(sc, replace(kGoodJob, "rule = \"nearest\"", "rule = \"nearest\"\nfoo = 3"), "unknown key 'motion.foo'");
-  expect_bad(sc, replace(kGoodJob, "a = \"5.08 cm\"\n", ""), "'a' is missing");
-  expect_bad(sc, replace(kGoodJob, "a = \"5.08 cm\"", "a = \"5.08 kg\""), "contour.a");
-  expect_bad(sc, replace(kGoodJob, "a = \"5.08 cm\"", "a = \"five cm\""), "contour.a");
-  expect_bad(sc, replace(kGoodJob, "a = \"5.08 cm\"", "a = \"nan cm\""), "contour.a");
-  expect_bad(sc, replace(kGoodJob, "a = \"5.08 cm\"", "a = nan"), "contour.a");
-  expect_bad(sc, replace(kGoodJob, "speed = \"1.52 cm/s\"", "speed = \"0 cm/s\""), "motion.speed");
-  expect_bad(sc, replace(kGoodJob, "speed = \"1.52 cm/s\"", "speed = \"1.52 cm\""), "speed (m/s)");
-  expect_bad(sc, replace(kGoodJob, "C = \"1.27 cm\"\nbeta = \"0 rad\"", "C = \"2.54 cm\"\nbeta = \"pi rad\""),
-             "pole");  // the machine pole on the limacon's point (-2.54 cm, 0)
-  expect_bad(sc, replace(kGoodJob, "r_min = \"0 cm\"", "r_min = \"7.62 cm\""), "r_min");
-  expect_bad(sc, replace(kGoodJob, "theta_max = \"none\"", "theta_max = \"2.8 rad\""), "theta");
-  expect_bad(sc, replace(kGoodJob, "kind = \"limacon\"", "kind = \"ellipse\""), "unknown contour kind");
-  expect_bad(sc, replace(kGoodJob, "[motion]", "[motion"), "bad.toml:");
-  expect_bad(sc, replace(kGoodJob, "file = \"machines/fahim1983.toml\"", "file = \"machines/nope.toml\""), "nope.toml");
-  expect_bad(sc, replace(kGoodJob, "radius = \"0 mm\"", "radius = \"30 mm\""), "radius");
+  // one thing changed in the good job each: from, to, what the message must mention
+  const struct {
+    const char *from, *to, *mention;
+  } cases[] = {
+      {"rule = \"nearest\"", "rule = \"nearest\"\nfoo = 3", "unknown key 'motion.foo'"},
+      {"a = \"5.08 cm\"\n", "", "'a' is missing"},
+      {"a = \"5.08 cm\"", "a = \"5.08 kg\"", "contour.a"},
+      {"a = \"5.08 cm\"", "a = \"five cm\"", "contour.a"},
+      {"a = \"5.08 cm\"", "a = \"nan cm\"", "contour.a"},
+      {"a = \"5.08 cm\"", "a = nan", "contour.a"},
+      {"speed = \"1.52 cm/s\"", "speed = \"0 cm/s\"", "motion.speed"},
+      {"speed = \"1.52 cm/s\"", "speed = \"1.52 cm\"", "speed (m/s)"},
+      // the machine pole on the limacon's point (-2.54 cm, 0)
+      {"C = \"1.27 cm\"\nbeta = \"0 rad\"", "C = \"2.54 cm\"\nbeta = \"pi rad\"", "pole"},
+      {"r_min = \"0 cm\"", "r_min = \"7.62 cm\"", "r_min"},
+      {"theta_max = \"none\"", "theta_max = \"2.8 rad\"", "theta"},
+      {"kind = \"limacon\"", "kind = \"ellipse\"", "unknown contour kind"},
+      {"[motion]", "[motion", "bad.toml:"},
+      {"file = \"machines/fahim1983.toml\"", "file = \"machines/nope.toml\"", "nope.toml"},
+      {"radius = \"0 mm\"", "radius = \"30 mm\"", "radius"},
+  };
+  for (const auto& c : cases) expect_bad(sc, replace(kGoodJob, c.from, c.to), c.mention);
 }
 
 TEST(Cli, BadTapesGiveOneClearLine) {

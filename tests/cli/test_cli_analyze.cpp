@@ -18,38 +18,11 @@ using json = nlohmann::json;
 namespace {
 
 // The circle of Fig. 5.4 ground at Table 5.1's conditions (examples/ch5/circle.toml).
-const char* kCircle = R"(
-[machine]
-file = "machines/fahim1983.toml"
-[contour]
-kind = "circle"
-radius = "5.08 cm"
-[placement]
-C = "20.32 cm"
-beta = "3*pi/2 rad"
-[tool]
-side = "left"
-[motion]
-speed = "1.52 cm/s"
-[load]
-kind = "grinding"
-k_c = "6.46e7 kN/m^2"
-c1 = 1.66
-depth = "0.001 in"
-width = "0.635 cm"
-wheel_speed = "16.62 m/s"
-[limits]
-safety_factor = 1.0
-)";
+const std::string kCircle = cli_job("grinding_circle.toml");
 
 void expect_bad(const Scratch& sc, const std::string& job_text, const std::string& must_mention,
                 const std::string& extra = "") {
-  SCOPED_TRACE("expecting: " + must_mention);
-  std::string job = sc.write("bad.toml", job_text), csv = sc.path("bad.csv");
-  std::filesystem::remove(csv);
-  CliResult r = run_cli("analyze " + job + " --csv " + csv + " " + extra);
-  expect_refused(r, sc, csv, must_mention);
-  EXPECT_NE(r.err.find(".toml"), std::string::npos) << "message does not name the file: " << r.err;
+  expect_bad_job(sc, "analyze", "--csv", "csv", job_text, extra, must_mention, ".toml");
 }
 
 }  // namespace
@@ -151,12 +124,10 @@ TEST(CliAnalyze, CsvAndPlotAgreeWithTheSummaryAndRepeatExactly) {
 TEST(CliAnalyze, SeveralSpeedsAndMasses) {
   Scratch sc;
   const std::string job = sc.write("circle.toml", kCircle);
-  CliResult r = run_cli("analyze " + job +
+  const json j = cli_json("analyze " + job +
                         " --json --mass \"14.6 kg\" --mass \"43.8 kg\" --speed \"0.51 cm/s\" "
                         "--speed \"1.51 cm/s\" --plot " +
                         sc.path("f.svg") + " --csv " + sc.path("f.csv"));
-  ASSERT_EQ(r.code, 0) << r.err;
-  const json j = json::parse(r.out);
   ASSERT_EQ(j["cases"].size(), 4u);
   EXPECT_EQ(j["verdict"], "GO");
   for (const auto& c : j["cases"]) EXPECT_EQ(c["load"]["kind"], "inertial");
@@ -262,11 +233,9 @@ TEST(CliMotorFit, RecoversTheThesisMotor) {
     csv += row;
   }
   const std::string pts = sc.write("points.csv", csv);
-  CliResult r = run_cli("motor fit " + pts +
+  const json j = cli_json("motor fit " + pts +
                         " --supply-voltage \"24 V\" --resistance \"6.5 ohm\" --rotor-teeth 50 --json --plot " +
                         sc.path("fit.png"));
-  ASSERT_EQ(r.code, 0) << r.err;
-  const json j = json::parse(r.out);
   EXPECT_NEAR(j["fitted"]["torque_constant_NmpA"].get<double>(), 0.0759, 1e-4 * 0.0759);
   EXPECT_NEAR(j["fitted"]["voltage_constant_Vsprad"].get<double>(), 0.068, 1e-3 * 0.068);
   EXPECT_NEAR(j["fitted"]["inductance_H"].get<double>(), 6.3e-4, 1e-4 * 6.3e-4);

@@ -13,28 +13,7 @@ using json = nlohmann::json;
 namespace {
 
 // A small job: a circle of radius 8 mm about (3 mm, -2 mm), the polar pole 30 mm away, a 0.05 mm grid.
-const char* kJob = R"(
-[machine]
-file = "machines/fahim1983.toml"
-radial_resolution = "0.05 mm"
-angular_steps_per_rev = 7200
-r_min = "0 cm"
-r_max = "none"
-theta_min = "none"
-theta_max = "none"
-[contour]
-kind = "circle"
-radius = "8 mm"
-center_x = "3 mm"
-center_y = "-2 mm"
-[placement]
-C = "30 mm"
-beta = "2 rad"
-[tool]
-radius = "0 mm"
-[motion]
-speed = "10 mm/s"
-)";
+const std::string kJob = cli_job("small_circle.toml");
 
 }  // namespace
 
@@ -42,9 +21,7 @@ TEST(CompareCli, JsonHasBothMachinesAndTheNamedKeys) {
   Scratch sc;
   const std::string job = sc.write("job.toml", kJob);
   for (const char* method : {"dda", "exact"}) {
-    CliResult r = run_cli("compare " + job + " --json --method " + method);
-    ASSERT_EQ(r.code, 0) << r.err;
-    const json j = json::parse(r.out);
+    const json j = cli_json("compare " + job + " --json --method " + method);
     for (const char* side : {"polar", "cartesian"}) {
       SCOPED_TRACE(std::string(method) + " " + side);
       ASSERT_TRUE(j.contains(side));
@@ -120,18 +97,14 @@ TEST(CompareCli, ErrorReadsCartesianTapes) {
   Scratch sc;
   const std::string job = sc.write("job.toml", kJob), tape = sc.path("c.tape");
   ASSERT_EQ(run_cli("dda " + job + " -o " + tape).code, 0);
-  CliResult r = run_cli("error " + tape + " --job " + job + " --json");
-  ASSERT_EQ(r.code, 0) << r.err;
-  const json j = json::parse(r.out);
+  const json j = cli_json("error " + tape + " --job " + job + " --json");
   EXPECT_EQ(j["axes"], "cartesian");
   EXPECT_EQ(j["rule"], "dda");
   EXPECT_GT(j["area_error_mm2"].get<double>(), 0.0);
   EXPECT_GT(j["deviation_max_mm"].get<double>(), 0.0);
   EXPECT_FALSE(j.contains("F1"));
   // the same numbers as compare reports for the same tape
-  CliResult c = run_cli("compare " + job + " --json");
-  ASSERT_EQ(c.code, 0) << c.err;
-  const json cj = json::parse(c.out);
+  const json cj = cli_json("compare " + job + " --json");
   EXPECT_DOUBLE_EQ(cj["cartesian"]["area_error_mm2"].get<double>(), j["area_error_mm2"].get<double>());
   EXPECT_DOUBLE_EQ(cj["cartesian"]["deviation_max_mm"].get<double>(), j["deviation_max_mm"].get<double>());
 

@@ -15,47 +15,29 @@ namespace {
 
 // A circle of radius 5 mm about (20 mm, 10 mm) on a 0.01 mm grid: 2 R is a whole number of BLU, so the DDA takes
 // 8 R / BLU = 4000 steps (docs/cartesian.md).
-const char* kCircleJob = R"(
-[machine]
-file = "machines/fahim1983.toml"
-[contour]
-kind = "circle"
-radius = "5 mm"
-center_x = "20 mm"
-center_y = "10 mm"
-[tool]
-radius = "0 mm"
-[motion]
-speed = "20 mm/s"
-[cartesian]
-resolution = "0.01 mm"
-tolerance = "0.001 mm"
-interrupt_rate = "5 kHz"
-)";
-
+const std::string kCircleJob = cli_job("dda_circle.toml");
 
 void expect_bad(const Scratch& sc, const std::string& job_text, const std::string& args, const std::string& must_mention,
                 bool names_file = true) {
-  SCOPED_TRACE("expecting: " + must_mention);
-  std::string job = sc.write("bad.toml", job_text), tape = sc.path("bad.tape");
-  std::filesystem::remove(tape);
-  CliResult r = run_cli("dda " + job + " -o " + tape + " " + args);
-  expect_refused(r, sc, tape, must_mention);
-  if (names_file) {
-    EXPECT_NE(r.err.find("bad.toml"), std::string::npos) << "message does not name the file: " << r.err;
-  }
+  expect_bad_job(sc, "dda", "-o", "tape", job_text, args, must_mention, names_file ? "bad.toml" : "");
+}
+
+// `polarcam dda` on the circle job with `args`, writing `tape`: its JSON summary, the method and the 8 R / BLU = 4000
+// steps checked.
+json circle_summary(const Scratch& sc, const std::string& tape, const std::string& args, const char* method) {
+  const std::string job = sc.write("circle.toml", kCircleJob);
+  json s = cli_json("dda " + job + args + " -o " + tape + " --json");
+  EXPECT_EQ(s["method"], method);
+  EXPECT_EQ(s["steps_total"].get<int>(), 4000);
+  return s;
 }
 
 }  // namespace
 
 TEST(CliDda, CircleSummaryAndTapeAgree) {
   Scratch sc;
-  std::string job = sc.write("circle.toml", kCircleJob), tape = sc.path("c.tape");
-  CliResult d = run_cli("dda " + job + " -o " + tape + " --json");
-  ASSERT_EQ(d.code, 0) << d.err;
-  json s = json::parse(d.out);
-  EXPECT_EQ(s["method"], "dda");
-  EXPECT_EQ(s["steps_total"].get<int>(), 4000);
+  const std::string tape = sc.path("c.tape");
+  json s = circle_summary(sc, tape, "", "dda");
   EXPECT_EQ(s["steps_x"].get<int>(), 2000);
   EXPECT_EQ(s["steps_y"].get<int>(), 2000);
   EXPECT_EQ(s["start_node"], json::array({2500, 1000}));
@@ -74,9 +56,7 @@ TEST(CliDda, CircleSummaryAndTapeAgree) {
     EXPECT_TRUE(s[k].is_number()) << k;
   EXPECT_LE(s["max_step_rate_x_hz"].get<double>(), 5000.0);  // one pulse per interrupt at most
 
-  CliResult j = run_cli("inspect " + tape + " --json");
-  ASSERT_EQ(j.code, 0) << j.err;
-  json h = json::parse(j.out);
+  json h = cli_json("inspect " + tape + " --json");
   EXPECT_EQ(h["axes"], "cartesian");
   EXPECT_EQ(h["rule"], "dda");
   EXPECT_EQ(h["steps_total"], s["steps_total"]);
@@ -111,12 +91,8 @@ TEST(CliDda, CircleSummaryAndTapeAgree) {
 
 TEST(CliDda, ExactMethodRunsAtTheProgrammedSpeed) {
   Scratch sc;
-  std::string job = sc.write("circle.toml", kCircleJob), tape = sc.path("e.tape");
-  CliResult d = run_cli("dda " + job + " --method exact -o " + tape + " --json");
-  ASSERT_EQ(d.code, 0) << d.err;
-  json s = json::parse(d.out);
-  EXPECT_EQ(s["method"], "exact");
-  EXPECT_EQ(s["steps_total"].get<int>(), 4000);
+  const std::string tape = sc.path("e.tape");
+  json s = circle_summary(sc, tape, " --method exact", "exact");
   EXPECT_NEAR(s["duration_s"].get<double>(), 2 * 3.141592653589793 * 5 / 20, 1e-9);
   EXPECT_NEAR(s["speed_min_mps"].get<double>(), 0.02, 0.0005);
   EXPECT_NEAR(s["speed_max_mps"].get<double>(), 0.02, 0.0005);

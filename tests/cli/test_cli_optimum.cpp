@@ -43,9 +43,7 @@ std::string quantity(double v, const char* unit) {
 TEST(CliOptimum, BalancedPlacementIsWhatAnalyzeSaysThere) {
   Scratch sc;
   const std::string job = copy_example(sc, "witch_grinding", example_text("witch_grinding"));
-  CliResult r = run_cli("optimize " + job + " --objective balanced --json --max-evaluations 120 --threads 2");
-  ASSERT_EQ(r.code, 0) << r.err;
-  const json j = json::parse(r.out);
+  const json j = cli_json("optimize " + job + " --objective balanced --json --max-evaluations 120 --threads 2");
   for (const char* k : {"C_mm", "beta_rad", "objective", "max_torque_ratio_radial", "max_torque_ratio_angular"})
     ASSERT_TRUE(j[k].is_number()) << k;
   const double Rr = j["max_torque_ratio_radial"], Rt = j["max_torque_ratio_angular"];
@@ -76,9 +74,7 @@ TEST(CliOptimum, TorqueLimitedAreaOptimumPassesAnalyze) {
   Scratch sc;
   const std::string text = example_text("witch_grinding");
   const std::string job = copy_example(sc, "witch_grinding", text);
-  CliResult r = run_cli("optimize " + job + " --objective area --torque-limit --json --max-evaluations 40 --threads 2");
-  ASSERT_EQ(r.code, 0) << r.err;
-  const json j = json::parse(r.out);
+  const json j = cli_json("optimize " + job + " --objective area --torque-limit --json --max-evaluations 40 --threads 2");
   const double limit = j["torque_limit"];
   EXPECT_NEAR(limit, 1.0 / 1.2, 1e-12);
   EXPECT_LE(j["worst_torque_ratio"].get<double>(), limit);
@@ -101,10 +97,8 @@ TEST(CliOptimum, TorqueLimitedAreaOptimumPassesAnalyze) {
 TEST(CliOptimum, ParetoFrontIsNonDominated) {
   Scratch sc;
   const std::string job = copy_example(sc, "circle_grinding", example_text("circle_grinding"));
-  CliResult r = run_cli("optimize " + job +
+  const json j = cli_json("optimize " + job +
                         " --objective pareto --json --max-evaluations 20 --levels 1 --survey 4 --threads 2");
-  ASSERT_EQ(r.code, 0) << r.err;
-  const json j = json::parse(r.out);
   ASSERT_TRUE(j["points"].is_array());
   ASSERT_GE(j["points"].size(), 2u);
   double prev_ratio = -1, prev_area = 1e300;
@@ -132,9 +126,7 @@ TEST(CliOptimum, CapacitySpeedAndLoadFedBackIntoAnalyzeGiveTheLimit) {
     SCOPED_TRACE(c.name);
     const std::string text = example_text(c.name);
     const std::string job = copy_example(sc, c.name, text);
-    CliResult r = run_cli("capacity " + job + " --json");
-    ASSERT_EQ(r.code, 0) << r.err;
-    const json j = json::parse(r.out);
+    const json j = cli_json("capacity " + job + " --json");
     const double limit = 1.0 / j["safety_factor"].get<double>();
     ASSERT_TRUE(j["max_speed_mps"].is_number());
     ASSERT_TRUE(j[c.key].is_number());
@@ -153,23 +145,7 @@ TEST(CliOptimum, CapacitySpeedAndLoadFedBackIntoAnalyzeGiveTheLimit) {
 TEST(CliOptimum, BadInputIsOneLineAndExitCodeTwo) {
   Scratch sc;
   // a machine without dynamics (no masses, no motors)
-  const std::string plain = sc.write("circle.toml", R"(
-[machine]
-name = "no dynamics"
-radial_resolution = "0.2 mm"
-angular_steps_per_rev = 2000
-r_max = "10 cm"
-[contour]
-kind = "circle"
-radius = "2 cm"
-[placement]
-C = "5 cm"
-beta = "4.9 rad"
-[tool]
-radius = "0 mm"
-[motion]
-speed = "1 cm/s"
-)");
+  const std::string plain = sc.write("circle.toml", cli_job("no_dynamics_circle.toml"));
   for (const std::string& cmd : {"capacity " + plain + " --json", "optimize " + plain + " --objective balanced",
                                  "report " + plain + " -o " + sc.path("r.html")}) {
     SCOPED_TRACE(cmd);

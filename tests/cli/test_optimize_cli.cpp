@@ -14,34 +14,7 @@
 using namespace polarcam::test;
 using json = nlohmann::json;
 
-namespace {
-
-const char* kJob = R"(
-[machine]
-name = "test"
-radial_resolution = "0.2 mm"
-angular_steps_per_rev = 2000
-r_min = "1 cm"
-r_max = "10 cm"
-theta_min = "0 rad"
-theta_max = "2.8 rad"
-[contour]
-kind = "circle"
-radius = "2 cm"
-[placement]
-C = "5 cm"
-beta = "4.9 rad"
-[tool]
-radius = "0 mm"
-[motion]
-speed = "1 cm/s"
-[optimize]
-max_evaluations = 80
-threads = 2
-)";
-
-
-}  // namespace
+const std::string kJob = cli_job("own_machine_circle.toml");
 
 TEST(ErrorCli, MetricsOfTapesOfBothRules) {
   Scratch sc;
@@ -54,9 +27,7 @@ TEST(ErrorCli, MetricsOfTapesOfBothRules) {
     const std::string tape = sc.path(std::string(rule) + ".tape");
     ASSERT_EQ(run_cli("digitize " + j + " -o " + tape).code, 0);
     // the tape is measured against the path of either job file: the rule does not enter the metric
-    CliResult r = run_cli("error " + tape + " --job " + job + " --json");
-    ASSERT_EQ(r.code, 0) << r.err;
-    json m = json::parse(r.out);
+    json m = cli_json("error " + tape + " --job " + job + " --json");
     for (const char* key : {"area_error_mm2", "deviation_max_mm", "F_sum", "F_dif", "F1", "F1_chords", "deviation_eq41_mm"})
       EXPECT_TRUE(m[key].is_number()) << key;
     EXPECT_EQ(m["rule"], rule);
@@ -108,10 +79,8 @@ TEST(OptimizeCli, JsonWriteJobAndMaps) {
   const std::string job = sc.write("c.toml", kJob);
   std::filesystem::create_directories(sc.dir / "out");
   const std::string written = sc.path("out/best.toml"), csv = sc.path("map.csv"), png = sc.path("map.png");
-  CliResult r = run_cli("optimize " + job + " --json --write-job " + written + " --map " + csv + " --map-image " + png +
+  json o = cli_json("optimize " + job + " --json --write-job " + written + " --map " + csv + " --map-image " + png +
                         " --map-size 9");
-  ASSERT_EQ(r.code, 0) << r.err;
-  json o = json::parse(r.out);
   for (const char* key : {"C_mm", "beta_rad", "area_error_mm2", "objective", "evaluations", "wall_s", "F1"})
     EXPECT_TRUE(o[key].is_number()) << key;
   EXPECT_EQ(o["objective_name"], "area");
@@ -157,9 +126,7 @@ TEST(OptimizeCli, JsonWriteJobAndMaps) {
 TEST(OptimizeCli, F1HoldsAndBadInput) {
   Scratch sc;
   const std::string job = sc.write("c.toml", kJob);
-  CliResult h = run_cli("optimize " + job + " --objective f1 --hold C --json");
-  ASSERT_EQ(h.code, 0) << h.err;
-  json o = json::parse(h.out);
+  json o = cli_json("optimize " + job + " --objective f1 --hold C --json");
   EXPECT_EQ(o["method"], "hooke-jeeves");
   EXPECT_DOUBLE_EQ(o["C_mm"].get<double>(), 50.0);
   EXPECT_EQ(o["objective"].get<double>(), o["F1"].get<double>());

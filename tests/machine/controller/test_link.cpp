@@ -7,20 +7,18 @@
 #include "cam/error.hpp"
 #include "machine/controller/emulator.hpp"
 #include "machine/link/host_link.hpp"
-#include "machine/player/int128.hpp"
 #include "machine/player/play_plan.hpp"
 #include "machine/link/protocol.hpp"
+#include "machine/link/sim_line.hpp"
 #include "tests/player_helpers.hpp"
+#include "tests/tape_log.hpp"
 
 namespace polarcam {
 namespace {
 
 using test::example_tape;
 
-struct Logged {
-  uint64_t t_ns;
-  int axis, dir;
-};
+using Logged = test::LoggedStep;
 
 struct LinkRun {
   PlayReport rep;
@@ -44,30 +42,11 @@ LinkRun play_in_process(const std::string& tape, int64_t K, const FaultSpec& fau
   return run;
 }
 
-// The emulator's log against the tape read independently: step for step, within one tick of t / K.
-void expect_log_matches_tape(const std::string& tape, int64_t K, const std::vector<Logged>& log) {
-  TapeReader rd(tape);
-  const uint64_t tick_ps = rd.header().tick_ps;
-  StepRecord r;
-  uint64_t t = 0;
-  size_t i = 0;
-  while (rd.next(r)) {
-    t += r.interval;
-    ASSERT_LT(i, log.size());
-    ASSERT_EQ(log[i].axis, r.axis) << "step " << i + 1;
-    ASSERT_EQ(log[i].dir, r.dir) << "step " << i + 1;
-    const i128 d = static_cast<i128>(K) * log[i].t_ns * 1000 - static_cast<i128>(t) * tick_ps;
-    ASSERT_LE(d < 0 ? -d : d, static_cast<i128>(K) * 1000000) << "step " << i + 1;  // 1 us controller tick
-    ++i;
-  }
-  EXPECT_EQ(i, log.size());
-}
-
 TEST(Link, LimaconAtOneAndTenTimesSpeedWithoutFaults) {
   const std::string tape = example_tape("limacon");
   for (int64_t K : {1, 10}) {
     LinkRun run = play_in_process(tape, K, FaultSpec{});
-    expect_log_matches_tape(tape, K, run.log);
+    test::expect_log_follows_tape(tape, K, run.log);
     EXPECT_TRUE(run.rep.completed);
     EXPECT_EQ(run.rep.underruns, 0u);
     EXPECT_EQ(run.rep.retransmissions, 0u);
@@ -79,12 +58,9 @@ TEST(Link, OnePercentOfBytesDroppedOrCorruptedInEachDirection) {
   for (const char* name : {"limacon", "serpentine"})
     for (int64_t K : {1, 10}) {
       const std::string tape = example_tape(name);
-      FaultSpec f;
-      f.drop = 0.01;
-      f.corrupt = 0.01;
-      f.seed = static_cast<uint64_t>(K) + 11;
+      const FaultSpec f = parse_faults("drop=0.01,corrupt=0.01,seed=" + std::to_string(K + 11));
       LinkRun run = play_in_process(tape, K, f);
-      expect_log_matches_tape(tape, K, run.log);
+      test::expect_log_follows_tape(tape, K, run.log);
       EXPECT_EQ(run.rep.underruns, 0u) << name << " x" << K;
       EXPECT_GT(run.rep.retransmissions, 0u);
     }
@@ -92,14 +68,9 @@ TEST(Link, OnePercentOfBytesDroppedOrCorruptedInEachDirection) {
 
 TEST(Link, DelayedBytesAndAShortStallAreAbsorbedByTheBuffer) {
   const std::string tape = example_tape("witch");
-  FaultSpec f;
-  f.delay = 0.001;
-  f.stall_at = 1.0;
-  f.stall_s = 0.3;
-  f.disconnect_at = 2.0;
-  f.disconnect_s = 0.3;
+  const FaultSpec f = parse_faults("delay=0.001,stall=0.3@1,disconnect=0.3@2");
   LinkRun run = play_in_process(tape, 10, f);
-  expect_log_matches_tape(tape, 10, run.log);
+  test::expect_log_follows_tape(tape, 10, run.log);
   EXPECT_EQ(run.rep.underruns, 0u);
 }
 
