@@ -59,16 +59,22 @@ void expect_chained(const Curve& c, const ArcFit& f) {
   }
 }
 
+// The fit of `c` to `tolerance`, checked to be one chain of segments.
+ArcFit fit_chained(const Curve& c, double tolerance) {
+  ArcFitOptions o;
+  o.tolerance = tolerance;
+  ArcFit f = fit_lines_and_arcs(c, o);
+  expect_chained(c, f);
+  return f;
+}
+
 }  // namespace
 
 TEST(ArcFit, CircleIsFourExactQuarterArcs) {
   auto c = make_circle({0.15, 0.1}, 0.05);
-  ArcFitOptions o;
-  o.tolerance = 1e-6;
-  ArcFit f = fit_lines_and_arcs(*c, o);
+  ArcFit f = fit_chained(*c, 1e-6);
   ASSERT_EQ(f.arcs, 4u);
   EXPECT_EQ(f.lines, 0u);
-  expect_chained(*c, f);
   for (const auto& s : f.segments) {
     EXPECT_NEAR(s.center.x, 0.15, 1e-15);
     EXPECT_NEAR(s.center.y, 0.1, 1e-15);
@@ -88,12 +94,9 @@ TEST(ArcFit, PolygonIsItsLines) {
     sq.push_back(s);
   }
   auto c = make_path(sq, true);
-  ArcFitOptions o;
-  o.tolerance = 1e-7;
-  ArcFit f = fit_lines_and_arcs(*c, o);
+  ArcFit f = fit_chained(*c, 1e-7);
   ASSERT_EQ(f.lines, 4u);
   EXPECT_EQ(f.arcs, 0u);
-  expect_chained(*c, f);
   for (int i = 0; i < 4; ++i) {
     EXPECT_NEAR(f.segments[i].from.x, v[i].x, 1e-15);
     EXPECT_NEAR(f.segments[i].from.y, v[i].y, 1e-15);
@@ -112,10 +115,7 @@ TEST(ArcFit, SmoothCurvesStayWithinTheTolerance) {
                         {make_rose(0.05, 3, 1), 1e-5}};
   for (const auto& k : cases) {
     SCOPED_TRACE(k.c->name() + " tol " + std::to_string(k.tol));
-    ArcFitOptions o;
-    o.tolerance = k.tol;
-    ArcFit f = fit_lines_and_arcs(*k.c, o);
-    expect_chained(*k.c, f);
+    ArcFit f = fit_chained(*k.c, k.tol);
     EXPECT_LE(f.max_deviation, k.tol);
     const double dense = dense_deviation(*k.c, f.segments, 6000);
     EXPECT_LE(dense, k.tol * (1 + 1e-9));

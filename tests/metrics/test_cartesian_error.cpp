@@ -23,6 +23,7 @@
 #include "metrics/deviation.hpp"
 
 using namespace polarcam;
+using polarcam::test::outline_deviation;
 using polarcam::test::RecordingSink;
 
 namespace {
@@ -77,11 +78,6 @@ CurvePtr polygon(const std::vector<Vec2>& v) {
   return make_path(segs, true);
 }
 
-double dist_to_segment(Vec2 p, Vec2 a, Vec2 b) {
-  const Vec2 d = b - a;
-  const double t = std::clamp(dot(p - a, d) / dot(d, d), 0.0, 1.0);
-  return norm(p - (a + t * d));
-}
 
 }  // namespace
 
@@ -111,14 +107,7 @@ TEST(CartesianError, AxisAlignedRectangleIsASymmetricDifference) {
     // deviation: the largest distance from the node rectangle's outline to the path's, by brute force
     const Vec2 P[4] = {{q.x0, q.y0}, {q.x1, q.y0}, {q.x1, q.y1}, {q.x0, q.y1}};
     const Vec2 S[4] = {{X0, Y0}, {X1, Y0}, {X1, Y1}, {X0, Y1}};
-    double dmax = 0;
-    for (int e = 0; e < 4; ++e)
-      for (int k = 0; k <= 20000; ++k) {
-        const Vec2 p = S[e] + (k / 20000.0) * (S[(e + 1) % 4] - S[e]);
-        double d = 1e300;
-        for (int f = 0; f < 4; ++f) d = std::min(d, dist_to_segment(p, P[f], P[(f + 1) % 4]));
-        dmax = std::max(dmax, d);
-      }
+    const double dmax = outline_deviation(S, P);
     EXPECT_NEAR(r.m.deviation_max_m / blu, dmax, 1e-3) << q.x0;  // the brute force samples every 1e-3 BLU or so
   }
 }

@@ -30,6 +30,15 @@ PoleProblem small_problem(PoleObjective obj, bool outside = false) {
   return make_pole_problem(at_zero(make_circle({0, 0}, 0.02)), g, StepRule::nearest, obj, 40, outside);
 }
 
+// The area objective's search from one start beside the circle, with `evaluations` and `threads`.
+const Placement kAreaStart{0.05, 1.5 * kPi + 0.2};
+PlacementOptions area_search(int evaluations, int threads) {
+  PlacementOptions o;
+  o.max_evaluations = evaluations;
+  o.threads = threads;
+  return o;
+}
+
 }  // namespace
 
 TEST(HookeJeeves, FindsTheMinimumOfAQuadraticAndRespectsInfeasibility) {
@@ -106,10 +115,8 @@ TEST(Placement, LimaconF1HookeJeeves) {
 // more than the fine-scale fluctuation, and identical with one or two threads.
 TEST(Placement, NloptAreaIsDeterministicAndGood) {
   PoleProblem p = small_problem(PoleObjective::area);
-  PlacementOptions o;
-  o.max_evaluations = 240;
-  o.threads = 1;
-  const Placement start{0.05, 1.5 * kPi + 0.2};
+  PlacementOptions o = area_search(240, 1);
+  const Placement start = kAreaStart;
   const PlacementResult a = optimize_placement(p, start, o);
   o.threads = 2;
   const PlacementResult b = optimize_placement(p, start, o);
@@ -130,10 +137,8 @@ TEST(Placement, NloptAreaIsDeterministicAndGood) {
 
 TEST(Placement, HoldsKeepCOrBeta) {
   PoleProblem p = small_problem(PoleObjective::area);
-  PlacementOptions o;
-  o.max_evaluations = 60;
-  o.threads = 2;
-  const Placement start{0.05, 1.5 * kPi + 0.2};
+  PlacementOptions o = area_search(60, 2);
+  const Placement start = kAreaStart;
   o.hold = PoleHold::C;
   const PlacementResult c = optimize_placement(p, start, o);
   EXPECT_DOUBLE_EQ(c.placement.C, start.C);

@@ -34,12 +34,6 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-double dist_to_segment(Vec2 p, Vec2 a, Vec2 b) {
-  const Vec2 d = b - a;
-  const double t = std::clamp(dot(p - a, d) / dot(d, d), 0.0, 1.0);
-  return norm(p - (a + t * d));
-}
-
 }  // namespace
 
 // Every index the scaled stream reaches is round(n P/Q) of the input's index n (halves up), whatever the sign.
@@ -281,14 +275,7 @@ TEST(CompareJob, ClosedFormsThroughTheComparison) {
     EXPECT_EQ(c.cartesian.steps[0], static_cast<uint64_t>(2 * (X1 - X0)));
     EXPECT_EQ(c.cartesian.steps[1], static_cast<uint64_t>(2 * (Y1 - Y0)));
     const Vec2 P[4] = {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}, S[4] = {{X0, Y0}, {X1, Y0}, {X1, Y1}, {X0, Y1}};
-    double dmax = 0;
-    for (int e = 0; e < 4; ++e)
-      for (int k = 0; k <= 20000; ++k) {
-        const Vec2 p = S[e] + (k / 20000.0) * (S[(e + 1) % 4] - S[e]);
-        double d = 1e300;
-        for (int f = 0; f < 4; ++f) d = std::min(d, dist_to_segment(p, P[f], P[(f + 1) % 4]));
-        dmax = std::max(dmax, d);
-      }
+    const double dmax = outline_deviation(S, P);
     EXPECT_NEAR(c.cartesian.deviation_m / blu, dmax, 1e-3);
     // the exact Cartesian tape holds the speed: samples at V along the edges; at the corners an axis's last
     // interval before the turn and the other's first after it overlap at most one step

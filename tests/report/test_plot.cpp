@@ -12,13 +12,9 @@ using namespace polarcam;
 namespace {
 plot::Figure sample() {
   plot::Figure f;
-  f.cols = 2;
-  f.width = 1200;
-  f.height = 500;
+  f.width = 1200, f.height = 500, f.cols = 2;
   plot::Panel a;
-  a.title = "lines";
-  a.xlabel = "theta (rad)";
-  a.ylabel = "ratio";
+  a.title = "lines", a.xlabel = "theta (rad)", a.ylabel = "ratio";
   plot::Series s1, s2;
   for (int i = 0; i <= 100; ++i) {
     s1.x.push_back(i * 0.0628);
@@ -33,15 +29,10 @@ plot::Figure sample() {
   a.series = {s1, s2};
   a.hlines = {0.8};
   plot::Panel b;
-  b.title = "map";
-  b.equal_aspect = true;
+  b.title = "map", b.equal_aspect = true;
   plot::Map m;
-  m.nx = 40;
-  m.ny = 30;
-  m.x0 = -2;
-  m.x1 = 2;
-  m.y0 = -1.5;
-  m.y1 = 1.5;
+  m.nx = 40, m.ny = 30;
+  m.x0 = -2, m.x1 = 2, m.y0 = -1.5, m.y1 = 1.5;
   for (int iy = 0; iy < m.ny; ++iy)
     for (int ix = 0; ix < m.nx; ++ix) {
       double x = m.x0 + (m.x1 - m.x0) * ix / (m.nx - 1), y = m.y0 + (m.y1 - m.y0) * iy / (m.ny - 1);
@@ -52,10 +43,8 @@ plot::Figure sample() {
   plot::Series opt;
   opt.x = {0.5};
   opt.y = {0.2};
-  opt.width = 0;
-  opt.marker = 4;
-  opt.marker_scale = 2;
   opt.label = "optimum";
+  opt.width = 0, opt.marker = 4, opt.marker_scale = 2;
   b.series = {opt};
   f.panels = {a, b};
   return f;

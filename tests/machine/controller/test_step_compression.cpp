@@ -13,6 +13,7 @@
 #include "machine/link/protocol.hpp"
 #include "machine/player/schedule.hpp"
 #include "machine/controller/sim_machine.hpp"
+#include "tests/player_helpers.hpp"
 
 namespace polarcam {
 namespace {
@@ -139,28 +140,7 @@ std::vector<QueueItem> random_items(std::mt19937_64& rng, size_t count) {
 TEST(StepCompression, CodecRoundTripsRandomItems) {
   std::mt19937_64 rng(11);
   const std::vector<QueueItem> items = random_items(rng, 3000);
-  ItemCodec enc, dec;
-  std::string bytes;
-  for (const QueueItem& it : items) enc.encode(it, bytes);
-  const auto* d = reinterpret_cast<const uint8_t*>(bytes.data());
-  size_t pos = 0;
-  for (const QueueItem& it : items) {
-    QueueItem got;
-    ASSERT_TRUE(dec.decode(d, bytes.size(), pos, got));
-    ASSERT_EQ(got.kind, it.kind);
-    ASSERT_EQ(got.axis, it.axis);
-    if (it.kind == ItemKind::wait) {
-      ASSERT_EQ(got.wait, it.wait);
-    }
-    if (it.kind != ItemKind::run) continue;
-    ASSERT_EQ(got.dir, it.dir);
-    ASSERT_EQ(got.count, it.count);
-    ASSERT_EQ(got.offset, it.offset);
-    ASSERT_EQ(got.interval, it.interval);
-    ASSERT_EQ(got.add, it.add);
-    ASSERT_EQ(got.add2, it.add2);
-  }
-  EXPECT_EQ(pos, bytes.size());
+  test::expect_codec_round_trip(items);
 }
 
 TEST(StepCompression, DamagedItemsAreRejectedNeverMisread) {

@@ -164,25 +164,7 @@ TEST(Schedule, ItemCodecRoundTripsAndRejectsGarbage) {
   const std::string tape = example_tape("witch");
   PlayPlan p = plan_playback(tape, scaling("10"), std::nullopt);
   Schedule sc = compress_schedule(p, 1000000);
-  ItemCodec enc, dec;
-  std::string bytes;
-  for (const QueueItem& it : sc.items) enc.encode(it, bytes);
-  size_t pos = 0;
-  for (const QueueItem& it : sc.items) {
-    QueueItem got;
-    ASSERT_TRUE(dec.decode(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), pos, got));
-    EXPECT_EQ(got.kind, it.kind);
-    EXPECT_EQ(got.axis, it.axis);
-    if (it.kind == ItemKind::run) {
-      EXPECT_EQ(got.count, it.count);
-      EXPECT_EQ(got.offset, it.offset);
-      EXPECT_EQ(got.interval, it.interval);
-      EXPECT_EQ(got.add, it.add);
-      EXPECT_EQ(got.add2, it.add2);
-      EXPECT_EQ(got.dir, it.dir);
-    }
-  }
-  EXPECT_EQ(pos, bytes.size());
+  test::expect_codec_round_trip(sc.items);
   const uint8_t junk[] = {0xf3, 0x01};
   size_t jp = 0;
   QueueItem x;
