@@ -4,7 +4,7 @@
 
 #include "cam/toolpath.hpp"
 #include "digitizer/digitize.hpp"
-#include "helpers.hpp"
+#include "tests/helpers.hpp"
 #include "metrics/area_error.hpp"
 
 namespace polarcam::test {

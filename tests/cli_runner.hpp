@@ -1,15 +1,17 @@
 #pragma once
-// Runs the polarcam executable for end-to-end tests.
+// Runs the polarcam executable for end-to-end tests (POLARCAM_BIN): only the CLI test targets include this.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
+#include <nlohmann/json.hpp>
 #include <string>
+
+#include "tests/scratch.hpp"
 
 namespace polarcam::test {
 
@@ -17,11 +19,6 @@ struct CliResult {
   int code = -1;
   std::string out, err;
 };
-
-inline std::string read_file(const std::string& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
 
 inline CliResult run_cli(const std::string& args) {
   static int counter = 0;
@@ -37,32 +34,13 @@ inline CliResult run_cli(const std::string& args) {
   return r;
 }
 
-// `s` with the first occurrence of `from` replaced by `to` (a failed expectation when `from` is missing): the bad
-// job files of the CLI tests are a good one with one thing changed.
-inline std::string replace(std::string s, const std::string& from, const std::string& to) {
-  auto p = s.find(from);
-  EXPECT_NE(p, std::string::npos) << from;
-  if (p != std::string::npos) s.replace(p, from.size(), to);
-  return s;
+// The JSON a command that succeeds prints (a failed expectation naming the command when it does not; the parse of
+// its empty output then throws and ends the test).
+inline nlohmann::json cli_json(const std::string& args) {
+  const CliResult r = run_cli(args);
+  EXPECT_EQ(r.code, 0) << args << ": " << r.err;
+  return nlohmann::json::parse(r.out);
 }
-
-// A scratch directory with the examples' machine file, removed at the end of the test.
-struct Scratch {
-  std::filesystem::path dir;
-  Scratch() {
-    dir = std::filesystem::temp_directory_path() / ("polarcam-scratch-" + std::to_string(::getpid()) + "-" +
-                                                    std::to_string(reinterpret_cast<uintptr_t>(this)));
-    std::filesystem::create_directories(dir / "machines");
-    std::filesystem::copy_file(std::string(POLARCAM_SOURCE_DIR) + "/examples/machines/fahim1983.toml",
-                               dir / "machines" / "fahim1983.toml");
-  }
-  ~Scratch() { std::filesystem::remove_all(dir); }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(dir / name) << text;
-    return (dir / name).string();
-  }
-  std::string path(const std::string& name) const { return (dir / name).string(); }
-};
 
 // A command that refused bad input: exit status 2 and one line on stderr that mentions `must_mention`.
 // Exit status 2 (bad input) unless told otherwise (3: device).
@@ -79,6 +57,21 @@ inline void expect_refused(const CliResult& r, const Scratch& sc, const std::str
   EXPECT_FALSE(std::filesystem::exists(output));
   for (auto& e : std::filesystem::directory_iterator(sc.dir))
     EXPECT_EQ(e.path().string().find(".partial"), std::string::npos) << "left behind: " << e.path();
+}
+
+// A bad job file refused: `polarcam <command> bad.toml <output_option> bad.<output_ext> <args>` exits with one line
+// that mentions `must_mention` (and `names`, the file, unless empty), writes no output, leaves no temporary file.
+inline void expect_bad_job(const Scratch& sc, const std::string& command, const std::string& output_option,
+                           const std::string& output_ext, const std::string& job_text, const std::string& args,
+                           const std::string& must_mention, const std::string& names = "bad.toml") {
+  SCOPED_TRACE("expecting: " + must_mention);
+  const std::string job = sc.write("bad.toml", job_text), output = sc.path("bad." + output_ext);
+  std::filesystem::remove(output);
+  const CliResult r = run_cli(command + " " + job + " " + output_option + " " + output + " " + args);
+  expect_refused(r, sc, output, must_mention);
+  if (!names.empty()) {
+    EXPECT_NE(r.err.find(names), std::string::npos) << "message does not name the file: " << r.err;
+  }
 }
 
 }  // namespace polarcam::test

@@ -1,13 +1,13 @@
 #pragma once
 // Small helpers shared by the tests.
-#include <unistd.h>
-
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
 
 #include "cam/toolpath.hpp"
 #include "digitizer/digitize.hpp"
+#include "tests/temp_path.hpp"
 
 namespace polarcam::test {
 
@@ -36,6 +36,27 @@ struct Run {
   PolarTrack track;
 };
 
+// Distance from p to the segment from a to b.
+inline double dist_to_segment(Vec2 p, Vec2 a, Vec2 b) {
+  const Vec2 d = b - a;
+  const double t = std::clamp(dot(p - a, d) / dot(d, d), 0.0, 1.0);
+  return norm(p - (a + t * d));
+}
+
+// The largest distance from the outline of the quadrilateral S to that of P, by brute force: 20001 points along each
+// edge of S.
+inline double outline_deviation(const Vec2 (&S)[4], const Vec2 (&P)[4]) {
+  double dmax = 0;
+  for (int e = 0; e < 4; ++e)
+    for (int k = 0; k <= 20000; ++k) {
+      const Vec2 p = S[e] + (k / 20000.0) * (S[(e + 1) % 4] - S[e]);
+      double d = 1e300;
+      for (int f = 0; f < 4; ++f) d = std::min(d, dist_to_segment(p, P[f], P[(f + 1) % 4]));
+      dmax = std::max(dmax, d);
+    }
+  return dmax;
+}
+
 inline Run run_digitizer(const Curve& path, const Grid& g, StepRule rule, double speed) {
   Run r;
   r.track = PolarTrack::build(path);
@@ -44,10 +65,6 @@ inline Run run_digitizer(const Curve& path, const Grid& g, StepRule rule, double
   r.result = digitize(r.track, g, rule, *prof, &sink);
   r.steps = std::move(sink.steps);
   return r;
-}
-
-inline std::string temp_path(const std::string& name) {
-  return "/tmp/polarcam-test-" + std::to_string(::getpid()) + "-" + name;
 }
 
 }  // namespace polarcam::test

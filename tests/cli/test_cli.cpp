@@ -1,0 +1,135 @@
+// End-to-end tests of `polarcam digitize` and `polarcam inspect`, including every kind of bad input: one line
+// naming the file and key, exit code 2, and no output file left behind.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "tests/cli_runner.hpp"
+
+using namespace polarcam::test;
+using json = nlohmann::json;
+
+namespace {
+
+const std::string kGoodJob = cli_job("limacon.toml");
+
+void expect_bad(const Scratch& sc, const std::string& job_text, const std::string& must_mention) {
+  expect_bad_job(sc, "digitize", "-o", "tape", job_text, "", must_mention);
+}
+
+}  // namespace
+
+TEST(Cli, DigitizeAndInspectAgree) {
+  Scratch sc;
+  std::string job = sc.write("lim.toml", kGoodJob), tape = sc.path("lim.tape");
+  json s = cli_json("digitize " + job + " -o " + tape + " --json");
+  EXPECT_EQ(s["steps_total"].get<int>(), s["steps_radial"].get<int>() + s["steps_angular"].get<int>());
+  EXPECT_EQ(s["steps_angular"].get<int>(), 16000);  // the pole is inside: one full turn
+  EXPECT_EQ(s["start_node"][1].get<int>() + 16000, s["end_node"][1].get<int>());
+  EXPECT_EQ(s["start_node"][0], s["end_node"][0]);
+  for (const char* k : {"duration_s", "path_length_m", "max_step_rate_radial_hz", "max_step_rate_angular_hz"})
+    EXPECT_TRUE(s[k].is_number()) << k;
+
+  json h = cli_json("inspect " + tape + " --json");
+  EXPECT_EQ(h["steps_total"], s["steps_total"]);
+  EXPECT_EQ(h["start_node"], s["start_node"]);
+  EXPECT_EQ(h["end_node"], s["end_node"]);
+  EXPECT_EQ(h["provenance"]["job"]["contour"]["kind"], "limacon");
+
+  CliResult c = run_cli("inspect " + tape + " --csv");
+  ASSERT_EQ(c.code, 0) << c.err;
+  std::istringstream in(c.out);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "t_ns,axis,dir,n,m");
+  long rows = 0, n = s["start_node"][0].get<long>(), m = s["start_node"][1].get<long>();
+  long long last_t = 0;
+  while (std::getline(in, line)) {
+    ++rows;
+    long long t;
+    char axis[8];
+    int dir;
+    long nn, mm;
+    ASSERT_EQ(std::sscanf(line.c_str(), "%lld,%7[a-z],%d,%ld,%ld", &t, axis, &dir, &nn, &mm), 5) << line;
+    (std::string(axis) == "r" ? n : m) += dir;
+    ASSERT_EQ(nn, n);
+    ASSERT_EQ(mm, m);
+    ASSERT_GE(t, last_t);
+    last_t = t;
+  }
+  EXPECT_EQ(rows, s["steps_total"].get<long>());
+}
+
+TEST(Cli, SameJobSameBytes) {
+  Scratch sc;
+  std::string job = sc.write("lim.toml", kGoodJob);
+  ASSERT_EQ(run_cli("digitize " + job + " -o " + sc.path("a.tape")).code, 0);
+  ASSERT_EQ(run_cli("digitize " + job + " -o " + sc.path("b.tape")).code, 0);
+  EXPECT_EQ(read_file(sc.path("a.tape")), read_file(sc.path("b.tape")));
+  // a job file with other formatting, key order and comments describes the same job: same bytes
+  std::string other = sc.write(
+      "other.toml", "# same job\n" + replace(replace(kGoodJob, "a = \"5.08 cm\"\nb = \"7.62 cm\"", "b=\"7.62 cm\"   # b\na =  \"5.08 cm\""),
+                                         "[tool]\nradius = \"0 mm\"\n", ""));
+  ASSERT_EQ(run_cli("digitize " + other + " -o " + sc.path("c.tape")).code, 0);
+  EXPECT_EQ(read_file(sc.path("a.tape")), read_file(sc.path("c.tape")));
+}
+
+TEST(Cli, BadInputGivesOneClearLine) {
+  Scratch sc;
+  expect_bad(sc, std::string(kGoodJob) + "[contour2]\nx = 1\n", "unknown key 'contour2'");
+  // one thing changed in the good job each: from, to, what the message must mention
+  const struct {
+    const char *from, *to, *mention;
+  } cases[] = {
+      {"rule = \"nearest\"", "rule = \"nearest\"\nfoo = 3", "unknown key 'motion.foo'"},
+      {"a = \"5.08 cm\"\n", "", "'a' is missing"},
+      {"a = \"5.08 cm\"", "a = \"5.08 kg\"", "contour.a"},
+      {"a = \"5.08 cm\"", "a = \"five cm\"", "contour.a"},
+      {"a = \"5.08 cm\"", "a = \"nan cm\"", "contour.a"},
+      {"a = \"5.08 cm\"", "a = nan", "contour.a"},
+      {"speed = \"1.52 cm/s\"", "speed = \"0 cm/s\"", "motion.speed"},
+      {"speed = \"1.52 cm/s\"", "speed = \"1.52 cm\"", "speed (m/s)"},
+      // the machine pole on the limacon's point (-2.54 cm, 0)
+      {"C = \"1.27 cm\"\nbeta = \"0 rad\"", "C = \"2.54 cm\"\nbeta = \"pi rad\"", "pole"},
+      {"r_min = \"0 cm\"", "r_min = \"7.62 cm\"", "r_min"},
+      {"theta_max = \"none\"", "theta_max = \"2.8 rad\"", "theta"},
+      {"kind = \"limacon\"", "kind = \"ellipse\"", "unknown contour kind"},
+      {"[motion]", "[motion", "bad.toml:"},
+      {"file = \"machines/fahim1983.toml\"", "file = \"machines/nope.toml\"", "nope.toml"},
+      {"radius = \"0 mm\"", "radius = \"30 mm\"", "radius"},
+  };
+  for (const auto& c : cases) expect_bad(sc, replace(kGoodJob, c.from, c.to), c.mention);
+}
+
+TEST(Cli, BadTapesGiveOneClearLine) {
+  Scratch sc;
+  std::string job = sc.write("lim.toml", kGoodJob), tape = sc.path("lim.tape");
+  ASSERT_EQ(run_cli("digitize " + job + " -o " + tape).code, 0);
+  std::string bytes = read_file(tape);
+  sc.write("cut.tape", bytes.substr(0, bytes.size() - 10));
+  CliResult r = run_cli("inspect " + sc.path("cut.tape") + " --csv");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(r.out.empty()) << "a damaged tape must not produce a partial listing";
+  EXPECT_NE(r.err.find("cut.tape"), std::string::npos);
+  EXPECT_NE(r.err.find("truncated"), std::string::npos) << r.err;
+  sc.write("junk.tape", "hello");
+  r = run_cli("inspect " + sc.path("junk.tape"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("not a polarcam tape"), std::string::npos) << r.err;
+}
+
+TEST(Cli, HelpAndUsage) {
+  EXPECT_EQ(run_cli("digitize --help").code, 0);
+  EXPECT_EQ(run_cli("inspect --help").code, 0);
+  EXPECT_EQ(run_cli("digitize").code, 2);
+  EXPECT_EQ(run_cli("frobnicate").code, 2);
+}
+
+TEST(Cli, EveryExampleDigitizes) {
+  for (const char* ex : {"limacon", "witch", "serpentine", "circle", "plate"}) {
+    CliResult r = run_cli(std::string("digitize ") + POLARCAM_SOURCE_DIR + "/examples/" + ex + ".toml --json");
+    EXPECT_EQ(r.code, 0) << ex << ": " << r.err;
+  }
+}

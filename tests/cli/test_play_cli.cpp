@@ -1,0 +1,171 @@
+// `polarcam play` and `polarcam controller-sim` end to end over real pseudo-terminals: the emulator's log
+// against the tape, faults, and bad input refused before any step is sent. Every emulator started here is
+// killed and reaped by the test.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include "tests/cli_runner.hpp"
+#include "tests/example_tapes.hpp"
+#include "tests/tape_log.hpp"
+
+extern char** environ;
+
+namespace polarcam {
+namespace {
+
+using test::example_tape;
+using test::run_cli;
+using test::Scratch;
+
+// A running `polarcam controller-sim`, stopped and reaped on destruction.
+struct Emulator {
+  pid_t pid = -1;
+  std::string pty, log, out;
+  Emulator(const Scratch& s, const std::string& args) {
+    log = s.path("emulator.csv");
+    out = s.path("emulator.out");
+    const std::string cmd = std::string(POLARCAM_BIN) + " controller-sim --pty --log " + log +
+                            " --exit-after-idle 60 " + args + " >" + out + " 2>" + s.path("emulator.err");
+    const char* argv[] = {"/bin/sh", "-c", cmd.c_str(), nullptr};
+    // exec replaces the shell, so the pid is the emulator's
+    const std::string exec_cmd = "exec " + cmd;
+    argv[2] = exec_cmd.c_str();
+    if (posix_spawn(&pid, "/bin/sh", nullptr, nullptr, const_cast<char**>(argv), environ) != 0) pid = -1;
+    for (int i = 0; i < 500 && pty.empty(); ++i) {  // up to 5 s for the first line
+      std::ifstream in(out);
+      std::getline(in, pty);
+      if (pty.empty()) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+  }
+  ~Emulator() {
+    if (pid > 0) {
+      ::kill(pid, SIGTERM);
+      int st = 0;
+      for (int i = 0; i < 300; ++i) {  // 3 s, then SIGKILL
+        if (::waitpid(pid, &st, WNOHANG) == pid) return;
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      }
+      ::kill(pid, SIGKILL);
+      ::waitpid(pid, &st, 0);
+    }
+  }
+  std::vector<std::string> lines() const {
+    std::ifstream in(log);
+    std::vector<std::string> v;
+    std::string l;
+    while (std::getline(in, l)) v.push_back(l);
+    return v;
+  }
+};
+
+// The emulator's CSV (a header, then t_ns,r|theta,+1|-1 per step) against the tape read independently: step for step,
+// within one 1 us tick of t / K.
+void expect_log_is_tape(const std::vector<std::string>& lines, const std::string& tape, int64_t K) {
+  ASSERT_FALSE(lines.empty());
+  EXPECT_EQ(lines[0], "t_ns,axis,dir");
+  std::vector<test::LoggedStep> log;
+  for (size_t i = 1; i < lines.size(); ++i) {
+    std::istringstream ls(lines[i]);
+    std::string ts, axis, dir;
+    std::getline(ls, ts, ',');
+    std::getline(ls, axis, ',');
+    std::getline(ls, dir, ',');
+    ASSERT_TRUE((axis == "r" || axis == "theta") && (dir == "+1" || dir == "-1")) << "step " << i << ": " << lines[i];
+    log.push_back({std::stoull(ts), axis == "r" ? 0 : 1, dir == "+1" ? 1 : -1});
+  }
+  test::expect_log_follows_tape(tape, K, log);
+}
+
+// Example `name` played at ten times speed to an emulator with `faults`: its JSON summary in `j`, and the
+// emulator's log against the tape.
+void play_at_ten_times_speed(const std::string& name, const std::string& faults, nlohmann::json& j) {
+  Scratch s;
+  const std::string tape = example_tape(name);
+  Emulator emu(s, faults);
+  ASSERT_FALSE(emu.pty.empty());
+  j = test::cli_json("play " + tape + " --port " + emu.pty + " --speed-scale 10 --json");
+  expect_log_is_tape(emu.lines(), tape, 10);
+}
+
+TEST(PlayCli, LimaconAtTenTimesSpeedOverAPtyWithDroppedBytes) {
+  nlohmann::json j;
+  play_at_ten_times_speed("limacon", "--faults drop=0.01,seed=3", j);
+  EXPECT_EQ(j["steps_confirmed"], 22000);
+  EXPECT_EQ(j["steps_sent"], 22000);
+  EXPECT_EQ(j["underruns"], 0);
+  for (const char* k : {"retransmissions", "duration_s"}) EXPECT_TRUE(j.contains(k)) << k;
+}
+
+TEST(PlayCli, SerpentineAtTenTimesSpeedWithCorruptedBytes) {
+  nlohmann::json j;
+  play_at_ten_times_speed("serpentine", "--faults corrupt=0.01,seed=5", j);
+  EXPECT_EQ(j["underruns"], 0);
+}
+
+TEST(PlayCli, BadInputIsRefusedBeforeAnyStep) {
+  Scratch s;
+  const std::string tape = example_tape("circle");
+  Emulator emu(s, "");
+  ASSERT_FALSE(emu.pty.empty());
+  auto refused = [&](const std::string& args, const std::string& words, int code = 2) {
+    SCOPED_TRACE(args);
+    expect_one_line_error(run_cli("play " + args), words, code);
+  };
+  refused(tape + " --port /dev/polarcam-no-such-port", "cannot open serial port /dev/polarcam-no-such-port", 3);
+  refused(tape + " --port " + emu.pty + " --baud 12345", "--baud 12345");
+  refused(tape + " --port " + emu.pty + " --baud 9600", "no answer", 3);
+  refused(tape + " --port " + emu.pty + " --size-scale 2/1", "r_max");
+  refused(tape + " --port " + emu.pty + " --speed-scale 0", "--speed-scale");
+  const std::string other = s.write("other.toml", "[machine]\nradial_resolution = \"0.0005 in\"\nangular_steps_per_rev = 16000\n");
+  refused(tape + " --port " + emu.pty + " --machine " + other, "another machine grid");
+  refused(s.write("junk.tape", "not a tape") + " --port " + emu.pty, "junk.tape");
+  EXPECT_EQ(emu.lines().size(), 1u);  // the header only: not one step executed
+}
+
+TEST(PlayCli, ControllerResetStopsWithAClearMessage) {
+  Scratch s;
+  const std::string tape = example_tape("witch");
+  Emulator emu(s, "--faults reset@1.5");
+  ASSERT_FALSE(emu.pty.empty());
+  auto r = run_cli("play " + tape + " --port " + emu.pty + " --speed-scale 10 --json");
+  EXPECT_EQ(r.code, 3) << r.err;  // a device error
+  EXPECT_NE(r.err.find("reset"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("re-home"), std::string::npos) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["completed"], false);
+  EXPECT_GT(j["steps_confirmed"].get<int>(), 0);
+  EXPECT_LT(j["steps_confirmed"].get<int>(), j["steps_total"].get<int>());
+}
+
+TEST(PlayCli, SimulatedMachineReportsTheExecutedPath) {
+  Scratch s;
+  const std::string tape = example_tape("serpentine");
+  auto r = run_cli("play " + tape + " --simulate --speed-scale 2 --json --log " + s.path("sim.csv"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["steps_mismatched"], 0);
+  EXPECT_LE(j["max_time_error_ns"].get<double>(), 1000.0);
+  EXPECT_EQ(j["steps_executed"], j["steps_total"]);
+  std::ifstream in(s.path("sim.csv"));
+  std::vector<std::string> lines;
+  for (std::string l; std::getline(in, l);) lines.push_back(l);
+  expect_log_is_tape(lines, tape, 2);
+}
+
+TEST(PlayCli, EmulatorRefusesBadFaultSpecs) {
+  Scratch s;
+  auto r = run_cli("controller-sim --pty --log " + s.path("x.csv") + " --faults drop=5");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("drop"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace polarcam

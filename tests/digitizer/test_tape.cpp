@@ -1,0 +1,170 @@
+// The step tape: round trip, determinism, and every kind of damage detected.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <numbers>
+
+#include "cam/curves.hpp"
+#include "cam/error.hpp"
+#include "digitizer/tape.hpp"
+#include "tests/helpers.hpp"
+#include "digitizer/replay.hpp"
+
+using namespace polarcam;
+using polarcam::test::RecordingSink;
+using polarcam::test::temp_path;
+using polarcam::test::thesis_grid;
+
+namespace {
+
+struct Written {
+  std::vector<polarcam::test::Recorded> steps;
+  DigitizeResult r;
+};
+
+Written write_limacon(const std::string& path, const std::string& provenance = "{\"test\":1}") {
+  auto tp = make_tool_path(make_limacon(0.0508, 0.0762), Placement{0.0127, 0}, ToolSpec{}, TravelSpec{});
+  PolarTrack tr = PolarTrack::build(*tp);
+  auto prof = make_constant_speed(0.0152, tr.length());
+  Grid g = thesis_grid();
+  TapeHeader h;
+  h.res[0] = g.dr;
+  h.res[1] = g.dtheta;
+  h.steps_per_rev = g.steps_per_rev;
+  h.provenance = provenance;
+  struct Tee : StepSink {
+    StepSink* a;
+    RecordingSink b;
+    void step(int axis, int dir, int64_t t) override {
+      a->step(axis, dir, t);
+      b.step(axis, dir, t);
+    }
+  } tee;
+  TapeWriter w(path, h);
+  tee.a = &w;
+  Written out;
+  out.r = digitize(tr, g, StepRule::nearest, *prof, &tee);
+  h.start[0] = out.r.start_n;
+  h.start[1] = out.r.start_m;
+  h.end[0] = out.r.end_n;
+  h.end[1] = out.r.end_m;
+  h.duration_ticks = static_cast<uint64_t>(out.r.duration_ns);
+  w.finish(h);
+  out.steps = tee.b.steps;
+  return out;
+}
+
+std::string slurp(const std::string& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+void spit(const std::string& p, const std::string& s) {
+  std::ofstream out(p, std::ios::binary);
+  out << s;
+}
+
+}  // namespace
+
+TEST(Tape, ReadsBackExactlyWhatWasWritten) {
+  std::string p = temp_path("rt.tape");
+  Written w = write_limacon(p);
+  TapeReader rd(p);
+  EXPECT_EQ(rd.header().record_count, w.steps.size());
+  EXPECT_EQ(rd.header().start[0], w.r.start_n);
+  EXPECT_EQ(rd.header().end[1], w.r.end_m);
+  EXPECT_EQ(rd.header().provenance, "{\"test\":1}");
+  TapeReplay rp(rd);
+  MachineStep s;
+  size_t i = 0;
+  int64_t node[2] = {w.r.start_n, w.r.start_m};
+  while (rp.next(s)) {
+    ASSERT_LT(i, w.steps.size());
+    EXPECT_EQ(s.axis, w.steps[i].axis);
+    EXPECT_EQ(s.dir, w.steps[i].dir);
+    EXPECT_EQ(static_cast<int64_t>(s.t_ticks), w.steps[i].t_ns);
+    node[s.axis] += s.dir;
+    EXPECT_EQ(s.node[0], node[0]);
+    EXPECT_EQ(s.node[1], node[1]);
+    ++i;
+  }
+  EXPECT_EQ(i, w.steps.size());
+  std::remove(p.c_str());
+}
+
+TEST(Tape, IdenticalJobsGiveIdenticalBytes) {
+  std::string a = temp_path("a.tape"), b = temp_path("b.tape");
+  write_limacon(a);
+  write_limacon(b);
+  EXPECT_EQ(slurp(a), slurp(b));
+  std::remove(a.c_str());
+  std::remove(b.c_str());
+}
+
+TEST(Tape, DamageIsDetected) {
+  std::string p = temp_path("dmg.tape"), q = temp_path("dmg2.tape");
+  write_limacon(p);
+  const std::string good = slurp(p);
+  auto expect_bad = [&](const std::string& bytes, const char* what) {
+    spit(q, bytes);
+    EXPECT_THROW(verify_tape(q), InputError) << what;
+  };
+  std::string s = good;
+  s[good.size() / 2] ^= 0x10;
+  expect_bad(s, "a flipped bit in the records");
+  expect_bad(good.substr(0, good.size() - 3), "a truncated tape");
+  expect_bad(good + "x", "trailing bytes");
+  s = good;
+  s[60] ^= 1;
+  expect_bad(s, "a flipped bit in the header");
+  s = good;
+  s[0] = 'X';
+  expect_bad(s, "a wrong magic");
+  expect_bad(good.substr(0, 100), "a truncated header");
+  expect_bad("", "an empty file");
+  EXPECT_THROW(verify_tape(temp_path("does-not-exist.tape")), InputError);
+  spit(q, good);
+  EXPECT_NO_THROW(verify_tape(q));
+  std::remove(p.c_str());
+  std::remove(q.c_str());
+}
+
+TEST(Tape, UnfinishedWriterLeavesNoFile) {
+  std::string p = temp_path("unfinished.tape");
+  {
+    TapeHeader h;
+    h.res[0] = 1e-5;
+    h.res[1] = 1e-3;
+    TapeWriter w(p, h);
+    w.step(0, 1, 10);
+  }
+  std::ifstream in(p);
+  EXPECT_FALSE(in.good());
+}
+
+TEST(Tape, VarintsCoverTheWholeRange) {
+  std::string p = temp_path("range.tape");
+  TapeHeader h;
+  h.res[0] = 1e-5;
+  h.res[1] = 1e-3;
+  std::vector<uint64_t> intervals{0, 1, 127, 128, 16383, 16384, (1ull << 40) + 5, (1ull << 61) + 3};
+  {
+    TapeWriter w(p, h);
+    for (uint64_t iv : intervals) w.write(StepRecord{iv, 1, -1});
+    h.end[1] = -static_cast<int64_t>(intervals.size());
+    h.duration_ticks = 0;
+    w.finish(h);
+  }
+  TapeReader rd(p);
+  StepRecord r;
+  size_t i = 0;
+  while (rd.next(r)) {
+    EXPECT_EQ(r.interval, intervals[i]);
+    EXPECT_EQ(r.axis, 1);
+    EXPECT_EQ(r.dir, -1);
+    ++i;
+  }
+  EXPECT_EQ(i, intervals.size());
+  std::remove(p.c_str());
+}

@@ -1,0 +1,176 @@
+// The player: speed and size scaling, the angular offset, the work area, and the exactness of the compressed
+// schedule against the tape read independently.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+
+#include "cam/error.hpp"
+#include "machine/player/play_plan.hpp"
+#include "machine/player/scaling.hpp"
+#include "machine/player/schedule.hpp"
+#include "tests/player_helpers.hpp"
+
+namespace polarcam {
+namespace {
+
+using test::example_tape;
+using test::read_tape;
+using test::scaling;
+
+TEST(Scaling, ParsesExactRatios) {
+  Ratio r = parse_ratio("2", "x");
+  EXPECT_EQ(r.num, 2);
+  EXPECT_EQ(r.den, 1);
+  r = parse_ratio("0.25", "x");
+  EXPECT_EQ(r.num, 1);
+  EXPECT_EQ(r.den, 4);
+  r = parse_ratio("6/4", "x");
+  EXPECT_EQ(r.num, 3);
+  EXPECT_EQ(r.den, 2);
+  r = parse_ratio("1.5/0.5", "x");
+  EXPECT_EQ(r.num, 3);
+  EXPECT_EQ(r.den, 1);
+  for (const char* bad : {"0", "-1", "abc", "1/0", "", "1/", "2.3.4", "1e3", "0/5"})
+    EXPECT_THROW(parse_ratio(bad, "--speed-scale"), InputError) << bad;
+  try {
+    parse_ratio("fast", "--speed-scale");
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--speed-scale"), std::string::npos);
+  }
+}
+
+TEST(Scaling, RadialIndexIsTheNearestToNTimesPOverQHalvesUp) {
+  for (auto [p, q] : {std::pair<int64_t, int64_t>{1, 2}, {2, 1}, {3, 4}, {7, 3}, {1, 1}, {5, 8}})
+    for (int64_t n = -50; n <= 20000; n += (n < 100 ? 1 : 97)) {
+      // independent: exact rational rounding, n p / q = k + f
+      const int64_t num = n * p;
+      int64_t k = num / q, rem = num % q;
+      if (rem < 0) {
+        --k;
+        rem += q;
+      }
+      const int64_t expect = 2 * rem >= q ? k + 1 : k;
+      EXPECT_EQ(scaled_radial_index(n, Ratio{p, q}), expect) << n << " " << p << "/" << q;
+    }
+  EXPECT_EQ(scaled_radial_index(4501, Ratio{1, 2}), 2251);  // 2250.5 rounds up
+  EXPECT_EQ(scaled_radial_index(4499, Ratio{1, 2}), 2250);  // 2249.5 rounds up
+}
+
+// Machine node after all machine steps that come from tape records 1..i, for every i.
+std::vector<std::pair<int64_t, int64_t>> nodes_by_record(const PlayPlan& p, size_t records) {
+  std::vector<int64_t> dn(records + 1, 0), dm(records + 1, 0);
+  for (const PlayStep& s : p.steps) (s.axis == 0 ? dn : dm)[s.record] += s.dir;
+  std::vector<std::pair<int64_t, int64_t>> out(records + 1);
+  int64_t n = p.start[0], m = p.start[1];
+  out[0] = {n, m};
+  for (size_t i = 1; i <= records; ++i) {
+    n += dn[i];
+    m += dm[i];
+    out[i] = {n, m};
+  }
+  return out;
+}
+
+TEST(Player, SizeScaleTwoDoublesEveryRadialIndexAndKeepsAngularOnes) {
+  const std::string tape = example_tape("limacon");
+  const auto ref = read_tape(tape);
+  PlayPlan p = plan_playback(tape, scaling("1", "2/1"), std::nullopt);
+  TapeReader rd(tape);
+  EXPECT_EQ(p.start[0], 2 * rd.header().start[0]);
+  EXPECT_EQ(p.start[1], rd.header().start[1]);
+  auto nodes = nodes_by_record(p, ref.size());
+  for (size_t i = 0; i < ref.size(); ++i) {
+    ASSERT_EQ(nodes[i + 1].first, 2 * ref[i].n) << "record " << i + 1;
+    ASSERT_EQ(nodes[i + 1].second, ref[i].m) << "record " << i + 1;
+  }
+  // every machine step is in time order, and each radial tape step became two machine steps
+  for (size_t i = 1; i < p.steps.size(); ++i) ASSERT_LE(p.steps[i - 1].t, p.steps[i].t);
+  EXPECT_EQ(p.steps_per_axis[0], 2 * (rd.header().plus[0] + rd.header().minus[0]));
+  EXPECT_EQ(p.steps_per_axis[1], rd.header().plus[1] + rd.header().minus[1]);
+}
+
+TEST(Player, SizeScaleHalfHalvesRadialIndexesRoundingHalvesUp) {
+  const std::string tape = example_tape("limacon");
+  const auto ref = read_tape(tape);
+  PlayPlan p = plan_playback(tape, scaling("1", "1/2"), std::nullopt);
+  auto nodes = nodes_by_record(p, ref.size());
+  for (size_t i = 0; i < ref.size(); ++i) {
+    ASSERT_EQ(nodes[i + 1].first, static_cast<int64_t>(std::floor(static_cast<double>(ref[i].n) / 2.0 + 0.5)));
+    ASSERT_EQ(nodes[i + 1].second, ref[i].m);
+  }
+  // a radial machine step happens exactly when the tape's step crosses an odd index upward (n: 2k -> 2k+1
+  // rounds up), so it carries the tape step's time
+  for (const PlayStep& s : p.steps) ASSERT_EQ(s.t, ref[s.record - 1].t);
+}
+
+TEST(Player, AngleOffsetShiftsEveryAngularIndex) {
+  const std::string tape = example_tape("witch");
+  const auto ref = read_tape(tape);
+  PlayPlan p = plan_playback(tape, scaling("1", "1", 100), std::nullopt);
+  auto nodes = nodes_by_record(p, ref.size());
+  for (size_t i = 0; i < ref.size(); ++i) {
+    ASSERT_EQ(nodes[i + 1].first, ref[i].n);
+    ASSERT_EQ(nodes[i + 1].second, ref[i].m + 100);
+  }
+}
+
+TEST(Player, ScalesThatLeaveTheWorkAreaAreRefusedBeforeAnything) {
+  const std::string circle = example_tape("circle");  // r from 152 to 254 mm on a 76-330 mm annulus
+  try {
+    plan_playback(circle, scaling("1", "2"), std::nullopt);
+    FAIL() << "size scale 2 takes the circle beyond r_max";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("r_max"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(plan_playback(circle, scaling("1", "1/4"), std::nullopt), InputError);  // below r_min
+  EXPECT_THROW(plan_playback(circle, scaling("1", "1", 8000), std::nullopt), InputError);  // beyond theta_max
+  EXPECT_NO_THROW(plan_playback(circle, scaling("1", "5/4"), std::nullopt));
+}
+
+TEST(Player, TapeFromAnotherGridIsRefused) {
+  const std::string tape = example_tape("witch");
+  PlayMachine m = machine_from_header(TapeReader(tape).header());
+  m.source = "machine file other.toml";
+  m.grid.dr *= 2;
+  try {
+    plan_playback(tape, scaling("1"), m);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("another machine grid"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Schedule, SpeedScaleTwoHalvesEveryInterval) {
+  const std::string tape = example_tape("serpentine");
+  const auto ref = read_tape(tape);
+  PlayPlan p = plan_playback(tape, scaling("2"), std::nullopt);
+  Schedule sc = compress_schedule(p, 1000);  // 1 ns tick: the scaled times are t / 2 within 1 ns
+  std::vector<uint64_t> ticks[2] = {execute_axis(sc.items, 0), execute_axis(sc.items, 1)};
+  size_t k[2] = {0, 0};
+  for (size_t i = 0; i < ref.size(); ++i) {
+    const uint64_t t = ticks[ref[i].axis][k[ref[i].axis]++];
+    ASSERT_LE(std::llabs(static_cast<long long>(2 * t) - static_cast<long long>(ref[i].t)), 2) << i;
+  }
+}
+
+TEST(Schedule, StepsTooCloseForTheTickAreRefused) {
+  const std::string tape = example_tape("limacon");
+  PlayPlan p = plan_playback(tape, scaling("100000"), std::nullopt);
+  EXPECT_THROW(compress_schedule(p, 1000000), InputError);
+}
+
+TEST(Schedule, ItemCodecRoundTripsAndRejectsGarbage) {
+  const std::string tape = example_tape("witch");
+  PlayPlan p = plan_playback(tape, scaling("10"), std::nullopt);
+  Schedule sc = compress_schedule(p, 1000000);
+  test::expect_codec_round_trip(sc.items);
+  const uint8_t junk[] = {0xf3, 0x01};
+  size_t jp = 0;
+  QueueItem x;
+  EXPECT_FALSE(ItemCodec{}.decode(junk, sizeof junk, jp, x));
+  EXPECT_EQ(jp, 0u);
+}
+
+}  // namespace
+}  // namespace polarcam

@@ -1,0 +1,126 @@
+// The thesis's surrogate F_sum, F_dif, F1 (Eq. 4.5-4.15) and the deviation, against closed forms, quadrature and
+// each other.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "tests/area_helpers.hpp"
+#include "cam/curves.hpp"
+#include "metrics/error_metrics.hpp"
+#include "metrics/f1.hpp"
+
+using namespace polarcam;
+using namespace polarcam::test;
+
+namespace {
+
+// integral of dtheta / r along the chord by composite Gauss-Legendre in long double (theta' = cross / |P|^2)
+long double inv_r_quadrature(Vec2 a, Vec2 b) {
+  const long double x[5] = {-0.9061798459386640L, -0.5384693101056831L, 0.0L, 0.5384693101056831L, 0.9061798459386640L};
+  const long double w[5] = {0.2369268850561891L, 0.4786286704993665L, 0.5688888888888889L, 0.4786286704993665L,
+                            0.2369268850561891L};
+  const long double dx = (long double)b.x - a.x, dy = (long double)b.y - a.y;
+  const long double c = (long double)a.x * dy - (long double)a.y * dx;
+  const int n = 4000;
+  long double sum = 0;
+  for (int k = 0; k < n; ++k)
+    for (int i = 0; i < 5; ++i) {
+      const long double s = (k + 0.5L + 0.5L * x[i]) / n;
+      const long double px = a.x + s * dx, py = a.y + s * dy, r2 = px * px + py * py;
+      sum += w[i] * 0.5L / n * c / (r2 * std::sqrt(r2));
+    }
+  return std::fabs(sum);
+}
+
+}  // namespace
+
+TEST(F1, ChordIntegralMatchesQuadrature) {
+  struct C {
+    Vec2 a, b;
+  } cases[] = {
+      {{0.10, 0.02}, {0.03, 0.12}},          // a general chord
+      {{0.05, -0.03}, {0.05, 0.04}},         // passing the foot of the perpendicular
+      {{0.08, 1e-7}, {0.20, 3e-7}},          // nearly radial: cancellation in the direct form
+      {{-0.2, -0.1}, {-0.1000001, -0.05}},   // nearly radial, the other way
+  };
+  for (const auto& c : cases) {
+    const double q = static_cast<double>(inv_r_quadrature(c.a, c.b));
+    EXPECT_NEAR(chord_inverse_radius_integral(c.a, c.b), q, 1e-10 * q + 1e-18) << c.a.x << "," << c.a.y;
+  }
+}
+
+// Eq. 4.7: a straight line along a ray, the pole beyond its end, has no angular steps: F_sum = F_dif = L / DeltaR.
+TEST(F1, RadialLineFromCounts) {
+  const double dr = 2.54e-5, dth = 2 * std::numbers::pi / 16000;
+  std::vector<Vec2> pts{{0.10, 0}, {0.15, 0}, {0.20, 0}};
+  std::vector<long long> nr{1969, 1968}, nt{0, 0};
+  const F1Value v = f1_counts(pts, nr, nt, dr, dth);
+  EXPECT_DOUBLE_EQ(v.F_sum, 3937.0);
+  EXPECT_DOUBLE_EQ(v.F_dif, 3937.0);
+  EXPECT_DOUBLE_EQ(v.F1, 1.0);
+}
+
+// The penalty K / R_m applies to segments where N_R > N_theta only (Eq. 4.5-4.6), R_m at the chord's midpoint.
+TEST(F1, PenaltyFromCounts) {
+  const double dr = 2.54e-5, dth = 2 * std::numbers::pi / 16000, K = dr / dth;  // K = 6.468 cm
+  std::vector<Vec2> pts{{0.20, 0.0}, {0.20, 0.01}, {0.21, 0.01}};
+  // segment 0: 20 radial, 100 angular (no penalty); segment 1: 300 radial, 40 angular (penalised)
+  const F1Value v = f1_counts(pts, {20, 300}, {100, 40}, dr, dth);
+  const double rm1 = std::hypot(0.205, 0.01), pen = 40 * K / rm1;
+  EXPECT_NEAR(v.F_sum, (20 + 100) + (300 + pen), 1e-9);
+  EXPECT_NEAR(v.F_dif, (100 - 20) + (300 - pen), 1e-9);
+  EXPECT_NEAR(v.F1, v.F_dif / v.F_sum, 1e-15);
+}
+
+// Eq. 4.15 on chords: each chord contributes |dr|/DeltaR and |dtheta|/DeltaTheta, the latter penalised by
+// (DeltaR/DeltaTheta^2) |int dtheta/r| where radial steps dominate. Checked on a hand-made two-chord path.
+TEST(F1, ChordsByHand) {
+  const double dr = 1e-4, dth = 1e-3;
+  const Vec2 a{0.1, 0.0}, b{0.1, 0.005}, c{0.2, 0.006};
+  const F1Value v = f1_chords({a, b, c}, dr, dth);
+  // chord 1: mostly angular
+  const double nr1 = std::abs(norm(b) - norm(a)) / dr, nt1 = std::atan2(cross(a, b), dot(a, b)) / dth;
+  ASSERT_LT(nr1, nt1);
+  // chord 2: mostly radial, penalised
+  const double nr2 = (norm(c) - norm(b)) / dr, nt2 = std::abs(std::atan2(cross(b, c), dot(b, c))) / dth;
+  ASSERT_GT(nr2, nt2);
+  const double p2 = dr / (dth * dth) * static_cast<double>(inv_r_quadrature(b, c));
+  EXPECT_NEAR(v.F_sum, nr1 + nt1 + nr2 + p2, 1e-9 * v.F_sum);
+  EXPECT_NEAR(v.F_dif, (nt1 - nr1) + (nr2 - p2), 1e-9 * v.F_sum);
+  EXPECT_EQ(v.segments_used, 2);
+}
+
+// Step counts per segment (any rule) and chords agree closely for a smooth contour: the two forms of F1 are the
+// same quantity (Eq. 4.13), one counted and one integrated.
+TEST(F1, CountsAgreeWithChords) {
+  const Grid g = coarse_grid(0.0254e-3, 16000);
+  auto path = make_tool_path(make_witch(0.2159, -0.2032, 0.2032), Placement{0.1546, 1.236}, ToolSpec{}, TravelSpec{});
+  AreaRun r = area_run(*path, g, StepRule::nearest);
+  ErrorMeters em;
+  em.reset(*path, r.track, g, 40);
+  for (const auto& s : r.steps) em.record(s.axis, s.dir);
+  const ErrorMetrics m = em.finish(r.dig.start_n, r.dig.start_m);
+  EXPECT_NEAR(m.area.area_m2, r.area.area_m2, 1e-15);
+  EXPECT_NEAR(m.f_counts.F1, m.f_chords.F1, 0.01 * m.f_chords.F1);
+  // every step is counted once
+  EXPECT_NEAR(m.f_counts.F_sum + m.f_counts.F_dif, m.f_chords.F_sum + m.f_chords.F_dif, 0.02 * m.f_chords.F_sum);
+  // deviation: the nearest rule keeps nodes within half a cell diagonal; the midpoints of steps stay within a cell
+  const double rmax = r.track.r_max().value;
+  EXPECT_GT(m.deviation_max_m, 0.25 * g.dr);
+  EXPECT_LT(m.deviation_max_m, std::hypot(g.dr, rmax * g.dtheta));
+  EXPECT_DOUBLE_EQ(m.deviation_eq41_m, rmax * g.dtheta);
+}
+
+// The deviation of a circle about the pole is exactly the radial offset of the node circle.
+TEST(F1, DeviationOfACircleAboutThePole) {
+  const Grid g = coarse_grid(1e-3, 720);
+  const double R = 50.3e-3;
+  auto path = make_tool_path(make_circle({0, 0}, R), Placement{}, ToolSpec{}, TravelSpec{});
+  AreaRun r = area_run(*path, g, StepRule::nearest);
+  ErrorMeters em;
+  em.reset(*path, r.track, g, 10);
+  for (const auto& s : r.steps) em.record(s.axis, s.dir);
+  const ErrorMetrics m = em.finish(r.dig.start_n, r.dig.start_m);
+  EXPECT_NEAR(m.deviation_max_m, R - 50e-3, 1e-12);
+}
