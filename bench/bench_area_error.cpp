@@ -14,6 +14,7 @@
 
 #include "cam/curves.hpp"
 #include "cam/toolpath.hpp"
+#include "bench/thesis_grid.hpp"
 #include "digitizer/digitize.hpp"
 #include "machine/cartesian/cartesian_exact.hpp"
 #include "metrics/area_error.hpp"
@@ -23,13 +24,7 @@ using namespace polarcam;
 
 namespace {
 
-Grid thesis_grid(double finer) {
-  Grid g;
-  g.dr = 0.0254e-3 / finer;
-  g.steps_per_rev = static_cast<int64_t>(16000 * finer);
-  g.dtheta = dtheta_from_steps(g.steps_per_rev);
-  return g;
-}
+using bench::thesis_grid;
 
 ToolPathPtr contour(int which) {
   switch (which) {

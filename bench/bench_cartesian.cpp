@@ -38,44 +38,39 @@ DdaProgram program(const Curve& path, double blu) {
 
 }  // namespace
 
-static void BM_Exact(benchmark::State& state) {
-  auto path = limacon();
-  const double blu = 0.0254e-3 / static_cast<double>(state.range(0));
+// Runs `step` (which returns a CartesianResult) once per iteration and reports its steps.
+template <class F>
+void steps_per_second(benchmark::State& state, F step) {
   uint64_t steps = 0;
   for (auto _ : state) {
-    CartesianTrack tr = CartesianTrack::build(*path);
-    auto prof = make_constant_speed(kSpeed, tr.length());
-    CartesianResult r = step_exact(tr, blu, *prof, nullptr);
+    CartesianResult r = step();
     steps = r.steps();
     benchmark::DoNotOptimize(r);
   }
   rate(state, steps, "steps");
+}
+
+double blu_of(const benchmark::State& state) { return 0.0254e-3 / static_cast<double>(state.range(0)); }
+
+static void BM_Exact(benchmark::State& state) {
+  auto path = limacon();
+  const double blu = blu_of(state);
+  steps_per_second(state, [&] {
+    CartesianTrack tr = CartesianTrack::build(*path);
+    auto prof = make_constant_speed(kSpeed, tr.length());
+    return step_exact(tr, blu, *prof, nullptr);
+  });
 }
 
 static void BM_Dda(benchmark::State& state) {
   auto path = limacon();
-  const double blu = 0.0254e-3 / static_cast<double>(state.range(0));
-  uint64_t steps = 0;
-  for (auto _ : state) {
-    DdaProgram p = program(*path, blu);
-    CartesianResult r = run_dda(p, nullptr);
-    steps = r.steps();
-    benchmark::DoNotOptimize(r);
-  }
-  rate(state, steps, "steps");
+  const double blu = blu_of(state);
+  steps_per_second(state, [&] { return run_dda(program(*path, blu), nullptr); });
 }
 
 static void BM_DdaRunOnly(benchmark::State& state) {
-  auto path = limacon();
-  const double blu = 0.0254e-3 / static_cast<double>(state.range(0));
-  DdaProgram p = program(*path, blu);
-  uint64_t steps = 0;
-  for (auto _ : state) {
-    CartesianResult r = run_dda(p, nullptr);
-    steps = r.steps();
-    benchmark::DoNotOptimize(r);
-  }
-  rate(state, steps, "steps");
+  const DdaProgram p = program(*limacon(), blu_of(state));
+  steps_per_second(state, [&] { return run_dda(p, nullptr); });
 }
 
 static void BM_ArcFit(benchmark::State& state) {

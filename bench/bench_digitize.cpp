@@ -12,6 +12,7 @@
 #include "cam/curves.hpp"
 #include "cam/spline.hpp"
 #include "cam/toolpath.hpp"
+#include "bench/thesis_grid.hpp"
 #include "digitizer/digitize.hpp"
 #include "digitizer/tape.hpp"
 
@@ -19,13 +20,7 @@ using namespace polarcam;
 
 namespace {
 
-Grid thesis_grid(double finer) {
-  Grid g;
-  g.dr = 0.0254e-3 / finer;
-  g.steps_per_rev = static_cast<int64_t>(16000 * finer);
-  g.dtheta = dtheta_from_steps(g.steps_per_rev);
-  return g;
-}
+using bench::thesis_grid;
 
 ToolPathPtr limacon_path() {
   return make_tool_path(make_limacon(0.0508, 0.0762), Placement{0.0127, 0.0}, ToolSpec{}, TravelSpec{});

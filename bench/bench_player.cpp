@@ -44,18 +44,29 @@ const std::string& tape(int i) {
   return made[i] = path;
 }
 
-void BM_Compress(benchmark::State& st) {
+// The plan of tape range(0) at speed factor range(1).
+PlayPlan plan_of(const benchmark::State& st) {
   PlayScaling sc;
   sc.speed = Ratio{st.range(1), 1};
-  PlayPlan plan = plan_playback(tape(static_cast<int>(st.range(0))), sc, std::nullopt);
+  return plan_playback(tape(static_cast<int>(st.range(0))), sc, std::nullopt);
+}
+
+// The schedule's queue items as the link sends them.
+std::string encoded(const Schedule& s) {
+  std::string bytes;
+  ItemCodec c;
+  for (const QueueItem& it : s.items) c.encode(it, bytes);
+  return bytes;
+}
+
+void BM_Compress(benchmark::State& st) {
+  const PlayPlan plan = plan_of(st);
   Schedule s;
   for (auto _ : st) {
     s = compress_schedule(plan, 1000000);
     benchmark::DoNotOptimize(s.items.data());
   }
-  std::string bytes;
-  ItemCodec c;
-  for (const QueueItem& it : s.items) c.encode(it, bytes);
+  const std::string bytes = encoded(s);
   const double steps = static_cast<double>(plan.steps.size());
   st.SetLabel(std::string(kTapes[st.range(0)]) + " x" + std::to_string(st.range(1)));
   st.counters["steps/s"] = benchmark::Counter(steps, benchmark::Counter::kIsIterationInvariantRate);
@@ -66,9 +77,7 @@ void BM_Compress(benchmark::State& st) {
 }
 
 void BM_CompressShape(benchmark::State& st) {
-  PlayScaling sc;
-  sc.speed = Ratio{st.range(1), 1};
-  PlayPlan plan = plan_playback(tape(static_cast<int>(st.range(0))), sc, std::nullopt);
+  const PlayPlan plan = plan_of(st);
   RunShape shape;
   shape.offset = st.range(2) & 1;
   shape.cubic = st.range(2) & 2;
@@ -77,9 +86,7 @@ void BM_CompressShape(benchmark::State& st) {
     s = compress_schedule(plan, 1000000, shape);
     benchmark::DoNotOptimize(s.items.data());
   }
-  std::string bytes;
-  ItemCodec c;
-  for (const QueueItem& it : s.items) c.encode(it, bytes);
+  const std::string bytes = encoded(s);
   const double steps = static_cast<double>(plan.steps.size());
   static const char* names[] = {"quadratic anchored", "quadratic + offset", "cubic anchored", "cubic + offset"};
   st.SetLabel(std::string(kTapes[st.range(0)]) + " x" + std::to_string(st.range(1)) + " " + names[st.range(2)]);
@@ -89,9 +96,7 @@ void BM_CompressShape(benchmark::State& st) {
 }
 
 void BM_Link115200(benchmark::State& st) {
-  PlayScaling sc;
-  sc.speed = Ratio{st.range(1), 1};
-  PlayPlan plan = plan_playback(tape(static_cast<int>(st.range(0))), sc, std::nullopt);
+  const PlayPlan plan = plan_of(st);
   PlayReport rep;
   for (auto _ : st) {
     ControllerSpec spec;

@@ -58,28 +58,29 @@ header() {
   echo "|---|---|---|---|---|---|---|"
 }
 
+# The three searches of every contour: the thesis's F1 + Hooke-Jeeves, and the exact area with NLopt by both rules.
+searches() {
+  optrow "F1 + Hooke-Jeeves from the example's pole" "$1" nearest --objective f1 --method hooke-jeeves
+  optrow "exact area + NLopt, nearest rule" "$1" nearest --objective area --method nlopt
+  optrow "exact area + NLopt, thesis rule" "$1" thesis --objective area --method nlopt
+}
+
 header "Witch of Agnesi, a = 21.59 cm, x = -20.32 .. 20.32 cm"
 row "Table 4.1, F1 optimum (= exact optimum)" witch "15.46 cm" "1.236 rad" "2.59 mm^2"
 row "Table 4.1, F1 optimum, mirror" witch "15.46 cm" "1.905 rad" "2.59 mm^2"
-optrow "F1 + Hooke-Jeeves from the example's pole" witch nearest --objective f1 --method hooke-jeeves
-optrow "exact area + NLopt, nearest rule" witch nearest --objective area --method nlopt
-optrow "exact area + NLopt, thesis rule" witch thesis --objective area --method nlopt
+searches witch
 
 header "Limacon, a = 5.08 cm, b = 7.62 cm (pole inside)"
 row "Table 4.1, F1 optimum as printed (beta = 2 pi)" limacon "0.86 cm" "0 rad" "4.05 mm^2"
 row "Table 4.1, F1 optimum, O1 seen from O (beta = pi)" limacon "0.86 cm" "pi rad" "4.05 mm^2"
 row "Table 4.1, exact optimum as printed (beta = 2 pi)" limacon "1.27 cm" "0 rad" "4.01 mm^2"
 row "Table 4.1, exact optimum, O1 seen from O (beta = pi)" limacon "1.27 cm" "pi rad" "4.01 mm^2"
-optrow "F1 + Hooke-Jeeves from the example's pole" limacon nearest --objective f1 --method hooke-jeeves
-optrow "exact area + NLopt, nearest rule" limacon nearest --objective area --method nlopt
-optrow "exact area + NLopt, thesis rule" limacon thesis --objective area --method nlopt
+searches limacon
 
 header "Serpentine, a = 1.27 cm, b = 7.62 cm, x = -7.62 .. 7.62 cm (only r <= r_max)"
 row "Table 4.1, F1 optimum (= exact optimum)" serpentine "5.37 cm" "4.247 rad" "4.563 mm^2"
 row "Table 4.1, F1 optimum, other" serpentine "5.37 cm" "1.105 rad" "4.563 mm^2"
-optrow "F1 + Hooke-Jeeves from the example's pole" serpentine nearest --objective f1 --method hooke-jeeves
-optrow "exact area + NLopt, nearest rule" serpentine nearest --objective area --method nlopt
-optrow "exact area + NLopt, thesis rule" serpentine thesis --objective area --method nlopt
+searches serpentine
 
 # The thesis does not state the x-range of its open curves: the area at its poles for x = -6 in .. 6 in
 echo
