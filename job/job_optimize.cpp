@@ -1,41 +1,43 @@
 #include "job/job_optimize.hpp"
 
+#include <initializer_list>
+#include <optional>
+#include <string>
+#include <utility>
+
 namespace polarcam::jobfile {
+namespace {
+
+// The value of a keyword key: the entry of `words` it names; fails with `expected` for another word.
+template <class E>
+std::optional<E> keyword(Section& s, const char* key, std::initializer_list<std::pair<const char*, E>> words,
+                         const char* expected) {
+  const std::optional<std::string> v = s.string(key);
+  if (!v) return std::nullopt;
+  for (const auto& [word, value] : words)
+    if (*v == word) return value;
+  s.fail(key, expected);
+}
+
+}  // namespace
 
 PlacementOptions parse_optimize(Section& s) {
   PlacementOptions o;
   if (!s.present()) return o;
-  if (auto v = s.string("objective")) {
-    if (*v == "area")
-      o.objective = PoleObjective::area;
-    else if (*v == "f1")
-      o.objective = PoleObjective::f1;
-    else if (*v == "balanced")
-      o.objective = PoleObjective::balanced;
-    else if (*v == "pareto")
-      o.pareto = true;
-    else
-      s.fail("objective", "must be \"area\", \"f1\", \"balanced\" or \"pareto\"");
-  }
+  if (auto v = s.string("objective"); v && *v == "pareto")
+    o.pareto = true;
+  else if (auto e = keyword<PoleObjective>(
+               s, "objective",
+               {{"area", PoleObjective::area}, {"f1", PoleObjective::f1}, {"balanced", PoleObjective::balanced}},
+               "must be \"area\", \"f1\", \"balanced\" or \"pareto\""))
+    o.objective = *e;
   if (auto v = s.boolean("torque_limit")) o.torque_limit = *v;
-  if (auto v = s.string("method")) {
-    if (*v == "nlopt")
-      o.method = PoleMethod::nlopt;
-    else if (*v == "hooke-jeeves")
-      o.method = PoleMethod::hooke_jeeves;
-    else
-      s.fail("method", "must be \"nlopt\" or \"hooke-jeeves\"");
-  }
-  if (auto v = s.string("hold")) {
-    if (*v == "none")
-      o.hold = PoleHold::none;
-    else if (*v == "C")
-      o.hold = PoleHold::C;
-    else if (*v == "beta")
-      o.hold = PoleHold::beta;
-    else
-      s.fail("hold", "must be \"none\", \"C\" or \"beta\"");
-  }
+  if (auto e = keyword<PoleMethod>(s, "method", {{"nlopt", PoleMethod::nlopt}, {"hooke-jeeves", PoleMethod::hooke_jeeves}},
+                                   "must be \"nlopt\" or \"hooke-jeeves\""))
+    o.method = *e;
+  if (auto e = keyword<PoleHold>(s, "hold", {{"none", PoleHold::none}, {"C", PoleHold::C}, {"beta", PoleHold::beta}},
+                                 "must be \"none\", \"C\" or \"beta\""))
+    o.hold = *e;
   if (auto v = s.boolean("pole_outside")) o.pole_outside = *v;
   if (auto v = s.integer("segments")) {
     if (*v < 1 || *v > 100000) s.fail("segments", "must be a whole number from 1 to 100000");

@@ -119,21 +119,18 @@ std::optional<double> Section::number(const std::string& key) {
   owner->fail(key, "expected a number");
 }
 
-std::optional<int64_t> Section::integer(const std::string& key) {
+template <class T>
+std::optional<T> Section::exact(const std::string& key, const char* expected) {
   const Section* owner = nullptr;
   const toml::node* n = find(key, &owner);
   if (!n) return std::nullopt;
-  if (n->is_integer()) return *n->value<int64_t>();
-  owner->fail(key, "expected a whole number");
+  if (auto v = n->value_exact<T>()) return *v;
+  owner->fail(key, expected);
 }
 
-std::optional<bool> Section::boolean(const std::string& key) {
-  const Section* owner = nullptr;
-  const toml::node* n = find(key, &owner);
-  if (!n) return std::nullopt;
-  if (n->is_boolean()) return *n->value<bool>();
-  owner->fail(key, "expected true or false");
-}
+std::optional<int64_t> Section::integer(const std::string& key) { return exact<int64_t>(key, "expected a whole number"); }
+
+std::optional<bool> Section::boolean(const std::string& key) { return exact<bool>(key, "expected true or false"); }
 
 std::optional<Vec2> Section::point(const std::string& key) {
   const Section* owner = nullptr;

@@ -51,6 +51,9 @@ class Section {
  private:
   const toml::node* find(const std::string& key, const Section** owner) const;
   double parse_q(const toml::node& n, const std::string& key, const Dim& d) const;
+  // The value of `key` when it is exactly a T (fails with `expected` otherwise); nullopt when it is absent.
+  template <class T>
+  std::optional<T> exact(const std::string& key, const char* expected);
 
   const toml::table* t_;
   std::string file_, name_;
