@@ -121,14 +121,8 @@ plot::Figure capacity_figure(const Job& job, const JobCapacity& c) {
   cur.width = 2.0;
   cur.marker = 17;
   p.series.push_back(cur);
-  plot::Series jp;
-  jp.x = {c.top_speed * 100};
-  jp.y = {load_display(job, c.measure, c.load_at_job)};
-  jp.label = "this job";
-  jp.color = plot::palette(1);
-  jp.width = 0;
-  jp.marker = 4;
-  jp.marker_scale = 2.0;
+  const plot::Series jp =
+      plot::marker(c.top_speed * 100, load_display(job, c.measure, c.load_at_job), "this job", 1, 4);
   p.series.push_back(jp);
   double ymax = 0.0;
   for (double y : cur.y) ymax = std::max(ymax, y);

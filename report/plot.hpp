@@ -79,6 +79,19 @@ inline Panel panel(std::string title, std::string xlabel, std::string ylabel, bo
   return p;
 }
 
+// One marked point (no line): a marker of PLplot symbol `symbol` in palette colour `color`.
+inline Series marker(double x, double y, std::string label, int color, int symbol, double scale = 2.0) {
+  Series s;
+  s.x = {x};
+  s.y = {y};
+  s.label = std::move(label);
+  s.color = palette(color);
+  s.width = 0;
+  s.marker = symbol;
+  s.marker_scale = scale;
+  return s;
+}
+
 // Renders to `path` (.png or .svg); throws InputError for another extension or an unwritable file.
 void save(const Figure& f, const std::string& path);
 // Renders to bytes in the given format ("png" or "svg").

@@ -77,24 +77,8 @@ plot::Figure map_figure(const ObjectiveMap& m, PoleObjective objective, const st
     h.marker = 17;
     p.series.push_back(h);
   }
-  plot::Series s;
-  s.x = {start.pole().x * 1e3};
-  s.y = {start.pole().y * 1e3};
-  s.label = "job's placement";
-  s.color = plot::palette(1);
-  s.width = 0;
-  s.marker = 4;
-  s.marker_scale = 1.5;
-  p.series.push_back(s);
-  plot::Series o;
-  o.x = {r.pole.x * 1e3};
-  o.y = {r.pole.y * 1e3};
-  o.label = "optimum";
-  o.color = plot::palette(3);
-  o.width = 0;
-  o.marker = 2;
-  o.marker_scale = 2.5;
-  p.series.push_back(o);
+  p.series.push_back(plot::marker(start.pole().x * 1e3, start.pole().y * 1e3, "job's placement", 1, 4, 1.5));
+  p.series.push_back(plot::marker(r.pole.x * 1e3, r.pole.y * 1e3, "optimum", 3, 2, 2.5));
   f.panels.push_back(p);
   return f;
 }

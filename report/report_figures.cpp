@@ -50,18 +50,6 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 std::string g(double v, int prec = 4) { return fmt::format("{:.{}g}", v, prec); }
 
-plot::Series marker_series(double x, double y, const char* label, int color, int marker, double scale = 2.0) {
-  plot::Series s;
-  s.x = {x};
-  s.y = {y};
-  s.label = label;
-  s.color = plot::palette(color);
-  s.width = 0;
-  s.marker = marker;
-  s.marker_scale = scale;
-  return s;
-}
-
 void arc(plot::Series& s, double r, double a0, double a1, int n) {
   for (int i = 0; i <= n; ++i) {
     const double a = a0 + (a1 - a0) * i / n;
@@ -108,10 +96,10 @@ plot::Figure workarea_figure(const Job& job, const Curve& path, const Staircase&
     p.y.push_back(q.y * 1e3);
   }
   a.series.push_back(p);
-  a.series.push_back(marker_series(0.0, 0.0, "machine pole", 6, 2, 2.5));
+  a.series.push_back(plot::marker(0.0, 0.0, "machine pole", 6, 2, 2.5));
   const Vec2 o1 = -1.0 * job.placement.pole();
-  a.series.push_back(marker_series(o1.x * 1e3, o1.y * 1e3, "contour pole", 1, 4, 1.6));
-  a.series.push_back(marker_series(c.x * 1e3, c.y * 1e3, "magnified (right)", 3, 4, 3.0));
+  a.series.push_back(plot::marker(o1.x * 1e3, o1.y * 1e3, "contour pole", 1, 4, 1.6));
+  a.series.push_back(plot::marker(c.x * 1e3, c.y * 1e3, "magnified (right)", 3, 4, 3.0));
   a.legend = emptiest_corner(a);
   f.panels.push_back(a);
 
@@ -229,7 +217,7 @@ plot::Figure torque_figure(const Job& job, const CaseResult& c) {
     const Extreme& e = axis == 0 ? c.analysis.radial.ratio : c.analysis.angular.ratio;
     if (std::isfinite(e.value)) {
       const AxisDemand& d = axis == 0 ? e.at.radial : e.at.angular;
-      p.series.push_back(marker_series(e.at.s * 1e3, std::abs(d.torque), "largest ratio", 3, 4, 1.8));
+      p.series.push_back(plot::marker(e.at.s * 1e3, std::abs(d.torque), "largest ratio", 3, 4, 1.8));
     }
     p.ymin = 0.0;
     p.ymax = hi * 1.6 + 1e-12;
@@ -295,7 +283,8 @@ plot::Figure pole_map_figure(const Job& job, const PoleSurvey& sv, double limit,
   il.color = plot::palette(3);
   il.width = 2.5;
   p.series.push_back(il);
-  for (const PoleMark& k : marks) p.series.push_back(marker_series(k.pole.x * 1e3, k.pole.y * 1e3, k.label, k.color, k.marker));
+  for (const PoleMark& k : marks)
+    p.series.push_back(plot::marker(k.pole.x * 1e3, k.pole.y * 1e3, k.label, k.color, k.marker));
   // the extent: the surveyed box and the marked poles (the contour is clipped), with room for the legend above
   double x0 = sv.box.x0, x1 = sv.box.x1, y0 = sv.box.y0, y1 = sv.box.y1;
   for (const PoleMark& k : marks) {
@@ -359,7 +348,7 @@ plot::Figure tradeoff_figure(const PoleSurvey& sv, const std::vector<ParetoPoint
   p.series.push_back(l);
   for (const auto& [pt, k] : marks)
     if (pt.v.area_m2 >= 0.0 && pt.v.torque_computed && std::isfinite(pt.v.torque.worst))
-      p.series.push_back(marker_series(pt.v.torque.worst, pt.v.area_m2 * 1e6, k.label, k.color, k.marker));
+      p.series.push_back(plot::marker(pt.v.torque.worst, pt.v.area_m2 * 1e6, k.label, k.color, k.marker));
   double x_lo = limit;
   for (const auto* s : {&all, &fr})
     for (double x : s->x) x_lo = std::min(x_lo, x);
