@@ -58,6 +58,7 @@ class AxisTrack {
  protected:
   template <class Map>
   friend class TrackBuilder;
+  friend struct PolylineTrackFill;  // theta-rho polylines (theta_rho.cpp)
   // Arc lengths, extrema and ranges of the pieces once they are fitted.
   void finish();
 

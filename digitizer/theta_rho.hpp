@@ -9,6 +9,7 @@
 // polar machine's rules; tape axis 0 is the radial motor, axis 1 the angular motor. The work area's r_min /
 // r_max bound the radial motor's travel q. A closed path that winds about the pole does not bring the radial
 // motor back to its start (it ends 2 pi c per turn away), so such a tape is not periodic.
+#include "cam/theta_rho_path.hpp"
 #include "digitizer/digitize.hpp"
 #include "digitizer/polar_track.hpp"
 
@@ -46,6 +47,8 @@ class ThetaRhoTrack : public AxisTrack {
  public:
   // Builds the track of `path` (origin at the pole) for coupling c (m/rad). Throws InputError as PolarTrack.
   static ThetaRhoTrack build(const Curve& path, double c);
+  // Builds the track of a theta-rho polyline from its vertices (polyline_track below).
+  static ThetaRhoTrack build(const ThetaRhoPath& path, double c, double r_floor);
   double coupling() const { return c_; }
   double q_radial(size_t piece, double t) const { return q(0, piece, t); }
   double theta(size_t piece, double t) const { return q(1, piece, t); }
@@ -53,6 +56,15 @@ class ThetaRhoTrack : public AxisTrack {
  private:
   double c_ = 0.0;
 };
+
+// The track of a theta-rho polyline (cam/theta_rho_path.hpp) taken from its vertices, not from x and y, so that
+// it is exact through the pole: on each segment q0 = rho + c theta and q1 = theta are linear (degree-1 series,
+// no interior extrema), as the tables move. The arc length that times the steps is that of the ball with rho
+// replaced by sqrt(rho^2 + r_floor^2): r_floor = 0 gives the ball's own path; r_floor = V / omega_max keeps the
+// arm's angular speed at or below omega_max where the ball passes near the centre at speed V (a turn of the arm
+// at the centre moves the ball nowhere). Throws InputError naming the segment whose timing length is zero
+// (the arm turns at the centre with r_floor = 0).
+PolarTrack polyline_polar_track(const ThetaRhoPath& path, double r_floor);
 
 // Every step of both motors along the track (as digitize() for the polar machine).
 DigitizeResult digitize(const ThetaRhoTrack& track, const Grid& grid, StepRule rule, const SpeedProfile& profile,

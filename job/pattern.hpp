@@ -1,0 +1,25 @@
+#pragma once
+// Pattern files as jobs: every command that takes a job file also takes a pattern (.thr, .svg, .dxf, .csv) with
+// a machine file (--machine) and a speed (--speed). The job made from a pattern has the pattern as its contour,
+// the machine's pole as the contour's pole (no placement), a tool of zero radius, and the given speed
+// (docs/patterns.md).
+#include <optional>
+#include <string>
+
+#include "job/job.hpp"
+
+namespace polarcam {
+
+struct PatternOptions {
+  std::string machine_file;        // --machine: required for a pattern, refused for a job file
+  std::optional<double> speed;     // --speed (m/s): required for a pattern; overrides a job's [motion] speed
+};
+
+// True for the file types read as patterns (by extension, case-insensitive): .thr, .svg, .dxf, .csv.
+bool is_pattern_file(const std::string& path);
+
+// A job file (TOML) read by load_job, or a pattern made into a job. Throws InputError naming the file or the
+// option (--machine, --speed) that is missing or wrong.
+Job load_job_or_pattern(const std::string& path, const PatternOptions& o);
+
+}  // namespace polarcam
