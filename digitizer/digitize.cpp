@@ -161,10 +161,12 @@ double place_on_grid_arm(const AxisTrack& tr, double c, const Grid& grid) {
   // the radial motor is geared to the arm and has no travel of its own to bound
   TrackExtent rmin = tr.q_min(0), rmax = tr.q_max(0);
   if (c != 0.0) ball_radius_range(tr, c, rmin, rmax);
-  if (rmin.value < grid.r_min)
+  // the ball's r on a coupled arm is q0 - c q1, rounded at the size of c theta: a thousandth of a step is slack
+  const double slack = c == 0.0 ? 0.0 : 1e-3 * grid.dr;
+  if (rmin.value < grid.r_min - slack)
     throw InputError("the path leaves the work area: r falls to " + fmt(rmin.value * 1e3) + " mm < r_min " +
                      fmt(grid.r_min * 1e3) + " mm " + where(tr, rmin, shift, c));
-  if (grid.r_max && rmax.value > *grid.r_max)
+  if (grid.r_max && rmax.value > *grid.r_max + slack)
     throw InputError("the path leaves the work area: r reaches " + fmt(rmax.value * 1e3) + " mm > r_max " +
                      fmt(*grid.r_max * 1e3) + " mm " + where(tr, rmax, shift, c));
   return shift;
