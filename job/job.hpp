@@ -15,6 +15,7 @@
 #include "optimize/placement.hpp"
 #include "machine/dynamics/axis_torque.hpp"
 #include "machine/dynamics/load.hpp"
+#include "machine/gcode/gcode.hpp"
 
 namespace polarcam {
 
@@ -41,6 +42,7 @@ struct Machine {
   std::string name;                      // [machine] name (may be empty)
   Grid grid;                             // resolutions, work area, home (docs/job-format.md)
   std::optional<MachineModel> dynamics;  // mechanics and motors, when described (docs/dynamics.md)
+  std::optional<GcodeSpec> gcode;        // the machine file's [gcode] table, when given (docs/gcode.md)
 };
 
 struct Job {
