@@ -21,7 +21,8 @@
 //     sample points. No segment turns the arm by more than a quarter turn, so that the distances measured are
 //     between neighbouring pieces of the two paths (and never to another turn of a spiral).
 // A circle about the pole, an Archimedean spiral about it and a radial line are represented exactly (a circle by
-// 5 vertices, quarter turns; a spiral by segments of at most a quarter turn); a theta-rho path (as_theta_rho_path) is returned as its own vertices, unchanged.
+// 5 vertices, quarter turns; a spiral by segments of at most a quarter turn); a theta-rho path
+// (as_theta_rho_path) is returned as its own vertices, unchanged.
 #include <vector>
 
 #include "cam/curve.hpp"

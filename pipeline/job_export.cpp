@@ -65,7 +65,12 @@ ExportResult export_job(const Job& job, const ExportOptions& o) {
     r.content = svg_document({{pts, true}}, so);
     return r;
   }
-  const std::vector<ThetaRho> v = in_file(job.file, [&] { return to_theta_rho(*path, o.tolerance); });
+  // a theta-rho pattern drawn as it is (about the machine pole, forward, no tool offset) keeps its own vertices
+  const ThetaRhoPath* pattern = as_theta_rho_path(*job.contour);
+  const bool as_is = pattern && job.placement.C == 0.0 && job.tool.radius == 0.0 && !job.motion.travel.reverse &&
+                     !job.motion.travel.start_parameter;
+  const std::vector<ThetaRho> v =
+      as_is ? pattern->vertices() : in_file(job.file, [&] { return to_theta_rho(*path, o.tolerance); });
   r.vertices = v.size();
   r.rho_max_m = rho_max(v);
   if (o.format == ExportFormat::thr) {
