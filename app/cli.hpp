@@ -24,12 +24,12 @@ Job load_job_input(const std::string& path, const PatternArgs& a);
 using Register = void(CLI::App& app, Action& action);
 Register register_digitize, register_inspect, register_dda, register_play, register_controller_sim, register_error,
     register_optimize, register_analyze, register_motor, register_compare, register_capacity, register_report,
-    register_check, register_preview;
+    register_check, register_preview, register_export;
 
 // The subcommands, in the order `polarcam --help` lists them.
 inline constexpr Register* kCommands[] = {
     register_digitize, register_inspect, register_dda,     register_play,    register_controller_sim, register_error,
     register_optimize, register_analyze, register_motor,   register_compare, register_capacity,       register_report,
-    register_check,    register_preview};
+    register_check,    register_preview,    register_export};
 
 }  // namespace polarcam::cli

@@ -40,7 +40,14 @@ struct PolylineTrackFill {
                          "max_angular_speed so that the turn can be timed",
                          "segment " + std::to_string(k + 1) + " (points " + std::to_string(k + 1) + "-" +
                              std::to_string(k + 2) + ")");
-      segment(tr.pieces_, a, b, static_cast<double>(k), c, r_floor, 0.0, 1.0, 0);
+      // split where rho crosses r_floor: the timing length's rate has a kink there
+      double fs[3] = {0.0, 1.0, 1.0};
+      int nf = 2;
+      if (r_floor > 0.0 && drho != 0.0) {
+        const double f = (r_floor - a.rho) / drho;
+        if (f > 0.0 && f < 1.0) fs[1] = f, nf = 3;
+      }
+      for (int i = 0; i + 1 < nf; ++i) segment(tr.pieces_, a, b, static_cast<double>(k), c, r_floor, fs[i], fs[i + 1], 0);
     }
     if (tr.closed_) tr.winding_ = static_cast<int>(std::nearbyint((v.back().theta - v.front().theta) / PolarMap::kTwoPi));
     tr.finish();
@@ -65,8 +72,8 @@ struct PolylineTrackFill {
     double mv = 0.0;
     for (int j = 0; j <= N; ++j) {
       const double f = fa + half * (1.0 + tp[j]);
-      const double rho = a.rho + drho * f;
-      fv[j] = half * std::sqrt(drho * drho + (rho * rho + r_floor * r_floor) * dth * dth);
+      const double rho = std::max(a.rho + drho * f, r_floor);
+      fv[j] = half * std::sqrt(drho * drho + rho * rho * dth * dth);
       mv = std::max(mv, fv[j]);
     }
     const double tol_v = 1e-14 * mv + 1e-300;

@@ -61,9 +61,10 @@ class ThetaRhoTrack : public AxisTrack {
 // The track of a theta-rho polyline (cam/theta_rho_path.hpp) taken from its vertices, not from x and y, so that
 // it is exact through the pole: on each segment q0 = rho + c theta and q1 = theta are linear (degree-1 series,
 // no interior extrema), as the tables move. The arc length that times the steps is that of the ball with rho
-// replaced by sqrt(rho^2 + r_floor^2): r_floor = 0 gives the ball's own path; r_floor = V / omega_max keeps the
-// arm's angular speed at or below omega_max where the ball passes near the centre at speed V (a turn of the arm
-// at the centre moves the ball nowhere). Throws InputError naming the segment whose timing length is zero
+// replaced by max(rho, r_floor): r_floor = 0 gives the ball's own path; r_floor = V / omega_max keeps the arm's
+// angular speed at or below omega_max where the ball passes within r_floor of the centre at speed V (a turn of
+// the arm at the centre moves the ball nowhere), and leaves the ball's speed V everywhere else. Segments are
+// split where rho crosses r_floor. Throws InputError naming the segment whose timing length is zero
 // (the arm turns at the centre with r_floor = 0).
 PolarTrack polyline_polar_track(const ThetaRhoPath& path, double r_floor);
 

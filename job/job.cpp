@@ -7,6 +7,7 @@
 #include "job/job_contour.hpp"
 #include "job/job_optimize.hpp"
 #include "job/job_dynamics.hpp"
+#include "job/job_gcode.hpp"
 #include "job/toml_section.hpp"
 #include "cam/error.hpp"
 
@@ -106,6 +107,14 @@ Machine parse_machine(Section& machine, const jobfile::MachineTables& tables, js
   return m;
 }
 
+// The [gcode] table beside [machine] in a machine file, when there is one.
+std::optional<GcodeSpec> parse_machine_gcode(const toml::table& root, const std::string& file, const Machine& m) {
+  const toml::node* g = root.get("gcode");
+  if (g && !g->is_table()) throw InputError("'gcode' must be a table", file + ":" + std::to_string(g->source().begin.line));
+  Section gcode(g ? g->as_table() : nullptr, file, "gcode");
+  return jobfile::parse_gcode(gcode, m.grid.r_max, m.coupling);
+}
+
 ToolSide parse_side(Section& s, const std::string& v) {
   if (v == "left") return ToolSide::left;
   if (v == "right") return ToolSide::right;
@@ -143,7 +152,7 @@ Job load_job(const std::string& path) {
     const toml::node* mt = machine_root.get("machine");
     if (!mt || !mt->is_table()) throw InputError("the [machine] section is missing", machine_file_name);
     for (const auto& [k, v] : machine_root)
-      if (k.str() != "machine")
+      if (k.str() != "machine" && k.str() != "gcode")
         throw InputError("unknown section '" + std::string(k.str()) + "'",
                          machine_file_name + ":" + std::to_string(v.source().begin.line));
     machine_file_section.emplace(mt->as_table(), machine_file_name, "machine");
@@ -159,6 +168,8 @@ Job load_job(const std::string& path) {
     job.machine = parse_machine(
         machine, {jm ? jm->as_table() : nullptr, path, fm ? fm->as_table() : nullptr, machine_file_name}, pm);
   }
+  // [gcode] of the machine file (job/job_gcode.hpp)
+  if (machine_file_section) job.machine.gcode = parse_machine_gcode(machine_root, machine_file_name, job.machine);
 
   // [contour]
   Section contour = top.subsection("contour");
@@ -269,7 +280,10 @@ Machine load_machine(const std::string& path, json* prov) {
   if (!mt || !mt->is_table()) throw InputError("the [machine] section is missing", path);
   Section machine(mt->as_table(), path, "machine");
   json local;
-  return parse_machine(machine, {mt->as_table(), path, nullptr, path}, prov ? *prov : local);
+  json& pj = prov ? *prov : local;
+  Machine m = parse_machine(machine, {mt->as_table(), path, nullptr, path}, pj);
+  m.gcode = parse_machine_gcode(root, path, m);
+  return m;
 }
 
 ToolPathPtr make_job_path(const Job& job) {

@@ -15,6 +15,7 @@
 #include "optimize/placement.hpp"
 #include "machine/dynamics/axis_torque.hpp"
 #include "machine/dynamics/load.hpp"
+#include "machine/gcode/gcode.hpp"
 
 namespace polarcam {
 
@@ -48,6 +49,7 @@ struct Machine {
   // ball, steps are timed so that the arm does not turn faster (docs/patterns.md, "The centre").
   std::optional<double> max_angular_speed;
   std::optional<MachineModel> dynamics;  // mechanics and motors, when described (docs/dynamics.md)
+  std::optional<GcodeSpec> gcode;        // the machine file's [gcode] table, when given (docs/gcode.md)
 };
 
 struct Job {

@@ -87,7 +87,7 @@ Preview preview_job(const Job& job, double resolution_mm) {
   th.finish();
   pv.steps = sink.steps;
   // the tool path, and where the tool is slower than asked: the timing radius r_c near the centre of a theta-rho
-  // path (docs/patterns.md) scales the speed by |P'| / sqrt(|P'|^2 + r_c^2 theta'^2)
+  // path (docs/patterns.md) scales the speed by |P'| / sqrt(r'^2 + r_c^2 theta'^2) where r < r_c
   const double rc = job_theta_rho_path(job, *first.path) ? job_timing_radius(job) : 0.0;
   const PolarTrack& tr = first.track;
   bool in_slow = false;
@@ -104,7 +104,7 @@ Preview preview_job(const Job& job, double resolution_mm) {
       p.Q[0].eval2(t, f, dr);
       p.Q[1].eval2(t, f, dth);
       const double ds2 = dr * dr + r * r * dth * dth;
-      const bool slow = rc > 0.0 && ds2 < 0.99 * 0.99 * (ds2 + rc * rc * dth * dth);
+      const bool slow = r < rc && ds2 < 0.99 * 0.99 * (dr * dr + rc * rc * dth * dth);
       if (slow) {
         if (!in_slow) pv.slowed.emplace_back();
         pv.slowed.back().x.push_back(x);

@@ -2,7 +2,8 @@
 // of both motors against an independent walk of the segments written here. On each segment theta and rho are
 // linear, so a motor's steps fall where its coordinate (rho + c theta, or theta) crosses a level halfway between
 // nodes, at a fraction of the segment found by one division; the time of each is the ball's arc length to that
-// point (composite Gauss-Legendre in long double on sqrt(drho^2 + (rho^2 + r_floor^2) dtheta^2)) over the speed.
+// point (composite Gauss-Legendre in long double on sqrt(drho^2 + max(rho, r_floor)^2 dtheta^2), in panels that
+// break where rho crosses r_floor) over the speed.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -30,16 +31,22 @@ ld seg_len(const ThetaRho& a, const ThetaRho& b, ld phi, ld r_floor) {
                           0.1012285362903762591525314L};
   const ld dth = (ld)b.theta - a.theta, drho = (ld)b.rho - a.rho;
   auto g = [&](ld f) {
-    const ld rho = (ld)a.rho + drho * f;
-    return std::sqrt(drho * drho + (rho * rho + r_floor * r_floor) * dth * dth);
+    const ld rho = std::max((ld)a.rho + drho * f, r_floor);
+    return std::sqrt(drho * drho + rho * rho * dth * dth);
   };
-  const int panels = 64;
-  ld sum = 0;
-  for (int p = 0; p < panels; ++p) {
-    const ld lo = phi * p / panels, hi = phi * (p + 1) / panels, m = 0.5L * (lo + hi), h = 0.5L * (hi - lo);
-    for (int k = 0; k < 4; ++k) sum += h * w[k] * (g(m - h * x[k]) + g(m + h * x[k]));
-  }
-  return sum;
+  auto integrate = [&](ld from, ld to) {
+    const int panels = 64;
+    ld sum = 0;
+    for (int p = 0; p < panels; ++p) {
+      const ld lo = from + (to - from) * p / panels, hi = from + (to - from) * (p + 1) / panels;
+      const ld m = 0.5L * (lo + hi), h = 0.5L * (hi - lo);
+      for (int k = 0; k < 4; ++k) sum += h * w[k] * (g(m - h * x[k]) + g(m + h * x[k]));
+    }
+    return sum;
+  };
+  const ld kink = drho != 0 ? (r_floor - (ld)a.rho) / drho : -1;  // rho = r_floor there
+  if (kink > 0 && kink < phi) return integrate(0, kink) + integrate(kink, phi);
+  return integrate(0, phi);
 }
 
 struct RefStep {
@@ -74,7 +81,8 @@ std::vector<RefStep> reference(const std::vector<ThetaRho>& v, const Grid& g, do
       st.s = s0 + seg_len(v[k], v[k + 1], phi, r_floor);
       const ld dth = (ld)v[k + 1].theta - v[k].theta, drho = (ld)v[k + 1].rho - v[k].rho;
       const ld rho = (ld)v[k].rho + drho * phi, th = (ld)v[k].theta + dth * phi;
-      const ld ds = std::sqrt(drho * drho + (rho * rho + (ld)r_floor * r_floor) * dth * dth);
+      const ld rho_t = std::max(rho, (ld)r_floor);
+      const ld ds = std::sqrt(drho * drho + rho_t * rho_t * dth * dth);
       st.dq_ds = std::abs(st.axis == 0 ? drho + (ld)c * dth : dth) / ds;
       st.q_scale = st.axis == 0 ? std::abs(rho) + std::abs((ld)c * th) : std::abs(th);
       out.push_back(st);

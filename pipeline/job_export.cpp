@@ -1,0 +1,102 @@
+#include "pipeline/job_export.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+#include "cam/error.hpp"
+#include "cam/svg_export.hpp"
+#include "cam/thr_export.hpp"
+#include "cam/thr_file.hpp"
+
+namespace polarcam {
+namespace {
+
+std::string mm(double m) {
+  std::ostringstream os;
+  os.precision(6);
+  os << m * 1e3 << " mm";
+  return os.str();
+}
+
+// The lines that say where a file comes from: the job file's name (not its directory), the contour, the tolerance.
+std::vector<std::string> source_lines(const Job& job, const ExportOptions& o) {
+  return {"polarcam export of " + std::filesystem::path(job.file).filename().string(),
+          "contour: " + job.contour->name(), "tolerance: " + mm(o.tolerance)};
+}
+
+double rho_max(const std::vector<ThetaRho>& v) {
+  double r = 0;
+  for (const ThetaRho& p : v) r = std::max(r, p.rho);
+  return r;
+}
+
+// Refuses a path that reaches beyond `limit`, naming the limit.
+void check_reach(const Job& job, double reach, double limit, const std::string& what) {
+  if (reach > limit * (1.0 + 1e-12))
+    throw InputError("the path reaches " + mm(reach) + " from the pole, beyond " + what + " (" + mm(limit) + ")", job.file);
+}
+
+}  // namespace
+
+const char* to_string(ExportFormat f) {
+  switch (f) {
+    case ExportFormat::thr: return "thr";
+    case ExportFormat::gcode: return "gcode";
+    case ExportFormat::svg: return "svg";
+  }
+  return "?";
+}
+
+ExportResult export_job(const Job& job, const ExportOptions& o) {
+  if (!(o.tolerance > 0.0) || !std::isfinite(o.tolerance)) throw InputError("must be a positive length", "--tolerance");
+  const ToolPathPtr path = make_job_path(job);
+  ExportResult r;
+  r.path_length_m = arc_length(*path, path->u_begin(), path->u_end());
+  std::ostringstream out;
+  if (o.format == ExportFormat::svg) {
+    const std::vector<Vec2> pts = sample_curve(*path, 0.25 * o.tolerance);
+    for (Vec2 p : pts) r.rho_max_m = std::max(r.rho_max_m, norm(p));
+    SvgOptions so;
+    so.work_radius = job.machine.grid.r_max;
+    so.work_radius_min = job.machine.grid.r_min;
+    so.title = job.contour->name();
+    r.points = pts.size();
+    r.content = svg_document({{pts, true}}, so);
+    return r;
+  }
+  // a theta-rho pattern drawn as it is (about the machine pole, forward, no tool offset) keeps its own vertices
+  const ThetaRhoPath* pattern = as_theta_rho_path(*job.contour);
+  const bool as_is = pattern && job.placement.C == 0.0 && job.tool.radius == 0.0 && !job.motion.travel.reverse &&
+                     !job.motion.travel.start_parameter;
+  const std::vector<ThetaRho> v =
+      as_is ? pattern->vertices() : in_file(job.file, [&] { return to_theta_rho(*path, o.tolerance); });
+  r.vertices = v.size();
+  r.rho_max_m = rho_max(v);
+  if (o.format == ExportFormat::thr) {
+    if (!job.machine.grid.r_max)
+      throw InputError("a .thr file gives rho as a fraction of the table radius: the machine needs r_max", job.file);
+    const double R = *job.machine.grid.r_max;
+    check_reach(job, r.rho_max_m, R, "the machine's r_max");
+    std::vector<ThetaRho> norm_v = v;
+    for (ThetaRho& p : norm_v) p.rho = std::min(p.rho / R, 1.0);
+    std::vector<std::string> head = source_lines(job, o);
+    head.push_back("theta in radians, rho in 0..1 of r_max = " + mm(R));
+    write_thr(out, norm_v, head);
+  } else {
+    if (!job.machine.gcode)
+      throw InputError("the machine has no [gcode] table: add one to its machine file (docs/gcode.md)", job.file);
+    if (!job.motion.table.empty())
+      throw InputError("G-code export needs a constant speed: give [motion] speed (or --speed), not speed_profile", job.file);
+    GcodeSpec spec = *job.machine.gcode;
+    if (o.feed_mode) spec.feed_mode = *o.feed_mode;
+    if (spec.feed_mode == FeedMode::axis && !(spec.axis_feed > 0.0))
+      throw InputError("the axis feed mode needs axis_feed in the machine's [gcode] table", job.file);
+    check_reach(job, r.rho_max_m, spec.table_radius, "the [gcode] table radius");
+    r.gcode = in_file(job.file, [&] { return write_gcode(out, v, spec, job.motion.speed, source_lines(job, o)); });
+  }
+  r.content = out.str();
+  return r;
+}
+
+}  // namespace polarcam

@@ -1,0 +1,38 @@
+#pragma once
+// A job's tool path for sand tables and viewers: the theta-rho file (.thr, rho normalised to the machine's r_max),
+// G-code (machine/gcode, from the machine file's [gcode] table) and an SVG drawing of the path (cam/svg_export).
+// The content is returned; the caller writes it (all or nothing).
+#include <optional>
+#include <string>
+
+#include "job/job.hpp"
+#include "machine/gcode/gcode.hpp"
+
+namespace polarcam {
+
+enum class ExportFormat { thr, gcode, svg };
+
+struct ExportOptions {
+  ExportFormat format = ExportFormat::thr;
+  double tolerance = 1e-4;              // m: theta-rho segments within this of the path; the SVG's chords within a quarter of it
+  std::optional<FeedMode> feed_mode;    // G-code: overrides the [gcode] table's feed_mode
+};
+
+struct ExportResult {
+  std::string content;                  // the file's bytes
+  size_t vertices = 0;                  // theta-rho vertices (thr, gcode)
+  size_t points = 0;                    // polyline points (svg)
+  double path_length_m = 0.0;           // the tool path's length
+  double rho_max_m = 0.0;               // the largest distance of the path from the pole (of its vertices or points)
+  std::optional<GcodeStats> gcode;      // gcode: the program's statistics
+};
+
+// Exports the job's tool path. InputError (naming the job file) for a machine without r_max (thr), without a
+// [gcode] table (gcode), a path that leaves r_max or the table radius, a speed profile (gcode: a constant speed
+// is needed), or a bad tolerance.
+ExportResult export_job(const Job& job, const ExportOptions& o);
+
+// "thr", "gcode", "svg"
+const char* to_string(ExportFormat f);
+
+}  // namespace polarcam
