@@ -215,7 +215,8 @@ void draw_panel(plstream& pls, const Panel& p) {
 std::string render(const Figure& f, const std::string& format) {
   if (format != "png" && format != "svg") throw InputError("plots are written as .png or .svg, not ." + format);
   std::lock_guard<std::mutex> lock(plplot_mutex());
-  std::string tmp = "/tmp/polarcam-plot-" + std::to_string(::getpid()) + "." + format;
+  const TempFile temp("/tmp/polarcam-plot-" + std::to_string(::getpid()) + "." + format);
+  const std::string& tmp = temp.path();
   {
     plstream pls;
     pls.sdev(format == "png" ? "pngcairo" : "svgcairo");
@@ -231,7 +232,6 @@ std::string render(const Figure& f, const std::string& format) {
   }  // the stream's destructor finishes the file
   std::ifstream in(tmp, std::ios::binary);
   std::string bytes((std::istreambuf_iterator<char>(in)), {});
-  std::remove(tmp.c_str());
   if (bytes.empty()) throw InputError("the plot could not be rendered");
   return bytes;
 }
