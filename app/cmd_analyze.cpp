@@ -35,6 +35,9 @@ std::vector<double> quantities(const std::vector<std::string>& texts, const Dim&
 }
 
 int run(const Opts& o) {
+  // every output checked before any work
+  if (!o.csv.empty()) check_output_path(o.csv);
+  if (!o.plot.empty()) plot::check_plot_path(o.plot);
   Job job = load_job(o.job);
   if (o.safety_factor != 0.0) {
     if (!(o.safety_factor >= 1.0)) throw InputError("--safety-factor must be at least 1");
@@ -77,8 +80,10 @@ int run(const Opts& o) {
   for (const auto& v : vs)
     for (const auto& l : loads) cases.push_back(analyze_case(job, prep, DynamicsCase{v, l}, opt));
 
-  if (!o.csv.empty()) write_file_atomic(o.csv, series_csv(job, cases));
-  if (!o.plot.empty()) plot::save(torque_ratio_figure(job, cases), o.plot);
+  std::vector<std::pair<std::string, std::string>> files;
+  if (!o.csv.empty()) files.emplace_back(o.csv, series_csv(job, cases));
+  if (!o.plot.empty()) files.emplace_back(o.plot, plot::render(torque_ratio_figure(job, cases), plot::plot_format(o.plot)));
+  write_files_atomic(files);
 
   bool all_go = true;
   for (const auto& c : cases) all_go = all_go && c.verdict.go;

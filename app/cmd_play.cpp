@@ -93,6 +93,7 @@ void register_play(CLI::App& app, Action& action) {
   c->callback([o, c, &action] {
     action = [o, c] {
       if (!o->simulate && o->port.empty()) throw InputError("play: give --port DEV (a controller) or --simulate");
+      if (!o->log.empty()) check_output_path(o->log);  // before any work
       if (!o->simulate) check_baud(o->baud);
       if (o->flow != "none" && o->flow != "hardware") throw InputError("--flow " + o->flow + ": must be none or hardware");
       PlayScaling sc;

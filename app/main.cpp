@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <functional>
 #include <iostream>
 
 #include "app/cli.hpp"
@@ -39,6 +40,15 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   cli::Action action;
   for (cli::Register* add : cli::kCommands) add(app, action);
+  // the same exit statuses for every command, at the end of every --help
+  const std::string exits =
+      "Exit status: 0 success (GO), 1 computed but NO-GO (the verdict fails), 2 bad input or usage, 3 I/O or device "
+      "error, 4 internal error (a bug: please report it).";
+  std::function<void(CLI::App*)> add_footer = [&](CLI::App* a) {
+    a->footer(exits);
+    for (CLI::App* sub : a->get_subcommands([](CLI::App*) { return true; })) add_footer(sub);
+  };
+  add_footer(&app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

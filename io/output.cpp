@@ -186,6 +186,16 @@ void write_file_atomic(const std::string& path, const std::string& content) {
   out.commit();
 }
 
+void write_files_atomic(const std::vector<std::pair<std::string, std::string>>& files) {
+  std::vector<std::unique_ptr<OutputFile>> outs;
+  for (const auto& [path, content] : files) {
+    outs.push_back(std::make_unique<OutputFile>(path));
+    if (std::fwrite(content.data(), 1, content.size(), outs.back()->stream()) != content.size())
+      throw DeviceError("cannot write the file" + reason(errno), path);
+  }
+  for (auto& out : outs) out->commit();
+}
+
 std::string thousands(unsigned long long v) {
   std::string s = std::to_string(v), out;
   int n = 0;

@@ -9,6 +9,8 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "io/temp_files.hpp"
 
@@ -55,6 +57,10 @@ namespace polarcam::cli {
 
 // `content` into `path` through an OutputFile.
 void write_file_atomic(const std::string& path, const std::string& content);
+
+// Several outputs of one command (path, content), all or nothing: every one written to its temporary file first,
+// then all put in place.
+void write_files_atomic(const std::vector<std::pair<std::string, std::string>>& files);
 
 // "1234567" -> "1,234,567"
 std::string thousands(unsigned long long v);

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <limits>
@@ -236,10 +237,19 @@ std::string render(const Figure& f, const std::string& format) {
   return bytes;
 }
 
-void save(const Figure& f, const std::string& path) {
-  auto dot = path.rfind('.');
-  std::string ext = dot == std::string::npos ? "" : path.substr(dot + 1);
-  cli::write_file_atomic(path, render(f, ext));
+std::string plot_format(const std::string& path) {
+  const std::string ext = std::filesystem::path(path).extension().string();
+  if (ext != ".png" && ext != ".svg")
+    throw InputError("plots are written as .png or .svg files, not " + (ext.empty() ? std::string("without one") : ext),
+                     path);
+  return ext.substr(1);
 }
+
+void check_plot_path(const std::string& path) {
+  (void)plot_format(path);
+  check_output_path(path);
+}
+
+void save(const Figure& f, const std::string& path) { cli::write_file_atomic(path, render(f, plot_format(path))); }
 
 }  // namespace polarcam::plot

@@ -220,3 +220,51 @@ TEST(CliRobust, InterruptedRunsLeaveNoTemporaryFiles) {
 }
 
 }  // namespace
+
+namespace {
+
+const std::string kCh5Circle = std::string(POLARCAM_SOURCE_DIR) + "/examples/ch5/circle.toml";
+
+// A command whose outputs are all refused when one of them is bad: no output written, nothing left behind.
+TEST(CliRobust, EveryOptionIsCheckedBeforeAnyOutputIsWritten) {
+  Scratch sc;
+  const std::string csv = sc.path("s.csv"), map = sc.path("m.csv");
+  expect_refused(run_cli("analyze " + kCh5Circle + " --csv " + csv + " --plot " + sc.path("ratios.jpg")), sc, csv,
+                 "ratios.jpg");
+  const std::string job = sc.write("job.toml", kSmallCircle);
+  CliResult r = run_cli("optimize " + job + " --max-evaluations 30 --map-size 3 --map " + map + " --map-image " +
+                        sc.path("no-such-dir/m.png"));
+  expect_one_line_error(r, "no-such-dir", 3);
+  EXPECT_FALSE(fs::exists(map));
+  r = run_cli("optimize " + job + " --max-evaluations 30 --map-size 3 --map " + map + " --write-job " +
+              sc.path("no-such-dir/best.toml"));
+  expect_one_line_error(r, "no-such-dir", 3);
+  EXPECT_FALSE(fs::exists(map));
+  r = run_cli("analyze " + kCh5Circle + " --plot " + sc.path("p.png") + " --csv " + sc.path("no-such-dir/s.csv"));
+  expect_one_line_error(r, "no-such-dir", 3);
+  EXPECT_FALSE(fs::exists(sc.path("p.png")));
+  expect_no_partial(sc);
+}
+
+// 0 GO, 1 NO-GO, 2 bad input, 3 I/O, 4 internal: in every command's help, and `report` exits 1 on NO-GO.
+TEST(CliRobust, ExitStatusesAreDocumentedAndReportSaysNoGo) {
+  for (const char* cmd : {"digitize", "inspect", "dda", "play", "controller-sim", "error", "optimize", "analyze",
+                          "motor", "compare", "capacity", "report"}) {
+    const CliResult h = run_cli(std::string(cmd) + " --help");
+    EXPECT_EQ(h.code, 0) << cmd;
+    for (const char* words : {"Exit status", "0 success", "1 computed but NO-GO", "2 bad input or usage",
+                              "3 I/O or device", "4 internal error"})
+      EXPECT_NE(h.out.find(words), std::string::npos) << cmd << " --help lacks \"" << words << "\"";
+  }
+  Scratch sc;
+  // the circle ground at Table 6.2's conditions needs more torque than its motors give: NO-GO
+  const std::string ch6 = std::string(POLARCAM_SOURCE_DIR) + "/examples/ch6/circle_grinding.toml";
+  const CliResult a = run_cli("analyze " + ch6);
+  ASSERT_EQ(a.code, 1) << "the example is not NO-GO any more: " << a.out;
+  const CliResult r = run_cli("report " + ch6 + " -o " + sc.path("r.html") + " --map-size 4 --max-evaluations 20");
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_NE(r.out.find("NO-GO"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(sc.path("r.html")));  // the report is written all the same: it says what to change
+}
+
+}  // namespace
