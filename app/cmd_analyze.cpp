@@ -36,6 +36,9 @@ std::vector<double> quantities(const std::vector<std::string>& texts, const Dim&
 }
 
 int run(const Opts& o) {
+  // every output checked before any work
+  if (!o.csv.empty()) check_output_path(o.csv);
+  if (!o.plot.empty()) plot::check_plot_path(o.plot);
   PatternArgs pattern = o.pattern;
   if (!o.speeds.empty()) pattern.speed = o.speeds.front();  // a pattern is analysed at the first --speed
   Job job = load_job_input(o.job, pattern);
@@ -80,8 +83,10 @@ int run(const Opts& o) {
   for (const auto& v : vs)
     for (const auto& l : loads) cases.push_back(analyze_case(job, prep, DynamicsCase{v, l}, opt));
 
-  if (!o.csv.empty()) write_file_atomic(o.csv, series_csv(job, cases));
-  if (!o.plot.empty()) plot::save(torque_ratio_figure(job, cases), o.plot);
+  std::vector<std::pair<std::string, std::string>> files;
+  if (!o.csv.empty()) files.emplace_back(o.csv, series_csv(job, cases));
+  if (!o.plot.empty()) files.emplace_back(o.plot, plot::render(torque_ratio_figure(job, cases), plot::plot_format(o.plot)));
+  write_files_atomic(files);
 
   bool all_go = true;
   for (const auto& c : cases) all_go = all_go && c.verdict.go;

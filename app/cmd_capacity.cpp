@@ -22,6 +22,9 @@ struct Opts {
 };
 
 int run(const Opts& o) {
+  // every output checked before any work
+  if (!o.csv.empty()) check_output_path(o.csv);
+  if (!o.plot.empty()) plot::check_plot_path(o.plot);
   PatternArgs pattern = o.pattern;
   pattern.speed = o.speed;  // a pattern's speed is the --speed of the question
   Job job = load_job_input(o.job, pattern);
@@ -37,22 +40,16 @@ int run(const Opts& o) {
       throw InputError(std::string("--speed: ") + e.what());
     }
   }
-  if (!o.plot.empty()) {
-    const std::string ext = std::filesystem::path(o.plot).extension().string();
-    if (ext != ".png" && ext != ".svg") throw InputError("the plot must be a .png or .svg file", o.plot);
-  }
   int points = o.curve;
   if (points == 0 && (!o.csv.empty() || !o.plot.empty())) points = 12;
   if (points > 0 && load_measure(job.load) == LoadMeasure::none)
     throw InputError("a capacity curve needs a [load] (inertial, grinding or force)", job.file);
   const PreparedDynamics prep = prepare_dynamics(job);
   const JobCapacity c = job_capacity(job, prep, at_speed, points);
-  std::string csv;
-  plot::Figure fig;
-  if (!o.csv.empty()) csv = capacity_csv(job, c);
-  if (!o.plot.empty()) fig = capacity_figure(job, c);
-  if (!o.csv.empty()) write_file_atomic(o.csv, csv);
-  if (!o.plot.empty()) plot::save(fig, o.plot);
+  std::vector<std::pair<std::string, std::string>> files;
+  if (!o.csv.empty()) files.emplace_back(o.csv, capacity_csv(job, c));
+  if (!o.plot.empty()) files.emplace_back(o.plot, plot::render(capacity_figure(job, c), plot::plot_format(o.plot)));
+  write_files_atomic(files);
   if (o.json)
     std::cout << capacity_json(job, c).dump(2) << "\n";
   else

@@ -36,6 +36,7 @@ void register_check(CLI::App& app, Action& action) {
   c->callback([o, &action] {
     action = [o] {
       if (o->fix != !o->out.empty()) throw InputError("--fix and -o go together: --fix -o CLEAN.thr", "--fix");
+      if (o->fix) check_output_path(o->out);
       const ThrPattern p = read_thr(o->pattern);
       const ThrStats st = thr_stats(p.vertices);
       nlohmann::ordered_json j;

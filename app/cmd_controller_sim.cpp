@@ -4,6 +4,7 @@
 // simulated clock, logs every executed step, and injects faults. Prints the pty path as its first line.
 #include <fcntl.h>
 #include <poll.h>
+#include <sys/ioctl.h>
 #include <termios.h>
 #include <unistd.h>
 
@@ -20,6 +21,7 @@
 #include "job/job.hpp"
 #include "cam/error.hpp"
 #include "machine/controller/emulator.hpp"
+#include "machine/link/protocol.hpp"
 #include "machine/link/serial_port.hpp"
 
 namespace polarcam::cli {
@@ -158,6 +160,22 @@ void register_controller_sim(CLI::App& app, Action& action) {
           break;
         pollfd p{master, static_cast<short>(emu.reading(now) ? POLLIN : 0), 0};
         ::poll(&p, 1, 1);
+      }
+      // stopped (SIGTERM, SIGINT): what was on its way to the host, then where it stopped, as firmware that is
+      // shutting down reports it, so that the host can offer to resume from the last step executed
+      if (g_quit.load()) {
+        out += proto::encode_frame(0, proto::STATUS_REPLY, emu.controller().status().encode());
+        for (int tries = 0; tries < 200 && !out.empty(); ++tries) {
+          const ssize_t n = ::write(master, out.data(), out.size());
+          if (n > 0) out.erase(0, static_cast<size_t>(n));
+          else ::usleep(1000);
+        }
+        // closing the pseudo-terminal discards what the host has not read yet: up to a second for it to read
+        // (the kernel moves the bytes to the host's side asynchronously: they are counted after a moment)
+        ::usleep(50000);
+        int queued = 1;
+        for (int tries = 0; tries < 950 && keep >= 0 && ::ioctl(keep, FIONREAD, &queued) == 0 && queued > 0; ++tries)
+          ::usleep(1000);
       }
       std::fclose(log);
       if (keep >= 0) ::close(keep);

@@ -92,7 +92,11 @@ std::string summary_text(const Job& job, const CartesianRun& run, const std::str
   os << "  nodes      start [" << r.start[0] << ", " << r.start[1] << "], end [" << r.end[0] << ", " << r.end[1] << "]";
   if (r.closed) os << (r.returns_to_start ? " (returns to its start)" : " (does NOT return to its start node)");
   os << "\n";
-  if (!out.empty()) os << "  tape       " << out << " (" << thousands(std::filesystem::file_size(out)) << " bytes)\n";
+  if (!out.empty()) {
+    os << "  tape       " << out;
+    if (const auto size = regular_file_size(out)) os << " (" << thousands(*size) << " bytes)";
+    os << "\n";
+  }
   return os.str();
 }
 

@@ -72,7 +72,11 @@ std::string summary_text(const Job& job, const DigitizedJob& d, const std::strin
   os << "  nodes      start [" << r.start_n << ", " << r.start_m << "], end [" << r.end_n << ", " << r.end_m << "]";
   if (r.closed) os << (r.returns_to_start ? " (returns to its start)" : " (does NOT return to its start node)");
   os << "\n";
-  if (!out.empty()) os << "  tape       " << out << " (" << thousands(std::filesystem::file_size(out)) << " bytes)\n";
+  if (!out.empty()) {
+    os << "  tape       " << out;
+    if (const auto size = regular_file_size(out)) os << " (" << thousands(*size) << " bytes)";
+    os << "\n";
+  }
   return os.str();
 }
 

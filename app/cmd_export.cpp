@@ -99,6 +99,7 @@ int run(const Opts& o) {
     else if (o.feed_mode == "axis") eo.feed_mode = FeedMode::axis;
     else throw InputError("must be inverse-time or axis", "--feed-mode");
   }
+  check_output_path(o.out);
   PatternOptions po;
   po.machine_file = o.machine;
   if (!o.speed.empty()) po.speed = option_quantity(o.speed, dim::speed, "--speed");

@@ -45,6 +45,9 @@ std::string g(double v, int prec = 6) { return fmt::format("{:.{}g}", v, prec); 
 std::string pm(const std::optional<double>& sd) { return sd ? " +- " + g(*sd, 2) : " (not determined)"; }
 
 int fit(const FitOpts& o) {
+  // every output checked before any work
+  if (!o.csv.empty()) check_output_path(o.csv);
+  if (!o.plot.empty()) plot::check_plot_path(o.plot);
   ElectricalMotor known;
   if (!o.machine.empty()) {
     if (o.axis != "radial" && o.axis != "angular") throw InputError("--axis must be radial or angular");
@@ -91,10 +94,11 @@ int fit(const FitOpts& o) {
       "inductance = \"{} H\"\n",
       to_string(m.energisation), g(m.supply_voltage), g(m.K_T), g(m.K_V), m.rotor_teeth, g(m.R_a), g(m.L_a));
 
+  std::vector<std::pair<std::string, std::string>> files;
   if (!o.csv.empty()) {
     std::string s = "rate_hz,torque_Nm\n";
     for (const auto& [f, t] : curve) s += fmt::format("{:.10g},{:.10g}\n", f, t);
-    write_file_atomic(o.csv, s);
+    files.emplace_back(o.csv, s);
   }
   if (!o.plot.empty()) {
     plot::Figure fig = plot::figure(900, 600);
@@ -125,8 +129,9 @@ int fit(const FitOpts& o) {
     if (!out.x.empty()) p.series.push_back(out);
     p.ymin = 0.0;
     fig.panels.push_back(p);
-    plot::save(fig, o.plot);
+    files.emplace_back(o.plot, plot::render(fig, plot::plot_format(o.plot)));
   }
+  write_files_atomic(files);
 
   if (o.json) {
     nlohmann::ordered_json j;

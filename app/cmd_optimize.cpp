@@ -126,6 +126,10 @@ int run_pareto(const Job& job, PlacementOptions opt, const Opts& o) {
 }
 
 int run(const Opts& o) {
+  // every output checked before any work
+  if (!o.map.empty()) check_output_path(o.map);
+  if (!o.map_image.empty()) plot::check_plot_path(o.map_image);
+  if (!o.write_job.empty()) check_output_path(o.write_job);
   Job job = load_job_input(o.job, o.pattern);
   if (o.safety_factor != 0.0) {
     if (!(o.safety_factor >= 1.0)) throw InputError("--safety-factor must be at least 1");
@@ -145,11 +149,6 @@ int run(const Opts& o) {
   if (o.segments > 0) opt.segments = o.segments;
   if (o.max_evaluations > 0) opt.max_evaluations = o.max_evaluations;
   if (o.threads >= 0) opt.threads = o.threads;
-  for (const std::string* f : {&o.map_image})
-    if (!f->empty()) {
-      const std::string ext = std::filesystem::path(*f).extension().string();
-      if (ext != ".png" && ext != ".svg") throw InputError(*f + ": the map image must be a .png or .svg file");
-    }
   if (opt.pareto) {
     if (!o.map.empty() || !o.map_image.empty() || !o.write_job.empty())
       throw InputError("--map, --map-image and --write-job go with one optimum, not with --objective pareto");
@@ -200,13 +199,15 @@ int run(const Opts& o) {
                        job.contour_kind + ": " + what + " over machine-pole positions");
     }
   }
-  if (!o.map.empty()) write_file_atomic(o.map, csv);
-  if (!o.map_image.empty()) plot::save(fig, o.map_image);
+  std::vector<std::pair<std::string, std::string>> files;
+  if (!o.map.empty()) files.emplace_back(o.map, csv);
+  if (!o.map_image.empty()) files.emplace_back(o.map_image, plot::render(fig, plot::plot_format(o.map_image)));
   if (!o.write_job.empty()) {
     note = "written by polarcam optimize from " + std::filesystem::path(job.file).filename().string() +
            ": objective " + name + ", method " + to_string(r.method) + ", area error " + fmt(area * 1e6, 9) + " mm^2";
-    write_file_atomic(o.write_job, job_with_placement(job.file, r.placement, o.write_job, note));
+    files.emplace_back(o.write_job, job_with_placement(job.file, r.placement, o.write_job, note));
   }
+  write_files_atomic(files);
 
   if (o.json) {
     json j;

@@ -71,6 +71,7 @@ void register_play(CLI::App& app, Action& action) {
     unsigned baud = 115200;
     std::string flow = "none";
     long long angle_offset = 0;
+    unsigned long long resume = 0;
     double tick_ns = 1000;
     bool simulate = false, json = false;
   };
@@ -89,10 +90,14 @@ void register_play(CLI::App& app, Action& action) {
   c->add_option("--accel", o->accel, "acceleration limit for holds and stops (default: the job's motion.accel)");
   c->add_option("--tick", o->tick_ns, "simulated controller tick in ns (--simulate; default 1000)");
   c->add_option("--log", o->log, "write the executed steps as CSV t_ns,axis,dir (--simulate)");
+  c->add_option("--resume", o->resume,
+                "skip the first N machine steps: continue a run that stopped after N confirmed steps (the error "
+                "message of the stopped run gives N; use the same tape, scales and offset)");
   c->add_flag("--json", o->json, "print the result as one JSON object");
   c->callback([o, c, &action] {
     action = [o, c] {
       if (!o->simulate && o->port.empty()) throw InputError("play: give --port DEV (a controller) or --simulate");
+      if (!o->log.empty()) check_output_path(o->log);  // before any work
       if (!o->simulate) check_baud(o->baud);
       if (o->flow != "none" && o->flow != "hardware") throw InputError("--flow " + o->flow + ": must be none or hardware");
       PlayScaling sc;
@@ -108,7 +113,7 @@ void register_play(CLI::App& app, Action& action) {
         machine = m;
       }
       // everything about the tape and the scales is checked here, before the port is touched
-      PlayPlan plan = plan_playback(o->tape, sc, machine);
+      PlayPlan plan = resume_plan(plan_playback(o->tape, sc, machine), o->resume);
       std::optional<double> accel = job_accel(plan.header);
       if (!o->accel.empty()) {
         accel = parse_quantity_as(o->accel, dim::acceleration);
@@ -126,6 +131,7 @@ void register_play(CLI::App& app, Action& action) {
       j["angle_offset"] = sc.angle_offset;
       j["start_node"] = {plan.start[0], plan.start[1]};
       j["end_node_expected"] = {plan.end[0], plan.end[1]};
+      if (o->resume) j["resumed_from"] = o->resume;
 
       if (o->simulate) {
         const uint64_t tick_ps = static_cast<uint64_t>(o->tick_ns * 1000 + 0.5);
@@ -215,6 +221,10 @@ void register_play(CLI::App& app, Action& action) {
       j["wall_s"] = rep.wall_s;
       j["end_node"] = {rep.end_node[0], rep.end_node[1]};
       j["completed"] = error.empty();
+      j["step_reached"] = o->resume + rep.steps_confirmed;  // machine steps of the whole tape, resumed ones included
+      if (!error.empty() && rep.resumable && o->resume + rep.steps_confirmed > 0)
+        error += "; to continue from there, run the same play command with --resume " +
+                 std::to_string(o->resume + rep.steps_confirmed);
       if (!error.empty()) j["error"] = error;
       if (o->json) {
         std::cout << j.dump(2) << "\n";

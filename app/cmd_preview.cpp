@@ -6,6 +6,7 @@
 #include "cam/error.hpp"
 #include "cam/units.hpp"
 #include "pipeline/preview.hpp"
+#include "report/plot.hpp"
 #include "report/preview_figure.hpp"
 
 namespace polarcam::cli {
@@ -35,6 +36,7 @@ void register_preview(CLI::App& app, Action& action) {
       if (!(res > 0.0)) throw InputError("must be a positive length", "--resolution");
       const std::string ext = std::filesystem::path(o->out).extension().string();
       if (ext != ".png" && ext != ".svg") throw InputError("the picture is written as .png or .svg", "-o");
+      plot::check_plot_path(o->out);
       const bool tape = std::filesystem::path(o->input).extension() == ".tape";
       if (tape && (!o->pattern.machine.empty() || !o->pattern.speed.empty()))
         throw InputError("a tape carries its machine and speed: --machine and --speed apply to patterns", "--machine");

@@ -22,6 +22,7 @@ struct Opts {
 int run(const Opts& o) {
   const std::string ext = std::filesystem::path(o.output).extension().string();
   if (ext != ".html" && ext != ".htm") throw InputError("the report is an .html file", o.output);
+  check_output_path(o.output);
   Job job = load_job_input(o.job, o.pattern);
   if (o.safety_factor != 0.0) {
     if (!(o.safety_factor >= 1.0)) throw InputError("--safety-factor must be at least 1");
@@ -30,7 +31,7 @@ int run(const Opts& o) {
   const OperatorReport r = operator_report(job, study_job(job, o.report));
   write_file_atomic(o.output, r.html);
   std::cout << (r.go ? "GO" : "NO-GO") << ": report written to " << o.output << "\n";
-  return 0;
+  return r.go ? 0 : 1;
 }
 
 }  // namespace

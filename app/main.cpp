@@ -1,23 +1,54 @@
 // polarcam: polar-coordinate contouring toolchain. See README.md and docs/.
 #include <CLI/CLI.hpp>
+#include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <exception>
+#include <functional>
 #include <iostream>
 
 #include "app/cli.hpp"
 #include "cam/error.hpp"
+#include "io/temp_files.hpp"
 
 #ifndef POLARCAM_VERSION
 #define POLARCAM_VERSION "0.0.0"
 #endif
 
+namespace {
+
+// The standard output, flushed: 0, or 3 with one line when it could not be written (a full disk, a closed pipe).
+int check_stdout(int status) {
+  std::cout.flush();
+  errno = 0;
+  if (std::fflush(stdout) == 0 && !std::ferror(stdout) && std::cout.good()) return status;
+  const int e = errno;
+  std::fprintf(stderr, "polarcam: error: standard output: cannot write (%s)\n",
+               e ? std::strerror(e) : "the output was closed or is full");
+  return polarcam::exit_status(polarcam::ErrorKind::device);
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   using namespace polarcam;
+  // a closed pipe is a write error (exit status 3), not a silent death; an interrupt removes temporary files
+  std::signal(SIGPIPE, SIG_IGN);
+  remove_temporaries_on_signal();
   CLI::App app{"polarcam - contours in, exactly timed polar step tapes out"};
   app.set_version_flag("--version", std::string("polarcam ") + POLARCAM_VERSION);
   app.require_subcommand(1);
   cli::Action action;
   for (cli::Register* add : cli::kCommands) add(app, action);
+  // the same exit statuses for every command, at the end of every --help
+  const std::string exits =
+      "Exit status: 0 success (GO), 1 computed but NO-GO (the verdict fails), 2 bad input or usage, 3 I/O or device "
+      "error, 4 internal error (a bug: please report it).";
+  std::function<void(CLI::App*)> add_footer = [&](CLI::App* a) {
+    a->footer(exits);
+    for (CLI::App* sub : a->get_subcommands([](CLI::App*) { return true; })) add_footer(sub);
+  };
+  add_footer(&app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -31,7 +62,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    return action ? action() : 2;
+    return check_stdout(action ? action() : 2);
   } catch (const Error& e) {  // the one place where an error becomes an exit status
     std::cout.flush();
     std::fprintf(stderr, "polarcam: error: %s\n", e.what());

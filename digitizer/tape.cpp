@@ -130,25 +130,17 @@ std::vector<uint8_t> encode_header(const TapeHeader& h) {
 
 TapeWriter::TapeWriter(const std::string& path, const TapeHeader& h) : path_(path) {
   if (h.provenance.size() > kMaxProvenance) throw InputError("the provenance block is too large", path);
-  tmp_ = path + ".partial-" + std::to_string(::getpid());
-  f_ = std::fopen(tmp_.c_str(), "wb");
-  if (!f_) throw DeviceError(std::string("cannot create the file (") + std::strerror(errno) + ")", path);
+  out_ = std::make_unique<OutputFile>(path);
+  f_ = out_->stream();
   header_size_ = kTapeFixedHeader + h.provenance.size();
   std::vector<uint8_t> zeros(header_size_, 0);
-  if (std::fwrite(zeros.data(), 1, zeros.size(), f_) != zeros.size()) {
-    std::fclose(f_);
-    f_ = nullptr;
-    std::remove(tmp_.c_str());
+  if (std::fwrite(zeros.data(), 1, zeros.size(), f_) != zeros.size())
     throw DeviceError(std::string("cannot write (") + std::strerror(errno) + ")", path);
-  }
   buf_.reserve(kBuf + 16);
   crc_ = static_cast<uint32_t>(crc32(0L, Z_NULL, 0));
 }
 
-TapeWriter::~TapeWriter() {
-  if (f_) std::fclose(f_);
-  if (!done_) std::remove(tmp_.c_str());
-}
+TapeWriter::~TapeWriter() = default;  // an unfinished tape's temporary file goes with out_
 
 void TapeWriter::write(const StepRecord& r) {
   if (r.interval >> 62) throw std::length_error("tape interval does not fit 62 bits");
@@ -197,15 +189,9 @@ void TapeWriter::finish(TapeHeader h) {
   if (h.duration_ticks < h.last_step_ticks) h.duration_ticks = h.last_step_ticks;
   std::vector<uint8_t> hb = encode_header(h);
   if (hb.size() != header_size_) throw std::logic_error("internal error: the provenance changed while writing");
-  if (std::fseek(f_, 0, SEEK_SET) != 0 || std::fwrite(hb.data(), 1, hb.size(), f_) != hb.size() ||
-      std::fflush(f_) != 0)
+  if (std::fseek(f_, 0, SEEK_SET) != 0 || std::fwrite(hb.data(), 1, hb.size(), f_) != hb.size())
     throw DeviceError(std::string("cannot write (") + std::strerror(errno) + ")", path_);
-  int rc = std::fclose(f_);
-  f_ = nullptr;
-  if (rc != 0) throw DeviceError(std::string("cannot write (") + std::strerror(errno) + ")", path_);
-  if (std::rename(tmp_.c_str(), path_.c_str()) != 0)
-    throw DeviceError(std::string("cannot move the finished tape into place (") + std::strerror(errno) + ")", path_);
-  done_ = true;
+  out_->commit();
 }
 
 // ------------------------------------------------------------------------------------------------ reader

@@ -5,13 +5,15 @@
 //   value = (interval_ticks << 2) | (axis << 1) | (direction > 0)
 // where interval_ticks is the time since the previous step (tick = 1 ns) and axis 0/1 is r/theta on a polar
 // tape, x/y on a Cartesian one. Writer and reader stream with O(1) memory; the writer writes to a temporary file
-// and renames it into place only when the tape is complete.
+// and puts it in place only when the tape is complete (io/output.hpp: renamed over a file, copied into a device).
 #include <cstdint>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "digitizer/digitize.hpp"
+#include "io/output.hpp"
 
 namespace polarcam {
 
@@ -53,7 +55,8 @@ struct StepRecord {
 
 class TapeWriter final : public StepSink {
  public:
-  // Starts writing `path` (through a temporary file beside it). `h.provenance` must be final now.
+  // Starts writing `path` (through a temporary file). `h.provenance` must be final now. DeviceError when `path`
+  // cannot be an output (a missing directory, a directory).
   TapeWriter(const std::string& path, const TapeHeader& h);
   ~TapeWriter() override;  // removes the temporary file unless finish() succeeded
   TapeWriter(const TapeWriter&) = delete;
@@ -68,15 +71,15 @@ class TapeWriter final : public StepSink {
 
  private:
   void flush();
-  std::string path_, tmp_;
-  std::FILE* f_ = nullptr;
+  std::string path_;
+  std::unique_ptr<OutputFile> out_;
+  std::FILE* f_ = nullptr;  // out_'s temporary
   std::vector<uint8_t> buf_;
   uint32_t crc_ = 0;
   uint64_t count_ = 0, bytes_ = 0, plus_[2] = {0, 0}, minus_[2] = {0, 0};
   int64_t last_ns_ = 0;
   uint64_t cum_ticks_ = 0;
   size_t header_size_ = 0;
-  bool done_ = false;
 };
 
 class TapeReader {

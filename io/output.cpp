@@ -2,29 +2,198 @@
 
 #include "cam/format.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
+#include <climits>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <sstream>
 
 #include "cam/error.hpp"
 #include "cam/units.hpp"
 
+namespace polarcam {
+namespace {
+
+std::string reason(int e) { return std::string(" (") + std::strerror(e) + ")"; }
+
+// The standard stream (0, 1, 2) this process has open on the same file, or -1.
+int standard_stream(const struct stat& st) {
+  for (int fd = 0; fd <= 2; ++fd) {
+    struct stat s {};
+    if (::fstat(fd, &s) == 0 && s.st_dev == st.st_dev && s.st_ino == st.st_ino) return fd;
+  }
+  return -1;
+}
+bool is_standard_stream(const struct stat& st) { return standard_stream(st) >= 0; }
+
+// Where a finished output goes. Renamed (`rename_to` set): a new file, or a regular file (through a link: the
+// file it names, so the link stays). Written through (`rename_to` empty): anything else that is not a directory.
+std::string rename_target(const std::string& path) {
+  struct stat ls {}, st {};
+  if (::lstat(path.c_str(), &ls) != 0) {
+    if (errno != ENOENT) throw DeviceError("cannot write here" + reason(errno), path);
+    std::filesystem::path dir = std::filesystem::path(path).parent_path();
+    if (dir.empty()) dir = ".";
+    struct stat ds {};
+    if (::stat(dir.c_str(), &ds) != 0)
+      throw DeviceError("the directory " + dir.string() + " does not exist: create it or write elsewhere", path);
+    if (!S_ISDIR(ds.st_mode)) throw DeviceError(dir.string() + " is not a directory", path);
+    return path;
+  }
+  if (::stat(path.c_str(), &st) != 0) return {};  // a dangling link: written through (creates what it names)
+  if (S_ISDIR(st.st_mode)) throw DeviceError("is a directory: give a file name", path);
+  if (S_ISREG(ls.st_mode)) return path;
+  if (S_ISLNK(ls.st_mode) && S_ISREG(st.st_mode) && !is_standard_stream(st)) {
+    char* real = ::realpath(path.c_str(), nullptr);
+    if (real) {
+      std::string r(real);
+      std::free(real);
+      return r;
+    }
+  }
+  return {};
+}
+
+// Writes the bytes of the open file `from` (from its start) into `path`, opened for appending without replacing it.
+void write_through(std::FILE* from, const std::string& path) {
+  if (std::fseek(from, 0, SEEK_SET) != 0) throw DeviceError("cannot read back the temporary file" + reason(errno), path);
+  // the standard output or error by another name: written through that descriptor, after what is buffered for
+  // it, so that the two share one file position
+  struct stat st {};
+  const int stream = ::stat(path.c_str(), &st) == 0 ? standard_stream(st) : -1;
+  if (stream == 1) std::fflush(stdout);
+  if (stream == 2) std::fflush(stderr);
+  const int fd = stream > 0 ? ::dup(stream) : ::open(path.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0666);
+  if (fd < 0) throw DeviceError("cannot open for writing" + reason(errno), path);
+  char buf[1 << 16];
+  for (;;) {
+    const size_t n = std::fread(buf, 1, sizeof buf, from);
+    for (size_t done = 0; done < n;) {
+      const ssize_t w = ::write(fd, buf + done, n - done);
+      if (w < 0 && errno == EINTR) continue;
+      if (w <= 0) {
+        const int e = w < 0 ? errno : EIO;
+        ::close(fd);
+        throw DeviceError("cannot write" + reason(e), path);
+      }
+      done += static_cast<size_t>(w);
+    }
+    if (n < sizeof buf) break;
+  }
+  const bool read_error = std::ferror(from) != 0;
+  if (::close(fd) != 0 && errno != EINTR) throw DeviceError("cannot write" + reason(errno), path);
+  if (read_error) throw DeviceError("cannot read back the temporary file", path);
+}
+
+std::string through_temporary() {
+  static std::atomic<unsigned> counter{0};
+  std::error_code ec;
+  std::filesystem::path dir = std::filesystem::temp_directory_path(ec);
+  if (ec) dir = "/tmp";
+  return (dir / ("polarcam-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ".partial")).string();
+}
+
+}  // namespace
+
+void check_output_path(const std::string& path) {
+  if (path.empty()) throw DeviceError("the output file name is empty");
+  (void)rename_target(path);
+}
+
+bool output_writes_through(const std::string& path) { return rename_target(path).empty(); }
+
+std::optional<uint64_t> regular_file_size(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return std::nullopt;
+  return static_cast<uint64_t>(st.st_size);
+}
+
+OutputFile::OutputFile(std::string path) : path_(std::move(path)) {
+  if (path_.empty()) throw DeviceError("the output file name is empty");
+  rename_to_ = rename_target(path_);
+  through_ = rename_to_.empty();
+  tmp_ = std::make_unique<TempFile>(through_ ? through_temporary()
+                                             : rename_to_ + ".partial-" + std::to_string(::getpid()));
+  f_ = std::fopen(tmp_->path().c_str(), through_ ? "w+b" : "wb");
+  if (!f_) {
+    const int e = errno;
+    tmp_.reset();
+    throw DeviceError("cannot create the file" + reason(e), path_);
+  }
+}
+
+OutputFile::~OutputFile() {
+  if (f_) std::fclose(f_);
+}
+
+void OutputFile::commit() {
+  if (!f_) throw DeviceError("the file was already written", path_);
+  if (through_) {
+    bool ok = std::fflush(f_) == 0 && !std::ferror(f_);
+    const int e = errno;
+    if (!ok) throw DeviceError("cannot write the temporary file" + reason(e), path_);
+    write_through(f_, path_);
+    std::fclose(f_);
+    f_ = nullptr;
+    tmp_.reset();
+    return;
+  }
+  bool ok = std::fflush(f_) == 0 && !std::ferror(f_);
+  int e = errno;
+  ok = (std::fclose(f_) == 0) && ok;
+  if (!ok && e == 0) e = errno;
+  f_ = nullptr;
+  if (!ok) throw DeviceError("cannot write the file" + reason(e), path_);
+  if (std::rename(tmp_->path().c_str(), rename_to_.c_str()) != 0)
+    throw DeviceError("cannot move the finished file into place" + reason(errno), path_);
+  tmp_->keep();
+  tmp_.reset();
+}
+
+void copy_to_output(const std::string& from, const std::string& path) {
+  std::FILE* in = std::fopen(from.c_str(), "rb");
+  if (!in) throw DeviceError("cannot read the temporary file " + from + reason(errno), path);
+  try {
+    OutputFile out(path);
+    char buf[1 << 16];
+    size_t n;
+    while ((n = std::fread(buf, 1, sizeof buf, in)) > 0)
+      if (std::fwrite(buf, 1, n, out.stream()) != n) throw DeviceError("cannot write" + reason(errno), path);
+    if (std::ferror(in)) throw DeviceError("cannot read the temporary file " + from, path);
+    out.commit();
+  } catch (...) {
+    std::fclose(in);
+    throw;
+  }
+  std::fclose(in);
+}
+
+}  // namespace polarcam
+
 namespace polarcam::cli {
 
 void write_file_atomic(const std::string& path, const std::string& content) {
-  std::string tmp = path + ".partial-" + std::to_string(::getpid());
-  std::FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (!f) throw DeviceError(std::string("cannot create the file (") + std::strerror(errno) + ")", path);
-  bool ok = std::fwrite(content.data(), 1, content.size(), f) == content.size();
-  ok = (std::fclose(f) == 0) && ok;
-  if (!ok || std::rename(tmp.c_str(), path.c_str()) != 0) {
-    int e = errno;
-    std::remove(tmp.c_str());
-    throw DeviceError(std::string("cannot write the file (") + std::strerror(e) + ")", path);
+  OutputFile out(path);
+  if (std::fwrite(content.data(), 1, content.size(), out.stream()) != content.size())
+    throw DeviceError("cannot write the file" + reason(errno), path);
+  out.commit();
+}
+
+void write_files_atomic(const std::vector<std::pair<std::string, std::string>>& files) {
+  std::vector<std::unique_ptr<OutputFile>> outs;
+  for (const auto& [path, content] : files) {
+    outs.push_back(std::make_unique<OutputFile>(path));
+    if (std::fwrite(content.data(), 1, content.size(), outs.back()->stream()) != content.size())
+      throw DeviceError("cannot write the file" + reason(errno), path);
   }
+  for (auto& out : outs) out->commit();
 }
 
 std::string thousands(unsigned long long v) {

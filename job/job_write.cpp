@@ -27,13 +27,19 @@ void rebase(toml::table* t, const char* key, const std::filesystem::path& from_d
   t->insert_or_assign(key, rel.generic_string());
 }
 
+// The directory a file name is in: "." for a plain name (whose parent path is empty).
+std::filesystem::path directory_of(const std::string& file) {
+  const std::filesystem::path d = std::filesystem::path(file).parent_path();
+  return d.empty() ? std::filesystem::path(".") : d;
+}
+
 }  // namespace
 
 std::string job_with_placement(const std::string& job_path, const Placement& pl, const std::string& out_path,
                                const std::string& note) {
   toml::table root = jobfile::parse_toml_file(job_path);
-  const std::filesystem::path from = std::filesystem::path(job_path).parent_path();
-  const std::filesystem::path to = std::filesystem::path(out_path).parent_path();
+  const std::filesystem::path from = directory_of(job_path);
+  const std::filesystem::path to = directory_of(out_path);
   if (toml::table* m = root["machine"].as_table()) rebase(m, "file", from, to);
   if (toml::table* c = root["contour"].as_table()) rebase(c, "file", from, to);
   toml::table placement;

@@ -18,26 +18,25 @@
 #include "digitizer/tape.hpp"
 #include "machine/cartesian/cartesian_track.hpp"
 #include "metrics/node_box.hpp"
+#include "io/temp_files.hpp"
 
 namespace polarcam {
 namespace {
 
-// A temporary tape, removed when it goes out of scope.
+// A temporary tape, removed when it goes out of scope (or by an interrupt: io/temp_files.hpp).
 class TempTape {
  public:
-  explicit TempTape(const char* tag) {
-    static int counter = 0;
-    path_ = (std::filesystem::temp_directory_path() /
-             ("polarcam-compare-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + "-" + tag + ".tape"))
-                .string();
-  }
-  ~TempTape() { std::remove(path_.c_str()); }
-  TempTape(const TempTape&) = delete;
-  TempTape& operator=(const TempTape&) = delete;
-  const std::string& path() const { return path_; }
+  explicit TempTape(const char* tag) : file_(name(tag)) {}
+  const std::string& path() const { return file_.path(); }
 
  private:
-  std::string path_;
+  static std::string name(const char* tag) {
+    static int counter = 0;
+    return (std::filesystem::temp_directory_path() /
+            ("polarcam-compare-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + "-" + tag + ".tape"))
+        .string();
+  }
+  TempFile file_;
 };
 
 class FanOut final : public StepSink {

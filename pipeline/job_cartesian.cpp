@@ -5,8 +5,10 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 
 #include "cam/error.hpp"
+#include "io/output.hpp"
 #include "machine/cartesian/cartesian_exact.hpp"
 #include "machine/cartesian/cartesian_track.hpp"
 
@@ -102,19 +104,17 @@ CartesianRun run_cartesian_job(const Job& job, CartesianMethod m, double interru
 }
 
 CartesianRun run_cartesian_job_to_tape(const Job& job, CartesianMethod m, double interrupt_rate, const std::string& out) {
-  // without an output file the tape goes to a temporary file, removed at the end: the speed is measured from it
+  // without an output file, or with one that is written through (a device, a FIFO: it cannot be read back), the
+  // tape goes to a temporary file, removed at the end: the speed is measured from it
   static int counter = 0;
-  const std::string path =
-      !out.empty() ? out
-                   : (std::filesystem::temp_directory_path() /
-                      ("polarcam-dda-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ".tape"))
-                         .string();
-  struct Remove {
-    std::string p;
-    ~Remove() {
-      if (!p.empty()) std::remove(p.c_str());
-    }
-  } remove_temp{out.empty() ? path : std::string()};
+  const bool through = !out.empty() && output_writes_through(out);
+  std::unique_ptr<TempFile> temp;
+  if (out.empty() || through)
+    temp = std::make_unique<TempFile>((std::filesystem::temp_directory_path() /
+                                       ("polarcam-dda-" + std::to_string(::getpid()) + "-" +
+                                        std::to_string(counter++) + ".tape"))
+                                          .string());
+  const std::string path = temp ? temp->path() : out;
   TapeHeader h = cartesian_tape_header(job, m, interrupt_rate);
   CartesianRun run;
   {
@@ -124,6 +124,7 @@ CartesianRun run_cartesian_job_to_tape(const Job& job, CartesianMethod m, double
     w.finish(h);
   }
   run.speed = measure_tape_speed(path, run.nominal_speed);
+  if (through) copy_to_output(path, out);
   return run;
 }
 

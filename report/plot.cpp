@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <limits>
@@ -215,7 +216,8 @@ void draw_panel(plstream& pls, const Panel& p) {
 std::string render(const Figure& f, const std::string& format) {
   if (format != "png" && format != "svg") throw InputError("plots are written as .png or .svg, not ." + format);
   std::lock_guard<std::mutex> lock(plplot_mutex());
-  std::string tmp = "/tmp/polarcam-plot-" + std::to_string(::getpid()) + "." + format;
+  const TempFile temp("/tmp/polarcam-plot-" + std::to_string(::getpid()) + "." + format);
+  const std::string& tmp = temp.path();
   {
     plstream pls;
     pls.sdev(format == "png" ? "pngcairo" : "svgcairo");
@@ -231,15 +233,23 @@ std::string render(const Figure& f, const std::string& format) {
   }  // the stream's destructor finishes the file
   std::ifstream in(tmp, std::ios::binary);
   std::string bytes((std::istreambuf_iterator<char>(in)), {});
-  std::remove(tmp.c_str());
   if (bytes.empty()) throw InputError("the plot could not be rendered");
   return bytes;
 }
 
-void save(const Figure& f, const std::string& path) {
-  auto dot = path.rfind('.');
-  std::string ext = dot == std::string::npos ? "" : path.substr(dot + 1);
-  cli::write_file_atomic(path, render(f, ext));
+std::string plot_format(const std::string& path) {
+  const std::string ext = std::filesystem::path(path).extension().string();
+  if (ext != ".png" && ext != ".svg")
+    throw InputError("plots are written as .png or .svg files, not " + (ext.empty() ? std::string("without one") : ext),
+                     path);
+  return ext.substr(1);
 }
+
+void check_plot_path(const std::string& path) {
+  (void)plot_format(path);
+  check_output_path(path);
+}
+
+void save(const Figure& f, const std::string& path) { cli::write_file_atomic(path, render(f, plot_format(path))); }
 
 }  // namespace polarcam::plot

@@ -92,8 +92,13 @@ inline Series marker(double x, double y, std::string label, int color, int symbo
   return s;
 }
 
-// Renders to `path` (.png or .svg); throws InputError for another extension or an unwritable file.
+// Renders to `path` (.png or .svg); throws InputError for another extension, DeviceError for an unwritable file.
 void save(const Figure& f, const std::string& path);
+// Checks a plot's file name before any work: InputError unless .png or .svg, DeviceError when it cannot be written
+// (check_output_path).
+void check_plot_path(const std::string& path);
+// The format of a plot's file name: "png" or "svg" (InputError otherwise).
+std::string plot_format(const std::string& path);
 // Renders to bytes in the given format ("png" or "svg").
 std::string render(const Figure& f, const std::string& format);
 

@@ -20,10 +20,12 @@ struct CliResult {
   std::string out, err;
 };
 
-inline CliResult run_cli(const std::string& args) {
+// `polarcam ARGS` (run in the directory `cwd` when given), its exit status and what it printed.
+inline CliResult run_cli(const std::string& args, const std::string& cwd = "") {
   static int counter = 0;
   std::string base = "/tmp/polarcam-cli-" + std::to_string(::getpid()) + "-" + std::to_string(counter++);
-  std::string cmd = std::string(POLARCAM_BIN) + " " + args + " >" + base + ".out 2>" + base + ".err";
+  std::string cmd = (cwd.empty() ? "" : "cd '" + cwd + "' && ") + std::string(POLARCAM_BIN) + " " + args + " >" +
+                    base + ".out 2>" + base + ".err";
   int st = std::system(cmd.c_str());
   CliResult r;
   r.code = WIFEXITED(st) ? WEXITSTATUS(st) : -1;

@@ -189,6 +189,7 @@ PlayReport HostLink::play(const PlayPlan& plan, const Schedule& sc) {
            std::to_string(status_.node[1]) + ")";
   };
 
+  try {
   for (;;) {
     const double now = t_.now();
     // acknowledged frames leave the window
@@ -217,6 +218,7 @@ PlayReport HostLink::play(const PlayPlan& plan, const Schedule& sc) {
                                     now - stop_sent > o_.ramp_s + 5.0)) {
       send_raw(encode_frame(next_req(), ABORT, ""));
       confirm_report();
+      rep_.resumable = true;
       throw PlayError("stopped by the operator: " + where());
     }
     // feed hold and resume
@@ -342,9 +344,11 @@ PlayReport HostLink::play(const PlayPlan& plan, const Schedule& sc) {
         back = got_ident_;
         if (!back) reopened = false;
       }
-      if (!back)
+      if (!back) {
+        rep_.resumable = true;
         throw PlayError(t_.describe() + ": the link to the controller is lost (no answer for " +
                         std::to_string(o_.link_timeout_s + o_.reconnect_timeout_s) + " s); " + where());
+      }
       if (ident_.session != session_) {
         rebooted_ = true;
         boot_session_ = ident_.session;
@@ -353,6 +357,20 @@ PlayReport HostLink::play(const PlayPlan& plan, const Schedule& sc) {
       continue;
     }
     poll(0.002);
+  }
+  } catch (const LinkLost& e) {
+    // the port failed: where the controller last said it was (a controller that shuts down says so first: what
+    // is still in the port's input is read)
+    for (int i = 0; i < 20; ++i) {
+      try {
+        poll(0.005);
+      } catch (const LinkLost&) {
+        break;
+      }
+    }
+    confirm_report();
+    rep_.resumable = true;
+    throw PlayError(std::string(e.what()) + "; " + where());
   }
   rep_.wall_s = t_.now() - t0;
   rep_.completed = true;

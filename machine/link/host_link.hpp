@@ -23,6 +23,12 @@ class PlayError : public DeviceError {
   using DeviceError::DeviceError;
 };
 
+// The port itself failed (hung up, a read or write error): the controller is gone or unplugged.
+class LinkLost : public PlayError {
+ public:
+  using PlayError::PlayError;
+};
+
 class Transport {
  public:
   virtual ~Transport() = default;
@@ -70,6 +76,9 @@ struct PlayReport {
   double wall_s = 0;
   int64_t end_node[2] = {0, 0};
   bool completed = false;
+  // The run stopped where the controller said it was (the link was lost, or the operator stopped it) and can go on
+  // from steps_confirmed on the same machine; false after a controller reset (its position is unknown).
+  bool resumable = false;
 };
 
 class HostLink {

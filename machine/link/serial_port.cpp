@@ -50,14 +50,37 @@ SerialTransport::SerialTransport(std::string port, unsigned baud, std::string fl
   open();
 }
 
-SerialTransport::~SerialTransport() {
+namespace {
+
+// Closes the port where its exception can be caught. A port that cannot even be closed (its device is gone) is
+// let go without its destructor, which would close it again and throw out of a destructor.
+void close_port(std::unique_ptr<LibSerial::SerialPort>& sp) {
+  if (!sp) return;
+  bool closed = true;
   try {
-    if (sp_ && sp_->IsOpen()) sp_->Close();
+    if (sp->IsOpen()) sp->Close();
   } catch (...) {
+    closed = false;
   }
+  if (closed) sp.reset();
+  else (void)sp.release();
 }
 
+}  // namespace
+
+SerialTransport::~SerialTransport() { close_port(sp_); }
+
 void SerialTransport::open() {
+  // a missing path, or one that is not a terminal device (a file, /dev/null, a FIFO), is refused before libserial
+  // sees it (its calls that only a terminal answers would fail half-way)
+  const int probe = ::open(port_.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
+  if (probe < 0)
+    throw DeviceError("cannot open serial port " + port_ + " (" + std::strerror(errno) + "): check --port");
+  const bool tty = ::isatty(probe) == 1;
+  ::close(probe);
+  if (!tty)
+    throw DeviceError(port_ + " is not a serial port (not a terminal device): give the controller's port with --port, "
+                      "e.g. /dev/ttyUSB0");
   sp_ = std::make_unique<LibSerial::SerialPort>();
   try {
     sp_->Open(port_);
@@ -70,7 +93,7 @@ void SerialTransport::open() {
                                             : LibSerial::FlowControl::FLOW_CONTROL_NONE);
     fd_ = sp_->GetFileDescriptor();
   } catch (const std::exception& e) {
-    sp_.reset();
+    close_port(sp_);
     fd_ = -1;
     throw DeviceError("cannot open serial port " + port_ + ": " + e.what() +
                       (errno ? std::string(" (") + std::strerror(errno) + ")" : ""));
@@ -105,7 +128,7 @@ bool SerialTransport::write(const std::string& bytes, double timeout_s) {
       done += static_cast<size_t>(n);
       continue;
     }
-    if (n < 0 && errno != EAGAIN && errno != EINTR) throw PlayError(describe() + ": write failed (" + std::strerror(errno) + ")");
+    if (n < 0 && errno != EAGAIN && errno != EINTR) throw LinkLost(describe() + ": write failed (" + std::strerror(errno) + ")");
     const double left = until - now();
     if (left <= 0) return false;
     pollfd p{fd_, POLLOUT, 0};
@@ -121,7 +144,7 @@ std::string SerialTransport::read(double timeout_s) {
   std::string out;
   if (rc <= 0) return out;
   if (p.revents & (POLLHUP | POLLERR | POLLNVAL)) {
-    if (!(p.revents & POLLIN)) throw PlayError(describe() + ": the port hung up");
+    if (!(p.revents & POLLIN)) throw LinkLost(describe() + ": the port hung up (the controller is gone)");
   }
   char buf[4096];
   for (;;) {
@@ -133,16 +156,13 @@ std::string SerialTransport::read(double timeout_s) {
     }
     if (n == 0) break;
     if (errno == EAGAIN || errno == EINTR) break;
-    throw PlayError(describe() + ": read failed (" + std::strerror(errno) + ")");
+    throw LinkLost(describe() + ": read failed (" + std::strerror(errno) + ")");
   }
   return out;
 }
 
 bool SerialTransport::reconnect() {
-  try {
-    if (sp_ && sp_->IsOpen()) sp_->Close();
-  } catch (...) {
-  }
+  close_port(sp_);
   fd_ = -1;
   try {
     open();

@@ -127,4 +127,22 @@ PlayPlan plan_playback(const std::string& tape, const PlayScaling& sc, const std
   return p;
 }
 
+PlayPlan resume_plan(const PlayPlan& plan, uint64_t done) {
+  if (done == 0) return plan;
+  if (done >= plan.steps.size())
+    throw InputError("the tape has " + std::to_string(plan.steps.size()) +
+                     " machine steps at these scales: give a step below that (the step a stopped run reached)",
+                     "--resume " + std::to_string(done));
+  PlayPlan r = plan;
+  const uint64_t t0 = plan.steps[done - 1].t;
+  for (uint64_t k = 0; k < done; ++k) r.start[plan.steps[k].axis] += plan.steps[k].dir;
+  r.steps.assign(plan.steps.begin() + static_cast<std::ptrdiff_t>(done), plan.steps.end());
+  r.steps_per_axis[0] = r.steps_per_axis[1] = 0;
+  for (PlayStep& s : r.steps) {
+    s.t -= t0;
+    ++r.steps_per_axis[s.axis];
+  }
+  return r;
+}
+
 }  // namespace polarcam

@@ -44,4 +44,10 @@ PlayMachine machine_from_header(const TapeHeader& h);
 // anything could be sent.
 PlayPlan plan_playback(const std::string& tape, const PlayScaling& scaling, const std::optional<PlayMachine>& machine);
 
+// The rest of `plan` after its first `done` machine steps (a run stopped after the controller confirmed them):
+// the machine starts at the node those steps reached, and every later step keeps its interval from the step
+// before it (the first one from step `done`). InputError naming --resume when `done` is not below the plan's
+// machine steps.
+PlayPlan resume_plan(const PlayPlan& plan, uint64_t done);
+
 }  // namespace polarcam

@@ -172,7 +172,9 @@ std::string make_report(const Scratch& sc, const std::string& name, int* code = 
   const std::string out = sc.path(name + ".html");
   CliResult r = run_cli("report " + job + " -o " + out + " --map-size 5 --max-evaluations 30 --threads 2");
   if (code) *code = r.code;
-  EXPECT_EQ(r.code, 0) << r.err;
+  // 0 for GO, 1 for NO-GO: the status agrees with the verdict printed
+  EXPECT_EQ(r.code, r.out.rfind("GO:", 0) == 0 ? 0 : 1) << r.out << r.err;
+  EXPECT_TRUE(r.out.rfind("GO:", 0) == 0 || r.out.rfind("NO-GO:", 0) == 0) << r.out;
   return out;
 }
 

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -127,6 +128,10 @@ TEST(PlayCli, BadInputIsRefusedBeforeAnyStep) {
   const std::string other = s.write("other.toml", "[machine]\nradial_resolution = \"0.0005 in\"\nangular_steps_per_rev = 16000\n");
   refused(tape + " --port " + emu.pty + " --machine " + other, "another machine grid");
   refused(s.write("junk.tape", "not a tape") + " --port " + emu.pty, "junk.tape");
+  // ports that are not serial ports: a device error (exit status 3), one line, never an abort
+  const std::string fifo = s.path("port.fifo");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  for (const std::string& port : {tape, std::string("/dev/null"), fifo}) refused(tape + " --port " + port, "is not a serial port", 3);
   EXPECT_EQ(emu.lines().size(), 1u);  // the header only: not one step executed
 }
 
@@ -143,6 +148,80 @@ TEST(PlayCli, ControllerResetStopsWithAClearMessage) {
   EXPECT_EQ(j["completed"], false);
   EXPECT_GT(j["steps_confirmed"].get<int>(), 0);
   EXPECT_LT(j["steps_confirmed"].get<int>(), j["steps_total"].get<int>());
+}
+
+// The steps of two controllers' logs (header lines dropped), one after the other, against the tape's records: every
+// step once, in order.
+void expect_logs_are_the_tape_once(const std::vector<std::string>& first, const std::vector<std::string>& second,
+                                   const std::string& tape) {
+  std::vector<std::string> steps;
+  for (const auto* log : {&first, &second})
+    for (size_t i = 1; i < log->size(); ++i) steps.push_back((*log)[i].substr((*log)[i].find(',') + 1));
+  TapeReader rd(tape);
+  StepRecord r;
+  size_t i = 0;
+  while (rd.next(r)) {
+    ASSERT_LT(i, steps.size()) << "the logs end after " << steps.size() << " steps";
+    ASSERT_EQ(steps[i], std::string(r.axis == 0 ? "r" : "theta") + (r.dir > 0 ? ",+1" : ",-1")) << "step " << i + 1;
+    ++i;
+  }
+  EXPECT_EQ(i, steps.size()) << "the logs have more steps than the tape";
+}
+
+// The N of "--resume N" in a message.
+uint64_t resume_step(const std::string& message) {
+  const auto p = message.find("--resume ");
+  return p == std::string::npos ? 0 : std::stoull(message.substr(p + 9));
+}
+
+TEST(PlayCli, AControllerThatDiesIsResumedWithNoStepLostOrRepeated) {
+  Scratch s1, s2;
+  const std::string tape = example_tape("witch");
+  std::vector<std::string> first;
+  uint64_t n = 0;
+  {
+    Emulator emu(s1, "");
+    ASSERT_FALSE(emu.pty.empty());
+    test::CliResult r;
+    std::thread play([&] { r = run_cli("play " + tape + " --port " + emu.pty + " --speed-scale 5"); });
+    for (int i = 0; i < 3000 && emu.lines().size() < 1500; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    ::kill(emu.pid, SIGTERM);  // the controller dies mid-stream
+    int st = 0;
+    ::waitpid(emu.pid, &st, 0);
+    emu.pid = -1;
+    play.join();
+    expect_one_line_error(r, "--resume ", 3);
+    first = emu.lines();
+    n = resume_step(r.err);
+    EXPECT_EQ(n + 1, first.size()) << "the step offered is not the last one executed: " << r.err;
+    ASSERT_GT(n, 0u);
+  }
+  Emulator again(s2, "");  // restarted (on a new pseudo-terminal)
+  ASSERT_FALSE(again.pty.empty());
+  const nlohmann::json j =
+      test::cli_json("play " + tape + " --port " + again.pty + " --speed-scale 5 --resume " + std::to_string(n) + " --json");
+  EXPECT_EQ(j["completed"], true);
+  EXPECT_EQ(j["step_reached"].get<uint64_t>(), n + j["steps_confirmed"].get<uint64_t>());
+  expect_logs_are_the_tape_once(first, again.lines(), tape);
+}
+
+TEST(PlayCli, ResumingTheSimulatedMachineGivesTheRestOfTheTape) {
+  Scratch s;
+  const std::string tape = example_tape("serpentine");
+  auto run = [&](const std::string& extra, const std::string& log) {
+    auto r = run_cli("play " + tape + " --simulate --json --log " + s.path(log) + extra);
+    EXPECT_EQ(r.code, 0) << r.err;
+    std::ifstream in(s.path(log));
+    std::vector<std::string> lines;
+    for (std::string l; std::getline(in, l);) lines.push_back(l);
+    return lines;
+  };
+  const std::vector<std::string> head = run("", "all.csv");
+  ASSERT_GT(head.size(), 1001u);
+  const std::vector<std::string> first(head.begin(), head.begin() + 1001);  // the header and 1000 steps
+  expect_logs_are_the_tape_once(first, run(" --resume 1000", "rest.csv"), tape);
+  expect_one_line_error(run_cli("play " + tape + " --simulate --resume " + std::to_string(head.size() - 1)),
+                        "--resume");
 }
 
 TEST(PlayCli, SimulatedMachineReportsTheExecutedPath) {
