@@ -44,7 +44,8 @@ void HostLink::on_frame(const Frame& f) {
       }
       return;
     case IDENT:
-      if (Ident::decode(f.payload, ident_)) {
+      // a controller of another protocol version is named at identify(), not taken for silence
+      if (Ident::decode(f.payload, ident_) || (!f.payload.empty() && ident_.version != kVersion)) {
         got_ident_ = true;
         reply_seq_ = f.seq;
       }
