@@ -103,6 +103,7 @@ Ident HostLink::identify() {
         if (ident_.tick_ps == 0) throw InputError("the controller reports a zero tick", t_.describe());
         session_ = ident_.session;
         have_session_ = true;
+        rebooted_ = false;  // a BOOT before this answer was the controller starting up (a board resets on open)
         return ident_;
       }
     }

@@ -153,7 +153,7 @@ inline bool frame_crc_ok(const uint8_t* f) {
   const uint8_t len = f[1];
   return static_cast<uint32_t>(get_le(f + 3 + len, 4)) == crc32(0, f + 1, 2 + static_cast<size_t>(len));
 }
-inline uint16_t frame_seq(const uint8_t* f) { return static_cast<uint16_t>(f[3] | (f[4] << 8)); }
+inline uint16_t frame_seq(const uint8_t* f) { return static_cast<uint16_t>(f[3] | static_cast<uint16_t>(f[4]) << 8); }
 inline uint8_t frame_type(const uint8_t* f) { return f[5]; }
 inline const uint8_t* frame_payload(const uint8_t* f) { return f + kHeader; }
 inline size_t frame_payload_size(const uint8_t* f) { return static_cast<size_t>(f[1]) - 3; }
@@ -506,12 +506,23 @@ struct ItemCodec {
   // Decodes one item at `pos`; false (state and pos unchanged) when the bytes are malformed or the run invalid.
   bool decode(const uint8_t* d, size_t len, size_t& pos, QueueItem& it) {
     size_t p = pos;
+    QueueItem r;
+    if (!parse(d, len, p, r) || !run_is_valid(r)) return false;
+    take(r);
+    it = r;
+    pos = p;
+    return true;
+  }
+  // decode() in two steps, for a small stack (the firmware's): the item's bytes at `pos` (pos advanced; false
+  // when malformed), not checked and not taken; then take() of the item once run_is_valid() accepts it.
+  bool parse(const uint8_t* d, size_t len, size_t& pos, QueueItem& r) const {
+    size_t p = pos;
     if (p >= len) return false;
     const uint8_t tag = d[p++];
     if (tag & 0xf0) return false;
     const int kind = (tag >> 1) & 3;
     if (kind > 2) return false;
-    QueueItem r;
+    r = QueueItem{};
     r.axis = tag & 1;
     r.kind = static_cast<ItemKind>(kind);
     r.dir = (tag & 8) ? 1 : -1;
@@ -519,27 +530,28 @@ struct ItemCodec {
     if (r.kind == ItemKind::run) {
       uint64_t c;
       if (!get_varint(d, len, p, c) || c == 0 || c > kMaxRunCount || p + 2 > len) return false;
-      const int s[4] = {2 * (d[p] & 15), 2 * (d[p] >> 4), 2 * (d[p + 1] & 15), 2 * (d[p + 1] >> 4)};
+      const uint8_t shifts[2] = {d[p], d[p + 1]};
       p += 2;
       int64_t v[4];
       for (int i = 0; i < 4; ++i) {
+        const int s = 2 * ((shifts[i / 2] >> (4 * (i % 2))) & 15);
         uint64_t z;
-        if (s[i] > 30 || !get_varint(d, len, p, z)) return false;
-        v[i] = static_cast<int64_t>(static_cast<uint64_t>(unzigzag(z)) << s[i]);
+        if (s > 30 || !get_varint(d, len, p, z)) return false;
+        v[i] = static_cast<int64_t>(static_cast<uint64_t>(unzigzag(z)) << s);
       }
       r.count = static_cast<uint32_t>(c);
       r.offset = v[0];
       r.interval = static_cast<int64_t>(static_cast<uint64_t>(ref[a].interval) + static_cast<uint64_t>(v[1]));
       r.add = static_cast<int64_t>(static_cast<uint64_t>(ref[a].add) + static_cast<uint64_t>(v[2]));
       r.add2 = static_cast<int64_t>(static_cast<uint64_t>(ref[a].add2) + static_cast<uint64_t>(v[3]));
-      if (!run_is_valid(r)) return false;
-      ref[a] = continuation(r);
     } else if (r.kind == ItemKind::wait) {
       if (!get_varint(d, len, p, r.wait)) return false;
     }
-    it = r;
     pos = p;
     return true;
+  }
+  void take(const QueueItem& r) {
+    if (r.kind == ItemKind::run) ref[r.axis & 1] = continuation(r);
   }
 };
 
