@@ -29,7 +29,7 @@ namespace {
 
 constexpr uint64_t kTickPs = 4000000;   // Timer1 at 16 MHz / 64: 4 us, 64 CPU cycles
 constexpr uint8_t kSlots = 12;          // queue items buffered (36 bytes each)
-constexpr uint32_t kMaxStepRate = 20000;  // steps/s, both axes together, sustained (docs/firmware.md)
+constexpr uint32_t kMaxStepRate = 6000;  // steps/s, both axes together, sustained (measured: docs/firmware.md)
 const char kName[] PROGMEM = "polarcam firmware, ATmega328P, CNC shield v3";
 
 constexpr uint8_t kRStep = _BV(PD2), kTStep = _BV(PD3), kRDir = _BV(PD5), kTDir = _BV(PD6);

@@ -2,13 +2,13 @@
 // every step present, in order, on its axis and in its direction, and its time within one controller tick of
 // the tape's time divided by the speed scale.
 //
-//   vcd_compare RUN.vcd TAPE.csv SPEED TICK_NS
+//   vcd_compare RUN.vcd TAPE.csv SPEED TICK_NS [TOLERANCE_TICKS]
 //
 // SPEED is K or P/Q (the --speed-scale given to play). Times are measured from the rising edge of the `run`
 // signal (the board's LED, raised at schedule tick 0 by the same interrupt and the same code path that raises
 // the step pins, so the interrupt's latency is common to both). A step's edge is taken as firing on the tick
 // nearest to it; the edges' distance from that tick (the interrupt's jitter) is reported too. Prints a summary;
-// exit status 0 when every step matches within one tick, 1 otherwise, 2 for unreadable input.
+// exit status 0 when every step matches within TOLERANCE ticks (default 1), 1 otherwise, 2 for unreadable input.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -51,8 +51,8 @@ int64_t unit_ps(const std::string& s) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 5) {
-    std::fprintf(stderr, "usage: vcd_compare RUN.vcd TAPE.csv SPEED TICK_NS\n");
+  if (argc != 5 && argc != 6) {
+    std::fprintf(stderr, "usage: vcd_compare RUN.vcd TAPE.csv SPEED TICK_NS [TOLERANCE_TICKS]\n");
     return 2;
   }
   // speed scale P/Q
@@ -66,6 +66,8 @@ int main(int argc, char** argv) {
   }
   const int64_t tick_ps = std::llround(std::atof(argv[4]) * 1000);
   if (tick_ps <= 0) fail("tick must be positive");
+  const double tolerance = argc == 6 ? std::atof(argv[5]) : 1.0;
+  if (!(tolerance >= 0)) fail("tolerance must be a number of ticks");
 
   // ---- the VCD --------------------------------------------------------------------------------------------
   std::ifstream in(argv[1]);
@@ -174,11 +176,12 @@ int main(int argc, char** argv) {
                    tick_err);
     max_jitter_ns = std::max(max_jitter_ns, jitter);
   }
-  const bool ok = tape_steps == edges.size() && mismatched == 0 && max_tick_err <= 1.0 + 1e-9;
+  const bool ok = tape_steps == edges.size() && mismatched == 0 && max_tick_err <= tolerance + 1e-9;
   std::printf("steps_tape %zu\nsteps_pins %zu\nmismatched %zu\nmax_error_ticks %.4f\nworst_step %zu\n"
-              "max_edge_error_ticks %.4f\nmax_edge_jitter_ns %.1f\ntick_ns %.3f\nspeed_scale %lld/%lld\nresult %s\n",
+              "max_edge_error_ticks %.4f\nmax_edge_jitter_ns %.1f\ntick_ns %.3f\nspeed_scale %lld/%lld\ntolerance_ticks %g\n"
+              "result %s\n",
               tape_steps, edges.size(), mismatched, max_tick_err, worst, max_raw_err, max_jitter_ns,
               static_cast<double>(tick_ps) / 1000.0, static_cast<long long>(P), static_cast<long long>(Q),
-              ok ? "PASS" : "FAIL");
+              tolerance, ok ? "PASS" : "FAIL");
   return ok ? 0 : 1;
 }
