@@ -209,6 +209,8 @@ void register_play(CLI::App& app, Action& action) {
       j["baud"] = o->baud;
       j["controller"] = id.name;
       j["tick_ns"] = static_cast<double>(id.tick_ps) * 1e-3;
+      j["controller_slots"] = id.slots;
+      j["controller_max_step_rate"] = id.max_step_rate;
       j["steps_total"] = rep.steps_total;
       j["steps_sent"] = rep.steps_sent;
       j["steps_confirmed"] = rep.steps_confirmed;

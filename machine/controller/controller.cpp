@@ -174,6 +174,8 @@ void Controller::handle(const Frame& f, uint64_t now) {
       id.tick_ps = spec_.tick_ps;
       id.slots = spec_.slots;
       id.session = session_;
+      id.max_step_rate = spec_.max_step_rate ? spec_.max_step_rate
+                                             : static_cast<uint32_t>(std::min<uint64_t>(2000000000000ull / spec_.tick_ps, UINT32_MAX));
       id.name = spec_.name;
       send(IDENT, f.seq, id.encode());
       return;

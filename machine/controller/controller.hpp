@@ -18,6 +18,7 @@ namespace polarcam {
 struct ControllerSpec {
   uint64_t tick_ps = 1000000;   // timer tick (1 us)
   uint32_t slots = 4096;        // queue items it can buffer
+  uint32_t max_step_rate = 0;   // steps per second it reports (IDENT); 0: one step per axis per tick
   std::string name = "polarcam controller emulator";
   double dr = 0, dtheta = 0;    // its machine grid, when it knows one (0: accepts any)
 };

@@ -44,7 +44,8 @@ void HostLink::on_frame(const Frame& f) {
       }
       return;
     case IDENT:
-      if (Ident::decode(f.payload, ident_)) {
+      // a controller of another protocol version is named at identify(), not taken for silence
+      if (Ident::decode(f.payload, ident_) || (!f.payload.empty() && ident_.version != kVersion)) {
         got_ident_ = true;
         reply_seq_ = f.seq;
       }
@@ -102,6 +103,7 @@ Ident HostLink::identify() {
         if (ident_.tick_ps == 0) throw InputError("the controller reports a zero tick", t_.describe());
         session_ = ident_.session;
         have_session_ = true;
+        rebooted_ = false;  // a BOOT before this answer was the controller starting up (a board resets on open)
         return ident_;
       }
     }
@@ -159,6 +161,7 @@ PlayReport HostLink::play(const PlayPlan& plan, const Schedule& sc) {
   std::deque<Out> inflight;
   size_t k = 0;  // next item to send
   bool start_sent = false, resume_pending = false;
+  double resume_sent = -1e9;
   uint64_t steps_sent = 0;
   uint32_t underruns_seen = 0;
   double last_status = -1e9;
@@ -322,9 +325,15 @@ PlayReport HostLink::play(const PlayPlan& plan, const Schedule& sc) {
       if (resume_pending && status_.state == State::underrun && inflight.empty() &&
           (k == sc.items.size() || ack_.free_slots == 0 ||
            static_cast<double>(sc.horizon[k - 1]) - static_cast<double>(status_.schedule_ticks) >= prefill_ticks)) {
-        send_raw(encode_frame(next_req(), RESUME, ""));
-        resume_pending = false;
+        // sent again while the controller still reports the stop (a RESUME can be lost like any frame)
+        if (now - resume_sent > o_.rto_s) {
+          send_raw(encode_frame(next_req(), RESUME, ""));
+          resume_sent = now;
+        }
       }
+      if (resume_pending && status_.state != State::underrun && status_.state != State::stopping &&
+          now - resume_sent < 1e8)
+        resume_pending = false;
     }
     // a silent link: reconnect, then carry on if it is the same controller session
     if (now - last_rx_ > o_.link_timeout_s) {

@@ -1,7 +1,6 @@
 #include "machine/link/protocol.hpp"
 
-#include <zlib.h>
-
+#include <algorithm>
 #include <cstring>
 
 namespace polarcam::proto {
@@ -34,23 +33,25 @@ const char* state_name(State s) {
   return i < sizeof names / sizeof *names ? names[i] : "unknown";
 }
 
-static uint32_t crc(const char* p, size_t n) {
-  return static_cast<uint32_t>(crc32(0L, reinterpret_cast<const Bytef*>(p), static_cast<uInt>(n)));
+namespace {
+const uint8_t* bytes(const std::string& s) { return reinterpret_cast<const uint8_t*>(s.data()); }
+std::string as_string(const uint8_t* p, size_t n) { return std::string(reinterpret_cast<const char*>(p), n); }
+uint64_t bits(double v) {
+  uint64_t b;
+  std::memcpy(&b, &v, 8);
+  return b;
 }
+double from_bits(uint64_t b) {
+  double v;
+  std::memcpy(&v, &b, 8);
+  return v;
+}
+}  // namespace
 
 std::string encode_frame(uint16_t seq, uint8_t type, const std::string& payload) {
-  std::string f;
-  f.reserve(payload.size() + kOverhead);
-  f.push_back(static_cast<char>(kSync));
-  f.push_back(static_cast<char>(payload.size() + 3));
-  f.push_back(static_cast<char>(~(payload.size() + 3) & 0xff));
-  f.push_back(static_cast<char>(seq & 0xff));
-  f.push_back(static_cast<char>(seq >> 8));
-  f.push_back(static_cast<char>(type));
-  f += payload;
-  uint32_t c = crc(f.data() + 1, f.size() - 1);
-  for (int i = 0; i < 4; ++i) f.push_back(static_cast<char>((c >> (8 * i)) & 0xff));
-  return f;
+  uint8_t f[wire::kMaxFrame];
+  const size_t n = std::min(payload.size(), kMaxPayload);
+  return as_string(f, wire::frame_encode(f, seq, type, bytes(payload), n));
 }
 
 void FrameDecoder::feed(const uint8_t* data, size_t n, std::vector<Frame>& out) {
@@ -63,28 +64,24 @@ void FrameDecoder::feed(const uint8_t* data, size_t n, std::vector<Frame>& out) 
       ++skipped_;
     }
     if (buf_.size() - pos < 3) break;
-    const size_t len = static_cast<uint8_t>(buf_[pos + 1]);
-    if (len < 3 || len > kMaxPayload + 3 || static_cast<uint8_t>(buf_[pos + 2]) != static_cast<uint8_t>(~len & 0xff)) {
-      // not a frame start (or a damaged length)
+    const uint8_t* f = bytes(buf_) + pos;
+    if (!wire::frame_len_ok(f[1], f[2])) {  // not a frame start (or a damaged length)
       ++pos;
       ++skipped_;
       continue;
     }
-    const size_t total = 3 + len + 4;
+    const size_t total = wire::frame_size(f[1]);
     if (buf_.size() - pos < total) break;
-    const char* f = buf_.data() + pos;
-    uint32_t stored = 0;
-    for (int i = 0; i < 4; ++i) stored |= static_cast<uint32_t>(static_cast<uint8_t>(f[3 + len + i])) << (8 * i);
-    if (stored != crc(f + 1, 2 + len)) {
+    if (!wire::frame_crc_ok(f)) {
       ++bad_;
       ++pos;  // rescan from the next byte: a frame may start inside the damaged one
       ++skipped_;
       continue;
     }
     Frame fr;
-    fr.seq = static_cast<uint16_t>(static_cast<uint8_t>(f[3]) | (static_cast<uint8_t>(f[4]) << 8));
-    fr.type = static_cast<uint8_t>(f[5]);
-    fr.payload.assign(f + 6, len - 3);
+    fr.seq = wire::frame_seq(f);
+    fr.type = wire::frame_type(f);
+    fr.payload = as_string(wire::frame_payload(f), wire::frame_payload_size(f));
     out.push_back(std::move(fr));
     pos += total;
   }
@@ -133,73 +130,89 @@ std::string Reader::str() {
   return r;
 }
 
-std::string Ident::encode() const { return Writer().u8(version).u64(tick_ps).u32(slots).u32(session).str(name).s; }
+std::string Ident::encode() const {
+  wire::Ident w;
+  w.version = version;
+  w.tick_ps = tick_ps;
+  w.slots = slots;
+  w.session = session;
+  w.max_step_rate = max_step_rate;
+  w.name = name.data();
+  w.name_len = name.size();
+  uint8_t b[wire::kMaxPayload];
+  return as_string(b, w.encode(b, sizeof b));
+}
 bool Ident::decode(const std::string& p, Ident& o) {
-  Reader r{p};
-  o.version = r.u8();
-  o.tick_ps = r.u64();
-  o.slots = r.u32();
-  o.session = r.u32();
-  o.name = r.str();
-  return r.done();
+  wire::Ident w;
+  const bool ok = w.decode(bytes(p), p.size());
+  o.version = w.version;
+  if (!ok) return false;
+  o.tick_ps = w.tick_ps;
+  o.slots = w.slots;
+  o.session = w.session;
+  o.max_step_rate = w.max_step_rate;
+  o.name.assign(w.name, w.name_len);
+  return true;
 }
 
 std::string Configure::encode() const {
-  return Writer().u64(tick_ps).u8(axes).u64(ramp_ticks).i64(start[0]).i64(start[1]).f64(dr).f64(dtheta).s;
+  wire::Configure w;
+  w.tick_ps = tick_ps;
+  w.axes = axes;
+  w.ramp_ticks = ramp_ticks;
+  w.start[0] = start[0];
+  w.start[1] = start[1];
+  w.dr_bits = bits(dr);
+  w.dtheta_bits = bits(dtheta);
+  uint8_t b[wire::Configure::kSize];
+  return as_string(b, w.encode(b, sizeof b));
 }
 bool Configure::decode(const std::string& p, Configure& o) {
-  Reader r{p};
-  o.tick_ps = r.u64();
-  o.axes = r.u8();
-  o.ramp_ticks = r.u64();
-  o.start[0] = r.i64();
-  o.start[1] = r.i64();
-  o.dr = r.f64();
-  o.dtheta = r.f64();
-  return r.done();
+  wire::Configure w;
+  if (!w.decode(bytes(p), p.size())) return false;
+  o.tick_ps = w.tick_ps;
+  o.axes = w.axes;
+  o.ramp_ticks = w.ramp_ticks;
+  o.start[0] = w.start[0];
+  o.start[1] = w.start[1];
+  o.dr = from_bits(w.dr_bits);
+  o.dtheta = from_bits(w.dtheta_bits);
+  return true;
 }
 
-std::string Ack::encode() const { return Writer().u16(next_seq).u32(free_slots).u8(state).s; }
+std::string Ack::encode() const {
+  wire::Ack w;
+  w.next_seq = next_seq;
+  w.free_slots = free_slots;
+  w.state = state;
+  uint8_t b[wire::Ack::kSize];
+  return as_string(b, w.encode(b, sizeof b));
+}
 bool Ack::decode(const std::string& p, Ack& o) {
-  Reader r{p};
-  o.next_seq = r.u16();
-  o.free_slots = r.u32();
-  o.state = r.u8();
-  return r.done();
+  wire::Ack w;
+  if (!w.decode(bytes(p), p.size())) return false;
+  o.next_seq = w.next_seq;
+  o.free_slots = w.free_slots;
+  o.state = w.state;
+  return true;
 }
 
 std::string Status::encode() const {
-  return Writer()
-      .u8(static_cast<uint8_t>(state)).u8(static_cast<uint8_t>(error)).u32(underruns).u64(now_ticks)
-      .u64(schedule_ticks).u32(free_slots).u32(queued).u64(executed[0]).u64(executed[1]).i64(node[0]).i64(node[1])
-      .u16(next_seq).u32(session).u32(bad_frames).s;
+  uint8_t b[wire::Status::kSize];
+  return as_string(b, wire::Status::encode(b, sizeof b));
 }
-bool Status::decode(const std::string& p, Status& o) {
-  Reader r{p};
-  uint8_t st = r.u8(), er = r.u8();
-  if (st > static_cast<uint8_t>(State::fault)) return false;
-  o.state = static_cast<State>(st);
-  o.error = static_cast<ErrorCode>(er);
-  o.underruns = r.u32();
-  o.now_ticks = r.u64();
-  o.schedule_ticks = r.u64();
-  o.free_slots = r.u32();
-  o.queued = r.u32();
-  o.executed[0] = r.u64();
-  o.executed[1] = r.u64();
-  o.node[0] = r.i64();
-  o.node[1] = r.i64();
-  o.next_seq = r.u16();
-  o.session = r.u32();
-  o.bad_frames = r.u32();
-  return r.done();
-}
+bool Status::decode(const std::string& p, Status& o) { return o.wire::Status::decode(bytes(p), p.size()); }
 
-std::string ErrorMsg::encode() const { return Writer().u8(static_cast<uint8_t>(code)).str(text).s; }
+std::string ErrorMsg::encode() const {
+  uint8_t b[wire::kMaxPayload];
+  return as_string(b, wire::encode_error(b, sizeof b, code, text.data(), text.size()));
+}
 bool ErrorMsg::decode(const std::string& p, ErrorMsg& o) {
-  Reader r{p};
+  wire::Get r(bytes(p), p.size());
   o.code = static_cast<ErrorCode>(r.u8());
-  o.text = r.str();
+  size_t n = 0;
+  const char* t = r.str(n);
+  o.text.assign(t, n);
   return r.done();
 }
 

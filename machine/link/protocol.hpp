@@ -4,24 +4,25 @@
 //
 // Frame: 0x7E | LEN (u8: bytes of SEQ..payload) | ~LEN | SEQ (u16 LE) | TYPE (u8) | payload | CRC-32 (LE, over
 // LEN..payload). ~LEN rejects a damaged length at once, so a receiver never waits for bytes that will not come.
+//
+// The constants, the frame layout, the CRC and the payload layouts are machine/link/wire.hpp, which the reference
+// firmware includes too; this file gives them the host's types (strings, doubles).
 #include <cstdint>
 #include <string>
 #include <vector>
 
+#include "machine/link/wire.hpp"
+
 namespace polarcam::proto {
 
-inline constexpr uint8_t kSync = 0x7E;
-inline constexpr size_t kMaxPayload = 240;
-inline constexpr size_t kOverhead = 1 + 2 + 2 + 1 + 4;
-inline constexpr uint8_t kVersion = 2;  // 2: cubic runs with an offset (docs/controller-protocol.md)
+using wire::kMaxPayload;
+using wire::kOverhead;
+using wire::kSync;
+using wire::kVersion;  // 3: IDENT carries the largest step rate; 2: cubic runs with an offset
 
-enum Type : uint8_t {
-  // host -> controller; QUEUE and START are sequenced (exactly once, in order), the others carry a request id
-  IDENTIFY = 0x01, CONFIGURE = 0x02, QUEUE = 0x03, START = 0x04, HOLD = 0x05, RESUME = 0x06, ABORT = 0x07,
-  RESET = 0x08, STATUS = 0x09,
-  // controller -> host
-  ACK = 0x81, NAK = 0x82, IDENT = 0x83, STATUS_REPLY = 0x84, ERROR = 0x85, BOOT = 0x86,
-};
+using wire::Type;
+using wire::IDENTIFY, wire::CONFIGURE, wire::QUEUE, wire::START, wire::HOLD, wire::RESUME, wire::ABORT, wire::RESET,
+    wire::STATUS, wire::ACK, wire::NAK, wire::IDENT, wire::STATUS_REPLY, wire::ERROR, wire::BOOT;
 const char* type_name(uint8_t t);
 
 struct Frame {
@@ -78,20 +79,20 @@ struct Reader {
 
 // ---- payloads ------------------------------------------------------------------------------------------
 
-enum class State : uint8_t { idle = 0, ready = 1, running = 2, holding = 3, held = 4, resuming = 5, stopping = 6,
-                             underrun = 7, done = 8, aborted = 9, fault = 10 };
+using wire::State;
 const char* state_name(State s);
 
-enum class ErrorCode : uint8_t { none = 0, busy = 1, bad_config = 2, grid_mismatch = 3, bad_queue = 4,
-                                 overflow = 5, not_configured = 6, bad_state = 7 };
+using wire::ErrorCode;
 
 struct Ident {
   uint8_t version = kVersion;
   uint64_t tick_ps = 0;
   uint32_t slots = 0;
   uint32_t session = 0;
+  uint32_t max_step_rate = 0;  // steps per second, both axes together, that the controller sustains (0: no limit)
   std::string name;
   std::string encode() const;
+  // false when malformed; out.version is set from the first byte even then (a controller of another version)
   static bool decode(const std::string& p, Ident& out);
 };
 
@@ -113,18 +114,8 @@ struct Ack {
   static bool decode(const std::string& p, Ack& out);
 };
 
-struct Status {
-  State state = State::idle;
-  ErrorCode error = ErrorCode::none;
-  uint32_t underruns = 0;
-  uint64_t now_ticks = 0;        // controller time since START (when done: the time of the last step)
-  uint64_t schedule_ticks = 0;   // schedule (virtual) time reached
-  uint32_t free_slots = 0, queued = 0;
-  uint64_t executed[2] = {0, 0};
-  int64_t node[2] = {0, 0};
-  uint16_t next_seq = 0;
-  uint32_t session = 0;
-  uint32_t bad_frames = 0;
+// The layout and fields are wire::Status's.
+struct Status : wire::Status {
   std::string encode() const;
   static bool decode(const std::string& p, Status& out);
 };
@@ -136,7 +127,6 @@ struct ErrorMsg {
   static bool decode(const std::string& p, ErrorMsg& out);
 };
 
-// sequence arithmetic on u16: a - b in [-32768, 32767]
-inline int seq_diff(uint16_t a, uint16_t b) { return static_cast<int16_t>(static_cast<uint16_t>(a - b)); }
+using wire::seq_diff;  // sequence arithmetic on u16: a - b in [-32768, 32767]
 
 }  // namespace polarcam::proto

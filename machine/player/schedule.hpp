@@ -12,81 +12,33 @@
 #include <string>
 #include <vector>
 
+#include "machine/link/wire.hpp"
 #include "machine/player/play_plan.hpp"
 
 namespace polarcam {
 
-inline constexpr int kFracBits = 32;
-inline constexpr int64_t kOneTick = int64_t{1} << kFracBits;
-inline constexpr int64_t kMaxIntervalFx = int64_t{1} << 62;   // 2^30 ticks: longer gaps use a wait
+// The items, their validity, the prediction and the arithmetic of a run are the wire's (machine/link/wire.hpp,
+// shared with the reference firmware).
+using wire::kFracBits;
+using wire::kMaxIntervalFx;
+using wire::kMaxRunCount;
+using wire::kOneTick;
 inline constexpr int64_t kMaxSpanTicks = int64_t{1} << 30;    // a run ends less than 2^30 ticks after it starts
-inline constexpr uint32_t kMaxRunCount = 65535;
 
-enum class ItemKind : uint8_t { run = 0, wait = 1, end = 2 };
-
-struct QueueItem {
-  ItemKind kind = ItemKind::run;
-  uint8_t axis = 0;
-  int8_t dir = 1;            // run
-  uint32_t count = 0;        // run: steps
-  int64_t offset = 0;        // run: clock shift before the first step (the first interval is offset + interval)
-  int64_t interval = 0;      // run: interval of the progression's first step, 32.32 ticks
-  int64_t add = 0;           // run: interval change per step, 32.32 ticks
-  int64_t add2 = 0;          // run: change of the add per step, 32.32 ticks
-  uint64_t wait = 0;         // wait: whole ticks
-};
-
+using wire::ItemKind;
+using wire::QueueItem;
 // A run is valid when its first interval (offset + interval) and every later interval lie in [one tick,
 // kMaxIntervalFx] and every add A + (k-1) B (k = 1..n) lies within 2^62 in magnitude, so that the controller's
 // 64-bit arithmetic never overflows and an axis never steps twice in one tick. The decoder refuses anything else.
-bool run_is_valid(const QueueItem& run);
-
+using wire::run_is_valid;
 // The next run as the wire predicts it: the previous run of the axis continued by one step (interval
 // I + n A + C(n,2) B, add A + n B, second add B), in wrapping 64-bit arithmetic. Runs are sent as differences
 // from it.
-struct RunRef {
-  int64_t interval = 0, add = 0, add2 = 0;
-};
-RunRef continuation(const QueueItem& run);
-
-// The controller's arithmetic of one run, shared by every party.
-struct RunCursor {
-  uint32_t left = 0;
-  int64_t offset = 0, iv = 0, add = 0, add2 = 0;
-  bool first = true;
-  void begin(const QueueItem& it) {
-    left = it.count;
-    offset = it.offset;
-    iv = it.interval;
-    add = it.add;
-    add2 = it.add2;
-    first = true;
-  }
-  // The clock advance to the next step of the run (left > 0).
-  int64_t next() {
-    --left;
-    if (first) {
-      first = false;
-      return static_cast<int64_t>(static_cast<uint64_t>(offset) + static_cast<uint64_t>(iv));
-    }
-    iv = static_cast<int64_t>(static_cast<uint64_t>(iv) + static_cast<uint64_t>(add));
-    add = static_cast<int64_t>(static_cast<uint64_t>(add) + static_cast<uint64_t>(add2));
-    return iv;
-  }
-};
-
-// One axis's clock and the arithmetic every party shares.
-struct AxisClock {
-  uint64_t base = 0;   // whole ticks
-  uint32_t frac = 0;   // 1/2^32 ticks
-  // Advances by one interval (>= 0) and returns the tick of the step.
-  uint64_t advance(int64_t interval) {
-    uint64_t acc = static_cast<uint64_t>(frac) + static_cast<uint64_t>(interval);
-    base += acc >> kFracBits;
-    frac = static_cast<uint32_t>(acc & 0xffffffffu);
-    return base;
-  }
-};
+using wire::continuation;
+using wire::RunRef;
+// The controller's arithmetic of one run and of an axis clock, shared by every party.
+using wire::AxisClock;
+using wire::RunCursor;
 
 // Executed tick windows of every machine step: |tick * tick_ctrl - t * tick_tape / K| <= one controller tick,
 // narrowed so that each axis steps at most once a tick and never at tick 0 (START), and split where two steps of
@@ -124,16 +76,19 @@ Schedule compress_schedule(const PlayPlan& plan, uint64_t tick_ps, const RunShap
 // simulated machine).
 std::vector<uint64_t> execute_axis(const std::vector<QueueItem>& items, int axis);
 
-// Wire encoding of items inside QUEUE messages (protocol version 2): a tag byte (bit 0 axis, bits 1-2 kind,
-// bit 3 direction +); a run continues with varint count, two bytes of shifts (nibbles s/2 for the offset, I, A,
-// B), then zigzag varints of the offset and of the differences I, A, B minus the axis's prediction
-// (continuation()), each shifted right by its shift; a wait with varint ticks. Encoder and decoder keep the same
-// per-axis predictions, so they must see the same items in the same order. encode() needs a valid run.
-struct ItemCodec {
-  RunRef ref[2];
-  void encode(const QueueItem& it, std::string& out);
-  // Decodes one item at `pos`; false (state and pos unchanged) when the bytes are malformed.
-  bool decode(const uint8_t* data, size_t len, size_t& pos, QueueItem& it);
+// Wire encoding of items inside QUEUE messages (wire::ItemCodec, protocol versions 2 and 3): a tag byte (bit 0
+// axis, bits 1-2 kind, bit 3 direction +); a run continues with varint count, two bytes of shifts (nibbles s/2
+// for the offset, I, A, B), then zigzag varints of the offset and of the differences I, A, B minus the axis's
+// prediction (continuation()), each shifted right by its shift; a wait with varint ticks. Encoder and decoder
+// keep the same per-axis predictions, so they must see the same items in the same order. encode() needs a
+// valid run.
+struct ItemCodec : wire::ItemCodec {
+  using wire::ItemCodec::decode;
+  using wire::ItemCodec::encode;
+  void encode(const QueueItem& it, std::string& out) {
+    uint8_t b[wire::kMaxItemBytes];
+    out.append(reinterpret_cast<const char*>(b), encode(it, b));
+  }
 };
 
 }  // namespace polarcam

@@ -103,6 +103,9 @@ TEST(PlayCli, LimaconAtTenTimesSpeedOverAPtyWithDroppedBytes) {
   EXPECT_EQ(j["steps_sent"], 22000);
   EXPECT_EQ(j["underruns"], 0);
   for (const char* k : {"retransmissions", "duration_s"}) EXPECT_TRUE(j.contains(k)) << k;
+  // the limits the emulator reports at IDENTIFY (protocol version 3): 4096 items; one step per axis per 1 us tick
+  EXPECT_EQ(j["controller_slots"], 4096);
+  EXPECT_EQ(j["controller_max_step_rate"], 2 * 1000000);
 }
 
 TEST(PlayCli, SerpentineAtTenTimesSpeedWithCorruptedBytes) {

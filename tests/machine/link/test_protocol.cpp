@@ -1,5 +1,6 @@
 // The serial protocol's frames through noise and damage, and the simulated line's fault specification.
 #include <gtest/gtest.h>
+#include <zlib.h>
 
 #include <algorithm>
 #include <random>
@@ -9,6 +10,8 @@
 #include "cam/error.hpp"
 #include "machine/link/protocol.hpp"
 #include "machine/link/sim_line.hpp"
+#include "machine/link/wire.hpp"
+#include "machine/player/int128.hpp"
 
 namespace polarcam {
 namespace {
@@ -42,6 +45,77 @@ TEST(Protocol, FramesSurviveNoiseAndDamagedFramesAreRejected) {
   }
   EXPECT_EQ(k, out.size());
   EXPECT_GE(dec.bad_frames(), 40u);
+}
+
+// The shared wire's CRC (four bits at a time, no library: the firmware has none) against zlib's, piece by piece.
+TEST(Protocol, WireCrcIsZlibs) {
+  std::mt19937 rng(11);
+  for (int len : {0, 1, 2, 7, 64, 250, 1000}) {
+    std::vector<uint8_t> d(static_cast<size_t>(len));
+    for (uint8_t& b : d) b = static_cast<uint8_t>(rng());
+    const auto z = static_cast<uint32_t>(crc32(0L, d.data(), static_cast<uInt>(d.size())));
+    EXPECT_EQ(wire::crc32(0, d.data(), d.size()), z) << len << " bytes";
+    const size_t half = d.size() / 2;  // continued over two pieces, as zlib's
+    EXPECT_EQ(wire::crc32(wire::crc32(0, d.data(), half), d.data() + half, d.size() - half), z);
+  }
+  const uint8_t check[] = {'1', '2', '3', '4', '5', '6', '7', '8', '9'};
+  EXPECT_EQ(wire::crc32(0, check, 9), 0xCBF43926u);  // the CRC-32 check value of "123456789"
+}
+
+// A frame built by hand (the layout of the protocol's specification) decodes; the wire's encoder writes the same.
+TEST(Protocol, FrameLayoutByHand) {
+  std::string f = "\x7e\x05\xfa\x34\x12\x03\xaa\xbb";
+  const auto c = static_cast<uint32_t>(crc32(0L, reinterpret_cast<const Bytef*>(f.data() + 1), 7));
+  for (int i = 0; i < 4; ++i) f.push_back(static_cast<char>((c >> (8 * i)) & 0xff));
+  EXPECT_EQ(proto::encode_frame(0x1234, proto::QUEUE, "\xaa\xbb"), f);
+  proto::FrameDecoder dec;
+  std::vector<proto::Frame> out;
+  dec.feed(reinterpret_cast<const uint8_t*>(f.data()), f.size(), out);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].seq, 0x1234);
+  EXPECT_EQ(out[0].payload, "\xaa\xbb");
+}
+
+// IDENT of version 3 carries the largest step rate; an IDENT of another version still names its version.
+TEST(Protocol, IdentVersion3AndOtherVersionsNamed) {
+  proto::Ident id;
+  id.tick_ps = 4000000;
+  id.slots = 24;
+  id.session = 7;
+  id.max_step_rate = 20000;
+  id.name = "board";
+  const std::string p = id.encode();
+  ASSERT_EQ(p.size(), 1u + 8 + 4 + 4 + 4 + 1 + 5);
+  EXPECT_EQ(static_cast<uint8_t>(p[0]), 3);
+  EXPECT_EQ(static_cast<uint8_t>(p[17]) | static_cast<uint8_t>(p[18]) << 8, 20000 & 0xffff);  // after the session
+  proto::Ident back;
+  ASSERT_TRUE(proto::Ident::decode(p, back));
+  EXPECT_EQ(back.tick_ps, 4000000u);
+  EXPECT_EQ(back.slots, 24u);
+  EXPECT_EQ(back.max_step_rate, 20000u);
+  EXPECT_EQ(back.name, "board");
+  std::string v2 = p;
+  v2[0] = 2;
+  v2.erase(17, 4);  // version 2 had no step rate
+  proto::Ident old;
+  EXPECT_FALSE(proto::Ident::decode(v2, old));
+  EXPECT_EQ(old.version, 2);
+}
+
+// The wire's 128-bit stand-in (the firmware has no __int128) against the compiler's.
+TEST(Protocol, WideArithmeticMatchesInt128) {
+  std::mt19937_64 rng(5);
+  for (int i = 0; i < 20000; ++i) {
+    const auto v = static_cast<int64_t>(rng()) >> (rng() % 64);
+    const auto m = static_cast<uint32_t>(rng() >> (rng() % 64));
+    const auto w = static_cast<int64_t>(rng()) >> (rng() % 64);
+    const i128 want = static_cast<i128>(v) * m + w;
+    const wire::Wide got = wire::Wide::mul(v, m) + wire::Wide::of(w);
+    ASSERT_EQ(got.lo, static_cast<uint64_t>(want)) << v << " * " << m << " + " << w;
+    ASSERT_EQ(got.hi, static_cast<int64_t>(want >> 64)) << v << " * " << m << " + " << w;
+    const i128 other = static_cast<i128>(w) * 3;
+    ASSERT_EQ(got < wire::Wide::mul(w, 3), want < other);
+  }
 }
 
 TEST(Protocol, FaultSpecParsesAndNamesBadItems) {

@@ -1,0 +1,766 @@
+// The reference stepper controller of polarcam's serial protocol (docs/controller-protocol.md, docs/firmware.md)
+// for an Arduino Uno (ATmega328P at 16 MHz) with a CNC shield v3: radial axis on X (step D2 = PD2, direction
+// D5 = PD5), angular axis on Y (step D3 = PD3, direction D6 = PD6), drivers' enable D8 = PB0 (active low), the
+// board's LED D13 = PB5 lit while a job runs (its rising edge is schedule tick 0, START).
+//
+// Three parts:
+//   - the wire (machine/link/wire.hpp, shared with the host): frames, CRC, payloads, queue items, run arithmetic;
+//   - the main loop: reassembles frames, answers them, keeps the queued items, and runs each axis's clock ahead
+//     of time, turning the runs into timed events (one tick, which pins step) in a ring;
+//   - the Timer1 compare interrupt (tick 4 us: 16 MHz / 64): at each event's tick it sets the direction pins,
+//     raises the step pins, holds them 2 us, lowers them. It computes nothing but the next compare, so its
+//     latency is the same for every step.
+// Schedule tick s fires at timer tick s + offset; START sets the offset, RESUME after a hold or an underrun moves
+// it on by the time stopped. Holds and underrun stops are immediate (no ramp: CONFIGURE with ramp_ticks > 0 is
+// refused). Frames that arrive ahead of a missing one are not kept (RAM): the host retransmits them.
+#include <avr/interrupt.h>
+#include <avr/io.h>
+#include <avr/pgmspace.h>
+#include <avr/sleep.h>
+#include <string.h>
+
+#include "machine/link/wire.hpp"
+
+using namespace polarcam::wire;
+
+namespace {
+
+// ---- the board ----------------------------------------------------------------------------------------------
+
+constexpr uint64_t kTickPs = 4000000;   // Timer1 at 16 MHz / 64: 4 us, 64 CPU cycles
+constexpr uint8_t kSlots = 12;          // queue items buffered (36 bytes each)
+constexpr uint32_t kMaxStepRate = 6000;  // steps/s, both axes together, sustained (measured: docs/firmware.md)
+const char kName[] PROGMEM = "polarcam firmware, ATmega328P, CNC shield v3";
+
+constexpr uint8_t kRStep = _BV(PD2), kTStep = _BV(PD3), kRDir = _BV(PD5), kTDir = _BV(PD6);
+constexpr uint8_t kEnable = _BV(PB0), kLed = _BV(PB5);
+
+// ---- UART (115200 baud, 8N1; U2X: UBRR 16 gives 117 647 baud, 2.1 % fast, as every Uno) ---------------------
+
+constexpr uint8_t kRxSize = 64, kTxSize = 64;  // powers of two
+uint8_t rx_buf[kRxSize], tx_buf[kTxSize];
+volatile uint8_t rx_head, rx_tail, tx_head, tx_tail;
+
+ISR(USART_RX_vect) {
+  const uint8_t c = UDR0;  // clears the interrupt; then let the step timer in
+  sei();
+  const uint8_t h = rx_head, n = static_cast<uint8_t>((h + 1) & (kRxSize - 1));
+  if (n != rx_tail) {
+    rx_buf[h] = c;
+    rx_head = n;
+  }
+}
+
+ISR(USART_UDRE_vect) {
+  const uint8_t t = tx_tail;
+  if (t == tx_head) {
+    UCSR0B &= static_cast<uint8_t>(~_BV(UDRIE0));
+    return;
+  }
+  UDR0 = tx_buf[t];  // clears the interrupt; then let the step timer in
+  sei();
+  tx_tail = static_cast<uint8_t>((t + 1) & (kTxSize - 1));
+}
+
+void tx_put(uint8_t c) {
+  const uint8_t h = tx_head, n = static_cast<uint8_t>((h + 1) & (kTxSize - 1));
+  while (n == tx_tail) {
+  }
+  tx_buf[h] = c;
+  tx_head = n;
+  UCSR0B |= _BV(UDRIE0);
+}
+
+uint8_t out_frame[kOverhead + Status::kSize + 8];  // the largest reply is STATUS_REPLY (IDENT is shorter)
+
+void send(uint16_t seq, uint8_t type, size_t n) {  // payload already at out_frame + kHeader
+  const size_t total = frame_encode(out_frame, seq, type, out_frame + kHeader, n);
+  for (size_t i = 0; i < total; ++i) tx_put(out_frame[i]);
+}
+uint8_t* payload_out() { return out_frame + kHeader; }
+constexpr size_t kPayloadOut = sizeof out_frame - kOverhead;
+
+// ---- events: what the timer interrupt executes ---------------------------------------------------------------
+
+constexpr uint8_t kEvR = 1, kEvT = 2, kEvRPlus = 4, kEvTPlus = 8, kEvStart = 16, kEvStop = 32, kEvEnd = 64;
+constexpr uint8_t kEvents = 32;  // power of two
+uint32_t ev_tick[kEvents];       // schedule ticks
+uint8_t ev_bits[kEvents];
+volatile uint8_t ev_head, ev_tail;  // the main loop writes at head, the interrupt reads at tail
+
+volatile bool running;          // the schedule clock advances
+volatile uint32_t offset;       // timer tick = schedule tick + offset
+volatile uint16_t timer_hi;     // Timer1 overflows: the timer extended to 32 bits
+volatile bool stop_armed;       // an underrun stop in the ring still applies (the main loop disarms it)
+volatile uint32_t stopped_at;   // schedule tick where the clock stopped (hold or underrun)
+volatile uint8_t stop_reason;   // 0 none, 1 underrun, 2 hold
+volatile bool done;
+volatile uint32_t start_time, last_step_time;  // timer ticks
+volatile uint32_t executed[2];
+volatile int32_t moved[2];      // node - start node
+volatile uint32_t underruns;
+
+// The 32-bit timer now (interrupts off).
+inline uint32_t now32() {
+  const uint16_t lo = TCNT1;
+  uint16_t hi = timer_hi;
+  if ((TIFR1 & _BV(TOV1)) && lo < 0x8000) ++hi;  // an overflow not counted yet
+  return static_cast<uint32_t>(hi) << 16 | lo;
+}
+
+// The timer now, from the main loop.
+uint32_t timer_now() {
+  const uint8_t s = SREG;
+  cli();
+  const uint32_t t = now32();
+  SREG = s;
+  return t;
+}
+
+inline void fire(uint8_t i) {
+  const uint8_t b = ev_bits[i];
+  const uint8_t steps = b & (kEvR | kEvT);
+  if (steps) {
+    // direction pins of the stepping axes (normally already set after the previous event: no wait then)
+    uint8_t want = PORTD;
+    if (b & kEvR) want = (b & kEvRPlus) ? (want | kRDir) : (want & static_cast<uint8_t>(~kRDir));
+    if (b & kEvT) want = (b & kEvTPlus) ? (want | kTDir) : (want & static_cast<uint8_t>(~kTDir));
+    if (want != PORTD) {
+      PORTD = want;
+      __builtin_avr_delay_cycles(16);  // 1 us of direction set-up (DRV8825: 650 ns)
+    }
+    const uint8_t with = static_cast<uint8_t>(want | ((b & kEvR) ? kRStep : 0) | ((b & kEvT) ? kTStep : 0));
+    PORTD = with;
+    const uint32_t t = ev_tick[i] + offset;
+    last_step_time = t;
+    if (b & kEvR) {
+      ++executed[0];
+      moved[0] += (b & kEvRPlus) ? 1 : -1;
+    }
+    if (b & kEvT) {
+      ++executed[1];
+      moved[1] += (b & kEvTPlus) ? 1 : -1;
+    }
+    __builtin_avr_delay_cycles(8);  // with the counting above: the step pulse is 2 us high (DRV8825: 1.9 us)
+    PORTD = want;
+    // the next event's directions now, so that they are set up before its step
+    const uint8_t n = static_cast<uint8_t>((i + 1) & (kEvents - 1));
+    if (n != ev_head) {
+      const uint8_t nb = ev_bits[n];
+      uint8_t p = want;
+      if (nb & kEvR) p = (nb & kEvRPlus) ? (p | kRDir) : (p & static_cast<uint8_t>(~kRDir));
+      if (nb & kEvT) p = (nb & kEvTPlus) ? (p | kTDir) : (p & static_cast<uint8_t>(~kTDir));
+      PORTD = p;
+    }
+  }
+  if (b & kEvStart) PORTB |= kLed;
+  if ((b & kEvStop) && stop_armed) {  // underrun: the schedule clock stops here
+    running = false;
+    stopped_at = ev_tick[i];
+    stop_reason = 1;
+    stop_armed = false;
+    ++underruns;
+  }
+  if (b & kEvEnd) {
+    done = true;
+    running = false;
+    PORTB &= static_cast<uint8_t>(~kLed);
+  }
+}
+
+// Fires the events that are due and sets the compare for the next one (interrupts off). The compare is set two
+// ticks early and the last ticks are waited for here, on the timer's low byte: every event, whatever path leads
+// to it, then reaches its pins the same few cycles after its tick begins. A compare is only set within the
+// timer's current 16-bit period; the overflow interrupt sets the ones beyond. A compare at another time does no
+// harm: events fire by the extended time, never by the compare alone.
+void schedule() {
+  while (running && ev_tail != ev_head) {
+    const uint8_t i = ev_tail;
+    const uint32_t due = ev_tick[i] + offset;
+    const uint32_t now = now32();
+    const int32_t d = static_cast<int32_t>(due - now);
+    if (d <= 3) {
+      const uint8_t lo = static_cast<uint8_t>(due);
+      while (static_cast<int8_t>(TCNT1L - lo) < 0) {  // at most 3 ticks: the low byte suffices
+      }
+      fire(i);
+      ev_tail = static_cast<uint8_t>((i + 1) & (kEvents - 1));
+      continue;
+    }
+    const uint32_t wake = due - 2;
+    if ((wake >> 16) != (now >> 16)) return;  // in a later period: the overflow interrupt comes first
+    OCR1A = static_cast<uint16_t>(wake);  // (a stale compare flag costs one harmless interrupt)
+    if (static_cast<uint16_t>(wake) > TCNT1) return;  // still ahead (else: passed while being set, loop)
+  }
+}
+
+ISR(TIMER1_COMPA_vect) { schedule(); }
+ISR(TIMER1_OVF_vect) {
+  ++timer_hi;
+  schedule();
+}
+
+// Makes the timer look at the ring now (after START or RESUME, or when new events may be due sooner).
+void kick() {
+  const uint8_t s = SREG;
+  cli();
+  schedule();
+  SREG = s;
+}
+
+// ---- queued items: a pool of slots, one list per axis -----------------------------------------------------------
+
+struct Slot {
+  uint8_t tag;      // kind << 1 | dir + << 3
+  uint16_t count;   // run
+  int64_t v[4];     // run: offset, interval, add, add2; wait: v[0] ticks
+  uint8_t next;
+};
+constexpr uint8_t kNone = 0xff;
+Slot slots[kSlots];
+uint8_t free_head, free_count;
+uint8_t q_head[2], q_tail[2];
+
+void pool_reset() {
+  for (uint8_t i = 0; i < kSlots; ++i) slots[i].next = static_cast<uint8_t>(i + 1 < kSlots ? i + 1 : kNone);
+  free_head = 0;
+  free_count = kSlots;
+  q_head[0] = q_head[1] = q_tail[0] = q_tail[1] = kNone;
+}
+
+// ---- the controller ----------------------------------------------------------------------------------------------
+
+struct Axis {
+  RunCursor run;
+  AxisClock clk;
+  bool dir_plus = true;
+  bool has_next = false;
+  uint64_t next_tick = 0;
+  bool ended = false;
+};
+
+State state = State::idle;
+ErrorCode error = ErrorCode::none;
+bool configured;
+int64_t start_node[2];
+uint16_t next_seq = 1;
+uint16_t last_nak;
+bool nak_sent;
+uint16_t last_req[10];  // last request id per out-of-band type (IDENTIFY .. STATUS)
+bool have_req[10];
+uint32_t session;
+uint32_t bad_frames;
+ItemCodec codec;
+Axis axes[2];
+bool end_emitted, stop_emitted;
+
+uint32_t free_slots() { return free_count; }
+uint32_t queued() { return kSlots - free_count; }
+
+bool fresh_request(uint8_t type, uint16_t id) {
+  const uint8_t k = type < 10 ? type : 0;
+  if (have_req[k] && seq_diff(id, last_req[k]) <= 0) return false;
+  have_req[k] = true;
+  last_req[k] = id;
+  return true;
+}
+
+void send_ack(uint16_t seq) {
+  Ack a;
+  a.next_seq = next_seq;
+  a.free_slots = free_slots();
+  a.state = static_cast<uint8_t>(state);
+  send(seq, ACK, a.encode(payload_out(), kPayloadOut));
+}
+
+// text: a string in flash (PSTR)
+void send_error(ErrorCode code, const char* text, uint16_t seq) {
+  char t[72];
+  strncpy_P(t, text, sizeof t - 1);
+  t[sizeof t - 1] = 0;
+  send(seq, ERROR, encode_error(payload_out(), kPayloadOut, code, t, strlen(t)));
+}
+
+void stop_timer_events() {
+  const uint8_t s = SREG;
+  cli();
+  running = false;
+  ev_tail = ev_head;
+  stop_armed = false;
+  SREG = s;
+}
+
+void reset_job() {
+  stop_timer_events();
+  pool_reset();
+  for (Axis& a : axes) a = Axis{};
+  codec = ItemCodec{};
+  next_seq = 1;
+  nak_sent = false;
+  end_emitted = stop_emitted = false;
+  done = false;
+  stop_reason = 0;
+  underruns = 0;
+  executed[0] = executed[1] = 0;
+  moved[0] = moved[1] = 0;
+  error = ErrorCode::none;
+  PORTB &= static_cast<uint8_t>(~kLed);
+}
+
+// The next step of an axis: takes items off its list as the emulator's controller does.
+bool prepare(uint8_t ai) {
+  Axis& a = axes[ai];
+  while (!a.has_next && !a.ended) {
+    if (a.run.left > 0) {
+      a.next_tick = a.clk.advance(a.run.next());
+      a.has_next = true;
+      break;
+    }
+    const uint8_t i = q_head[ai];
+    if (i == kNone) return false;
+    Slot& s = slots[i];
+    q_head[ai] = s.next;
+    if (q_head[ai] == kNone) q_tail[ai] = kNone;
+    const uint8_t kind = (s.tag >> 1) & 3;
+    if (kind == static_cast<uint8_t>(ItemKind::wait)) {
+      a.clk.base += static_cast<uint64_t>(s.v[0]);
+    } else if (kind == static_cast<uint8_t>(ItemKind::end)) {
+      a.ended = true;
+    } else {
+      QueueItem it;
+      it.count = s.count;
+      it.offset = s.v[0];
+      it.interval = s.v[1];
+      it.add = s.v[2];
+      it.add2 = s.v[3];
+      a.run.begin(it);
+      a.dir_plus = s.tag & 8;
+    }
+    s.next = free_head;
+    free_head = i;
+    ++free_count;
+  }
+  return a.has_next;
+}
+
+bool ring_full() { return static_cast<uint8_t>((ev_head + 1) & (kEvents - 1)) == ev_tail; }
+uint32_t last_emitted;
+void kick();
+void emit(uint32_t tick, uint8_t bits) {
+  const uint8_t h = ev_head;
+  const bool was_empty = h == ev_tail;
+  ev_tick[h] = tick;
+  ev_bits[h] = bits;
+  last_emitted = tick;
+  asm volatile("" ::: "memory");  // the entry is written before the interrupt can see it
+  ev_head = static_cast<uint8_t>((h + 1) & (kEvents - 1));
+  if (was_empty) kick();  // the interrupt had nothing to wait for: set the compare for this one
+}
+
+// Runs the axes' clocks ahead, in time order, into the event ring. An axis whose items have run out (and that
+// has not ended) gets a stop at the end of its clock: the schedule stops there unless items come first.
+void produce_events();
+void produce() {
+  produce_events();
+  kick();  // the first of new events may be sooner than any compare set
+}
+void produce_events() {
+  if (!configured || state == State::ready || state == State::idle || state == State::fault ||
+      state == State::aborted || end_emitted)
+    return;
+  while (!ring_full()) {
+    if (stop_emitted) {
+      // an underrun stop waits in the ring: disarm it if the starved axis has items again
+      bool still = false;
+      for (uint8_t ai = 0; ai < 2; ++ai)
+        if (!axes[ai].ended && !prepare(ai)) still = true;
+      if (still) return;
+      const uint8_t s = SREG;
+      cli();
+      const bool armed = stop_armed;
+      stop_armed = false;
+      SREG = s;
+      if (!armed && stop_reason == 1) return;  // it has fired: RESUME clears it
+      stop_emitted = false;
+    }
+    for (uint8_t ai = 0; ai < 2; ++ai) prepare(ai);
+    Axis &r = axes[0], &t = axes[1];
+    if (r.ended && t.ended) {
+      emit(last_emitted, kEvEnd);  // right after the last step
+      end_emitted = true;
+      return;
+    }
+    // candidates: a step at its tick, or (an axis short of items) a stop at its clock, after steps of that tick
+    uint64_t best = UINT64_MAX;
+    bool best_stop = false;
+    for (uint8_t ai = 0; ai < 2; ++ai) {
+      const Axis& a = axes[ai];
+      if (a.ended) continue;
+      if (a.has_next) {
+        if (a.next_tick < best || (a.next_tick == best && best_stop)) {
+          best = a.next_tick;
+          best_stop = false;
+        }
+      } else if (a.clk.base < best) {
+        best = a.clk.base;
+        best_stop = true;
+      }
+    }
+    if (best_stop) {
+      const uint8_t s = SREG;
+      cli();
+      stop_armed = true;
+      emit(static_cast<uint32_t>(best), kEvStop);
+      SREG = s;
+      stop_emitted = true;
+      return;
+    }
+    uint8_t bits = 0;
+    for (uint8_t ai = 0; ai < 2; ++ai) {
+      Axis& a = axes[ai];
+      if (!a.ended && a.has_next && a.next_tick == best) {
+        bits |= ai == 0 ? (kEvR | (a.dir_plus ? kEvRPlus : 0)) : (kEvT | (a.dir_plus ? kEvTPlus : 0));
+        a.has_next = false;
+      }
+    }
+    emit(static_cast<uint32_t>(best), bits);
+  }
+}
+
+void update_state() {
+  if (state == State::running && done) state = State::done;
+  if (state == State::running && !running && stop_reason == 1) state = State::underrun;
+}
+
+// Apart, so that their stack frames are not live at once (2 KB of RAM).
+__attribute__((noinline)) bool parse_item(const ItemCodec& c, const uint8_t* p, size_t n, size_t& pos, QueueItem& it) {
+  return c.parse(p, n, pos, it);
+}
+__attribute__((noinline)) bool valid_run(const QueueItem& it) { return run_is_valid(it); }
+
+// A QUEUE payload: every item decoded and checked first (a frame with a bad item is refused whole), then taken.
+__attribute__((noinline)) void handle_queue(const uint8_t* p, size_t n) {
+  ItemCodec trial = codec;
+  size_t pos = 0;
+  uint8_t chain = kNone, chain_tail = kNone, count = 0;
+  bool ok = true, overflow = false;
+  while (pos < n) {
+    QueueItem it;
+    if (!parse_item(trial, p, n, pos, it) || !valid_run(it)) {
+      ok = false;
+      break;
+    }
+    if (free_head == kNone) {
+      overflow = true;
+      break;
+    }
+    trial.take(it);
+    const uint8_t i = free_head;
+    free_head = slots[i].next;
+    --free_count;
+    Slot& s = slots[i];
+    s.tag = static_cast<uint8_t>(it.axis | (static_cast<uint8_t>(it.kind) << 1) | (it.dir > 0 ? 8 : 0));
+    s.count = static_cast<uint16_t>(it.count);
+    s.v[0] = it.kind == ItemKind::wait ? static_cast<int64_t>(it.wait) : it.offset;
+    s.v[1] = it.interval;
+    s.v[2] = it.add;
+    s.v[3] = it.add2;
+    s.next = kNone;
+    if (chain == kNone) chain = i;
+    else slots[chain_tail].next = i;
+    chain_tail = i;
+    ++count;
+    produce();  // keep the event ring fed while a long frame is decoded
+  }
+  if (!ok || overflow) {
+    if (chain != kNone) {  // give the slots back
+      slots[chain_tail].next = free_head;
+      free_head = chain;
+      free_count = static_cast<uint8_t>(free_count + count);
+    }
+    error = overflow ? ErrorCode::overflow : ErrorCode::bad_queue;
+    state = State::fault;
+    stop_timer_events();
+    send_error(error, overflow ? PSTR("queue overflow: the host sent more items than its credits") : PSTR("malformed queue item"), 0);
+    return;
+  }
+  codec = trial;
+  for (uint8_t i = chain; i != kNone;) {
+    const uint8_t nx = slots[i].next, ai = slots[i].tag & 1;
+    slots[i].next = kNone;
+    if (q_tail[ai] == kNone) q_head[ai] = i;
+    else slots[q_tail[ai]].next = i;
+    q_tail[ai] = i;
+    i = nx;
+  }
+}
+
+void start_job() {
+  const uint8_t s = SREG;
+  cli();
+  const uint32_t t = timer_now() + 16;  // schedule tick 0: 64 us from now
+  offset = t;
+  start_time = t;
+  running = true;
+  emit(0, kEvStart);  // START's own event: the LED at tick 0, before every step (steps are at tick 1 or later)
+  SREG = s;
+  produce();
+}
+
+void resume_job() {
+  const uint8_t s = SREG;
+  cli();
+  offset = timer_now() + 4 - stopped_at;
+  stop_reason = 0;
+  running = true;
+  SREG = s;
+  state = State::running;
+  produce();
+  kick();
+}
+
+void fill_status(Status& st) {
+  const uint8_t s = SREG;
+  cli();
+  st.underruns = underruns;
+  st.executed[0] = executed[0];
+  st.executed[1] = executed[1];
+  st.node[0] = start_node[0] + moved[0];
+  st.node[1] = start_node[1] + moved[1];
+  const uint32_t now = timer_now();
+  const bool was_running = running;
+  const uint32_t sched = was_running ? now - offset : stopped_at;
+  const uint32_t start = start_time, last = last_step_time;
+  SREG = s;
+  st.state = state;
+  st.error = error;
+  const bool started = state != State::idle && state != State::ready && state != State::aborted && state != State::fault;
+  st.now_ticks = state == State::done ? last - start : started ? now - start : 0;
+  st.schedule_ticks = started && state != State::done ? sched : 0;
+  st.free_slots = free_slots();
+  st.queued = queued();
+  st.next_seq = next_seq;
+  st.session = session;
+  st.bad_frames = bad_frames;
+}
+
+__attribute__((noinline)) void configure(uint16_t seq, const uint8_t* p, size_t n) {
+  Configure c;
+  if (!c.decode(p, n)) {
+    send_error(ErrorCode::bad_config, PSTR("malformed CONFIGURE"), seq);
+    return;
+  }
+  if (!fresh_request(CONFIGURE, seq)) {  // a repeat: answer again
+    send_ack(seq);
+    return;
+  }
+  if (state == State::running || state == State::held || state == State::underrun) {
+    send_error(ErrorCode::busy, PSTR("busy: a job is running (abort it first)"), seq);
+    return;
+  }
+  if (c.tick_ps != kTickPs) {
+    send_error(ErrorCode::bad_config, PSTR("tick requested differs from this controller's tick of 4000000 ps"), seq);
+    return;
+  }
+  if (c.axes != 2) {
+    send_error(ErrorCode::bad_config, PSTR("this controller drives 2 axes"), seq);
+    return;
+  }
+  if (c.ramp_ticks != 0) {
+    send_error(ErrorCode::bad_config, PSTR("no ramp in this firmware: play without an acceleration limit"), seq);
+    return;
+  }
+  reset_job();
+  start_node[0] = c.start[0];
+  start_node[1] = c.start[1];
+  configured = true;
+  state = State::ready;
+  PORTB &= static_cast<uint8_t>(~kEnable);  // drivers on: the axes hold their start node
+  send_ack(seq);
+}
+
+__attribute__((noinline)) void reply_ident(uint16_t seq) {
+  Ident id;
+  id.tick_ps = kTickPs;
+  id.slots = kSlots;
+  id.session = session;
+  id.max_step_rate = kMaxStepRate;
+  char name[sizeof kName];
+  strcpy_P(name, kName);
+  id.name = name;
+  id.name_len = sizeof kName - 1;
+  send(seq, IDENT, id.encode(payload_out(), kPayloadOut));
+}
+
+__attribute__((noinline)) void reply_status(uint16_t seq) {
+  Status st;
+  fill_status(st);
+  send(seq, STATUS_REPLY, st.encode(payload_out(), kPayloadOut));
+}
+
+__attribute__((noinline)) void handle(const uint8_t* f) {
+  const uint16_t seq = frame_seq(f);
+  const uint8_t type = frame_type(f);
+  const uint8_t* p = frame_payload(f);
+  const size_t n = frame_payload_size(f);
+  update_state();
+  switch (type) {
+    case IDENTIFY:
+      reply_ident(seq);
+      return;
+    case STATUS:
+      reply_status(seq);
+      return;
+    case RESET:
+      if (fresh_request(type, seq)) {
+        // a clean reboot through the watchdog would lose the session counter; start over in place instead
+        reset_job();
+        configured = false;
+        state = State::idle;
+        PORTB |= kEnable;
+        for (bool& h : have_req) h = false;
+        ++session;
+        Put(payload_out(), kPayloadOut).u32(session);
+        send(0, BOOT, 4);
+      }
+      return;
+    case CONFIGURE:
+      configure(seq, p, n);
+      return;
+    case HOLD:
+    case RESUME:
+    case ABORT:
+      if (fresh_request(type, seq)) {
+        if (type == HOLD && state == State::running) {
+          const uint8_t s = SREG;
+          cli();
+          if (running) {
+            stopped_at = timer_now() - offset;
+            running = false;
+            stop_reason = 2;
+          }
+          SREG = s;
+          update_state();
+          if (state == State::running) state = State::held;
+        }
+        if (type == RESUME && (state == State::held || state == State::underrun)) resume_job();
+        if (type == ABORT) {
+          reset_job();
+          state = State::aborted;
+        }
+      }
+      send_ack(seq);
+      return;
+    case QUEUE:
+    case START: {
+      if (!configured) {
+        send_error(ErrorCode::not_configured, PSTR("not configured"), seq);
+        return;
+      }
+      const int d = seq_diff(seq, next_seq);
+      if (d < 0) {
+        send_ack(0);
+        return;
+      }
+      if (d > 0) {  // ahead of a missing frame: not kept; ask for the missing one once
+        if (!nak_sent || last_nak != next_seq) {
+          Put(payload_out(), kPayloadOut).u16(next_seq);
+          send(0, NAK, 2);
+          nak_sent = true;
+          last_nak = next_seq;
+        }
+        return;
+      }
+      if (state != State::fault && state != State::aborted) {
+        if (type == QUEUE) handle_queue(p, n);
+        else if (state == State::ready) {
+          state = State::running;
+          start_job();
+        }
+      }
+      if (state != State::fault) ++next_seq;
+      produce();
+      send_ack(0);
+      return;
+    }
+    default:
+      return;  // unknown types are ignored (a newer host)
+  }
+}
+
+// ---- frame reassembly (the same rules as the host's decoder) -----------------------------------------------------
+
+// Frames of up to 96 payload bytes are taken (the host's QUEUE frames carry 64 at most, CONFIGURE 57): a longer
+// one is skipped as damaged. RAM is 2 KB.
+constexpr size_t kMaxRxPayload = 96;
+uint8_t fb[kOverhead + kMaxRxPayload];
+uint8_t fn;
+
+void consume(uint8_t k) {
+  memmove(fb, fb + k, fn - k);
+  fn = static_cast<uint8_t>(fn - k);
+}
+
+void receive() {
+  while (fn < sizeof fb && rx_tail != rx_head) {
+    const uint8_t t = rx_tail;
+    fb[fn++] = rx_buf[t];
+    rx_tail = static_cast<uint8_t>((t + 1) & (kRxSize - 1));
+  }
+  for (;;) {
+    uint8_t pos = 0;
+    while (pos < fn && fb[pos] != kSync) ++pos;
+    if (pos) consume(pos);
+    if (fn < 3) return;
+    if (!frame_len_ok(fb[1], fb[2]) || fb[1] > kMaxRxPayload + 3) {  // not a frame start, a damaged length
+      consume(1);
+      continue;
+    }
+    const size_t total = frame_size(fb[1]);
+    if (fn < total) return;
+    if (!frame_crc_ok(fb)) {
+      ++bad_frames;
+      consume(1);  // a good frame may start inside the damaged one
+      continue;
+    }
+    handle(fb);
+    consume(static_cast<uint8_t>(total));
+  }
+}
+
+}  // namespace
+
+int main() {
+  DDRD |= kRStep | kTStep | kRDir | kTDir;
+  DDRB |= kEnable | kLed;
+  PORTB |= kEnable;  // drivers off until a job is configured
+  // UART 115200 8N1, double speed
+  UCSR0A = _BV(U2X0);
+  UBRR0 = 16;
+  UCSR0B = _BV(RXEN0) | _BV(TXEN0) | _BV(RXCIE0);
+  UCSR0C = _BV(UCSZ01) | _BV(UCSZ00);
+  // Timer1: normal mode, clock / 64 (4 us), compare A interrupt
+  TCCR1A = 0;
+  TCCR1B = _BV(CS11) | _BV(CS10);
+  TIMSK1 = _BV(OCIE1A) | _BV(TOIE1);
+  pool_reset();
+  session = 1;
+  set_sleep_mode(SLEEP_MODE_IDLE);
+  sei();
+  Put(payload_out(), kPayloadOut).u32(session);
+  send(0, BOOT, 4);
+  for (;;) {
+    receive();
+    produce();
+    update_state();
+    // sleep until the next interrupt when there is nothing to do (the simulator then skips the idle cycles)
+    cli();
+    if (rx_tail == rx_head) {
+      sleep_enable();
+      sei();
+      sleep_cpu();
+      sleep_disable();
+    }
+    sei();
+  }
+}

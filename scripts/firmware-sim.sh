@@ -1,0 +1,77 @@
+#!/usr/bin/env bash
+# Builds the reference firmware, runs it in simavr and plays a job's tape to it twice — on a clean link and with
+# 1 % of the bytes dropped and 1 % corrupted each way — then compares the step pins with the tape.
+#
+#   scripts/firmware-sim.sh JOB [POLARCAM] [OUTDIR]
+#
+# POLARCAM defaults to ./build/polarcam, OUTDIR to ./firmware-sim. Leaves in OUTDIR: job.tape (the job digitized,
+# speed scale 1), clean.vcd and faulty.vcd (the pins), clean.json and faulty.json (what play reported),
+# clean.txt and faulty.txt (the comparison) and summary.txt. SPEED=K plays at speed scale K (default 1);
+# TOLERANCE=T accepts step times within T controller ticks (default 1); TOLERANCE_FAULTY=T for the faulty link
+# (default TOLERANCE; "inf" checks only that every step is there, in order, in its direction). Needs avr-gcc, avr-libc, simavr's library
+# (Debian: gcc-avr avr-libc binutils-avr libsimavr-dev libelf-dev). Exit status 0 when both runs pass.
+set -euo pipefail
+
+job=${1:?usage: scripts/firmware-sim.sh JOB [POLARCAM] [OUTDIR]}
+polarcam=${2:-./build/polarcam}
+out=${3:-./firmware-sim}
+speed=${SPEED:-1}
+tolerance=${TOLERANCE:-1}
+tolerance_faulty=${TOLERANCE_FAULTY:-$tolerance}
+root=$(cd "$(dirname "$0")/.." && pwd)
+polarcam=$(cd "$(dirname "$polarcam")" && pwd)/$(basename "$polarcam")
+mkdir -p "$out"
+out=$(cd "$out" && pwd)
+fw="$out/build-avr"
+
+make -s -C "$root/firmware" OUT="$fw" all harness >"$out/build.log"
+"$polarcam" digitize "$job" -o "$out/job.tape" >/dev/null
+"$polarcam" inspect "$out/job.tape" --csv >"$out/job.csv"
+
+sim_pid=
+cleanup() { if [ -n "$sim_pid" ]; then kill "$sim_pid" 2>/dev/null || true; wait "$sim_pid" 2>/dev/null || true; fi; }
+trap cleanup EXIT
+
+run() {  # NAME FAULTS TOLERANCE
+  local name=$1 faults=$2 tol=$3 pty=
+  rm -f "$out/$name.vcd" "$out/$name.pty"
+  local args=()
+  if [ -n "$faults" ]; then args=(--faults "$faults"); fi
+  "$fw/fw_sim" "$fw/polarcam_fw.elf" "$out/$name.vcd" "${args[@]}" >"$out/$name.pty" 2>"$out/$name.sim.log" &
+  sim_pid=$!
+  for _ in $(seq 100); do
+    pty=$(head -n 1 "$out/$name.pty" 2>/dev/null || true)
+    if [ -n "$pty" ]; then break; fi
+    sleep 0.1
+  done
+  if [ -z "$pty" ]; then echo "firmware-sim: the simulator did not start (see $out/$name.sim.log)" >&2; return 3; fi
+  local status=0
+  "$polarcam" play "$out/job.tape" --port "$pty" --speed-scale "$speed" --json >"$out/$name.json" 2>"$out/$name.play.log" || status=$?
+  kill "$sim_pid"
+  wait "$sim_pid" || true
+  sim_pid=
+  if [ "$status" != 0 ]; then
+    echo "firmware-sim: $name: play failed (exit $status): $(tail -n 1 "$out/$name.play.log")" >&2
+    return 1
+  fi
+  "$fw/vcd_compare" "$out/$name.vcd" "$out/job.csv" "$speed" "$(tick_ns "$out/$name.json")" "$tol" >"$out/$name.txt" || status=$?
+  return "$status"
+}
+
+tick_ns() { sed -n 's/^ *"tick_ns": \([0-9.]*\).*/\1/p' "$1"; }
+field() { sed -n "s/^ *\"$2\": \([^,]*\),*$/\1/p" "$1"; }
+
+status=0
+run clean "" "$tolerance" || status=1
+run faulty "drop=0.01,corrupt=0.01,seed=7" "$tolerance_faulty" || status=1
+
+{
+  echo "job $job, speed scale $speed, tolerance $tolerance tick(s) clean, $tolerance_faulty faulty"
+  for name in clean faulty; do
+    [ -f "$out/$name.txt" ] || { echo "$name: no comparison"; continue; }
+    echo "$name: $(grep -E '^(steps_pins|mismatched|max_error_ticks|max_edge_error_ticks|max_edge_jitter_ns|result)' "$out/$name.txt" | tr '\n' ' ')"
+    echo "$name: play retransmissions $(field "$out/$name.json" retransmissions), underruns $(field "$out/$name.json" underruns), bytes sent $(field "$out/$name.json" bytes_sent), duration $(field "$out/$name.json" duration_s) s, wall $(field "$out/$name.json" wall_s) s"
+    grep -h '^fw_sim' "$out/$name.sim.log" | sed "s/^/$name: /"
+  done
+} | tee "$out/summary.txt"
+exit "$status"
