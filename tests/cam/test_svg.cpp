@@ -399,11 +399,19 @@ TEST(Svg, RefusalsAreOneLineNamingFileLineAndElement) {
       {mm_svg("<use href=\"#nowhere\"/>"), "test.svg:2", "not in the file"},
       {mm_svg("<use href=\"other.svg#a\"/>"), "test.svg:2", "outside this file"},
       {mm_svg("<g id=\"loop\"><use href=\"#loop\"/></g>"), "test.svg:2", "itself"},
+      {mm_svg("<path id=\"empty\"/>"), "test.svg:2", "<path id=\"empty\">: lacks its attribute \"d\""},
   };
   for (const Case& c : cases) {
     InputError e = refusal(c.text);
     EXPECT_EQ(e.place(), c.place) << e.what();
     EXPECT_NE(e.message().find(c.words), std::string::npos) << e.what();
+  }
+  try {
+    read_svg(data("bad_path.svg"));
+    ADD_FAILURE() << "read a broken path";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.place(), data("bad_path.svg") + ":5");
+    EXPECT_NE(e.message().find("<path id=\"broken\">"), std::string::npos) << e.what();
   }
   try {
     read_svg(data("missing.svg"));
