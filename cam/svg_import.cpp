@@ -340,7 +340,7 @@ class ShapeContext : public BaseContext {
   }
   void path_close_subpath() {
     if (open_) {
-      if (cur_ != start_) segs_.push_back(line_segment(cur_, start_));
+      if (!meets_start()) segs_.push_back(line_segment(cur_, start_));  // else the curve snaps the rounding gap
       closed_ = true;
       finish();
     }
@@ -392,13 +392,15 @@ class ShapeContext : public BaseContext {
       start_ = cur_;
     }
   }
+  // The current point is the subpath's start, or within rounding of it (1e-9 of its largest coordinate).
+  bool meets_start() const {
+    double size = std::max({std::abs(start_.x), std::abs(start_.y), std::abs(cur_.x), std::abs(cur_.y)});
+    for (const CurveSegment& g : segs_) size = std::max({size, std::abs(g.end().x), std::abs(g.end().y)});
+    return norm(cur_ - start_) <= 1e-9 * size;
+  }
   void finish() {
-    if (open_ && !segs_.empty()) {
-      // a subpath that ends where it starts is closed, Z or not
-      double size = std::max({std::abs(start_.x), std::abs(start_.y), std::abs(cur_.x), std::abs(cur_.y)});
-      bool closed = closed_ || norm(cur_ - start_) <= 1e-9 * size;
-      subpaths_.push_back(Subpath{std::move(segs_), closed});
-    }
+    if (open_ && !segs_.empty())  // a subpath that ends where it starts is closed, Z or not
+      subpaths_.push_back(Subpath{std::move(segs_), closed_ || meets_start()});
     segs_.clear();
     open_ = false;
     closed_ = false;

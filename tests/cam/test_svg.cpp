@@ -202,6 +202,19 @@ TEST(Svg, RelativeCommandsAddToTheCurrentPoint) {
   EXPECT_TRUE(near(c.eval(1.5, 0).p, at_mm(70, 30), 1e-15));
 }
 
+TEST(Svg, ASubpathClosingWithinRoundingIsSnappedNotJoinedByASliver) {
+  // 0.1 + 0.2 - 0.3 leaves 5.6e-17 in floating point: Z then adds no closing line, the curve closes exactly
+  SvgDrawing g = parse(mm_svg("<path d=\"M 0 0 l 0.1 0 l 0.2 0.3 l -0.3 -0.3 z\"/>"));
+  const Curve& c = *g.contours[0].curve;
+  EXPECT_TRUE(c.closed());
+  EXPECT_EQ(c.u_end(), 3.0);
+  EXPECT_EQ(c.eval(3.0, 0).p, c.eval(0.0, 0).p);
+  // a real gap is closed by a line
+  SvgDrawing h = parse(mm_svg("<path d=\"M 0 0 l 0.1 0 l 0.2 0.3 z\"/>"));
+  EXPECT_EQ(h.contours[0].curve->u_end(), 3.0);
+  EXPECT_NEAR(length(*h.contours[0].curve), (0.1 + std::hypot(0.2, 0.3) + std::hypot(0.3, 0.3)) * 1e-3, 1e-16);
+}
+
 TEST(Svg, EverySubpathIsAContourInDocumentOrder) {
   SvgDrawing g = parse(mm_svg(
       "<path id=\"p\" d=\"M 0 0 L 10 0 L 10 10 Z M 20 0 L 30 0 M 40 0 L 50 0 L 50 10 L 40 0 M 90 90\"/>\n"
