@@ -3,19 +3,33 @@
 // action to run in `action`; main() runs it and maps errors to exit codes (InputError -> 2).
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <string>
+
+#include "job/job.hpp"
 
 namespace polarcam::cli {
 
 using Action = std::function<int()>;
 
+// --machine and --speed: what makes a pattern file (.thr, .svg, .dxf, .csv) a job (job/pattern.hpp).
+struct PatternArgs {
+  std::string machine, speed;
+};
+// with_speed false: the command has a --speed of its own, which the caller copies into a.speed.
+void add_pattern_options(CLI::App* c, PatternArgs& a, bool with_speed = true);
+// The job file or pattern `path` with the pattern options; a bad --speed is an InputError naming it.
+Job load_job_input(const std::string& path, const PatternArgs& a);
+
 // Adds one subcommand to `app`; when it is chosen, stores what to run in `action`.
 using Register = void(CLI::App& app, Action& action);
 Register register_digitize, register_inspect, register_dda, register_play, register_controller_sim, register_error,
-    register_optimize, register_analyze, register_motor, register_compare, register_capacity, register_report;
+    register_optimize, register_analyze, register_motor, register_compare, register_capacity, register_report,
+    register_check, register_preview;
 
 // The subcommands, in the order `polarcam --help` lists them.
 inline constexpr Register* kCommands[] = {
     register_digitize, register_inspect, register_dda,     register_play,    register_controller_sim, register_error,
-    register_optimize, register_analyze, register_motor,   register_compare, register_capacity,       register_report};
+    register_optimize, register_analyze, register_motor,   register_compare, register_capacity,       register_report,
+    register_check,    register_preview};
 
 }  // namespace polarcam::cli

@@ -15,6 +15,7 @@ namespace {
 
 struct Opts {
   std::string job, csv, plot, spacing;
+  PatternArgs pattern;
   bool json = false;
   std::vector<std::string> speeds, masses, depths;
   double safety_factor = 0.0;
@@ -35,7 +36,9 @@ std::vector<double> quantities(const std::vector<std::string>& texts, const Dim&
 }
 
 int run(const Opts& o) {
-  Job job = load_job(o.job);
+  PatternArgs pattern = o.pattern;
+  if (!o.speeds.empty()) pattern.speed = o.speeds.front();  // a pattern is analysed at the first --speed
+  Job job = load_job_input(o.job, pattern);
   if (o.safety_factor != 0.0) {
     if (!(o.safety_factor >= 1.0)) throw InputError("--safety-factor must be at least 1");
     job.safety_factor = o.safety_factor;
@@ -121,6 +124,7 @@ void register_analyze(CLI::App& app, Action& action) {
                          "Torques, pull-out torques and torque ratios of both axes along a job's path, and GO / NO-GO "
                          "(exit status 0 GO, 1 NO-GO, 2 bad input)");
   c->add_option("job", o->job, "job file (TOML) whose machine has dynamics")->required();
+  add_pattern_options(c, o->pattern, false);
   c->add_flag("--json", o->json, "print the result as one JSON object");
   c->add_option("--csv", o->csv, "write the series along the path to this CSV file");
   c->add_option("--plot", o->plot, "draw the torque-ratio plots (Figures 5.8-5.25) to this .png or .svg file");

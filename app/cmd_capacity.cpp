@@ -15,13 +15,16 @@ namespace {
 
 struct Opts {
   std::string job, speed, csv, plot;
+  PatternArgs pattern;
   bool json = false;
   double safety_factor = 0.0;
   int curve = 0;
 };
 
 int run(const Opts& o) {
-  Job job = load_job(o.job);
+  PatternArgs pattern = o.pattern;
+  pattern.speed = o.speed;  // a pattern's speed is the --speed of the question
+  Job job = load_job_input(o.job, pattern);
   if (o.safety_factor != 0.0) {
     if (!(o.safety_factor >= 1.0)) throw InputError("--safety-factor must be at least 1");
     job.safety_factor = o.safety_factor;
@@ -65,6 +68,7 @@ void register_capacity(CLI::App& app, Action& action) {
       "capacity", "The largest speed and the largest load (mass, depth of cut or tool force) at which a job's worst "
                   "torque ratio reaches 1 / safety factor");
   c->add_option("job", o->job, "job file (TOML) whose machine has dynamics")->required();
+  add_pattern_options(c, o->pattern, false);
   c->add_flag("--json", o->json, "print the result as one JSON object");
   c->add_option("--speed", o->speed, "find the largest load at this speed instead of the job's, e.g. \"1 cm/s\"");
   c->add_option("--safety-factor", o->safety_factor, "safety factor instead of the job's [limits] (>= 1)");

@@ -56,12 +56,14 @@ std::string summary_text(const Comparison& c) {
 void register_compare(CLI::App& app, Action& action) {
   struct Opts {
     std::string job, report, method = "dda", rate, speed_scale = "2", size_scale = "1/2";
+    PatternArgs pattern;
     bool json = false;
   };
   auto o = std::make_shared<Opts>();
   CLI::App* c = app.add_subcommand(
       "compare", "The job on the polar machine and on a Cartesian machine of the same resolution and speed, side by side");
   c->add_option("job", o->job, "job file (TOML)")->required();
+  add_pattern_options(c, o->pattern);
   c->add_flag("--json", o->json, "print the comparison as one JSON object");
   c->add_option("--report", o->report, "write a self-contained HTML report with figures");
   c->add_option("--method", o->method, "the Cartesian machine: dda (lines and arcs, DDAs; default) or exact")
@@ -80,7 +82,7 @@ void register_compare(CLI::App& app, Action& action) {
       opt.speed_scale = parse_ratio(o->speed_scale, "--speed-scale");
       opt.size_scale = parse_ratio(o->size_scale, "--size-scale");
       opt.figures = !o->report.empty();
-      const Job job = load_job(o->job);
+      const Job job = load_job_input(o->job, o->pattern);
       const Comparison cmp = compare_job(job, opt);
       if (!o->report.empty()) write_compare_report(cmp, o->report);
       if (o->json)

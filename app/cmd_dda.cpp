@@ -101,12 +101,14 @@ std::string summary_text(const Job& job, const CartesianRun& run, const std::str
 void register_dda(CLI::App& app, Action& action) {
   struct Opts {
     std::string job, out, method = "dda", rate;
+    PatternArgs pattern;
     bool json = false;
   };
   auto o = std::make_shared<Opts>();
   CLI::App* c = app.add_subcommand(
       "dda", "Step a job on a Cartesian machine: DDA interpolation of lines and arcs, or exact step times");
   c->add_option("job", o->job, "job file (TOML)")->required();
+  add_pattern_options(c, o->pattern);
   c->add_option("-o,--output", o->out, "write the step tape (axes x and y) to this file");
   c->add_option("--method", o->method, "dda (linear and circular DDAs, feed accumulator) or exact")
       ->check(CLI::IsMember({"dda", "exact"}));
@@ -120,7 +122,7 @@ void register_dda(CLI::App& app, Action& action) {
         if (m == CartesianMethod::exact) throw InputError("--rate applies to --method dda only");
         rate = parse_rate_option(o->rate);
       }
-      Job job = load_job(o->job);
+      Job job = load_job_input(o->job, o->pattern);
       const double hz = cartesian_interrupt_rate(job, rate);
       CartesianRun run = run_cartesian_job_to_tape(job, m, hz, o->out);
       if (o->json)

@@ -17,6 +17,7 @@ nlohmann::ordered_json summary_json(const Job& job, const DigitizedJob& d, const
   nlohmann::ordered_json j;
   j["job"] = job.file;
   j["contour"] = job.contour->name();
+  j["contours"] = 1;  // contours in the job, joined in order into one tool path
   j["closed"] = r.closed;
   j["rule"] = to_string(job.motion.rule);
   j["steps_radial"] = r.radial.steps();
@@ -80,16 +81,18 @@ std::string summary_text(const Job& job, const DigitizedJob& d, const std::strin
 void register_digitize(CLI::App& app, Action& action) {
   struct Opts {
     std::string job, out;
+    PatternArgs pattern;
     bool json = false;
   };
   auto o = std::make_shared<Opts>();
   CLI::App* c = app.add_subcommand("digitize", "Digitize a job into a step tape and print its summary");
   c->add_option("job", o->job, "job file (TOML)")->required();
+  add_pattern_options(c, o->pattern);
   c->add_option("-o,--output", o->out, "write the step tape to this file");
   c->add_flag("--json", o->json, "print the summary as one JSON object");
   c->callback([o, &action] {
     action = [o] {
-      Job job = load_job(o->job);
+      Job job = load_job_input(o->job, o->pattern);
       DigitizedJob d;
       if (!o->out.empty()) {
         TapeHeader h = tape_header_for(job);

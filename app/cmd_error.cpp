@@ -18,6 +18,7 @@ std::string fmt(double v, int prec = 6) { return significant(v, prec); }
 
 struct Opts {
   std::string tape, job;
+  PatternArgs pattern;
   bool json = false;
   int segments = 0;
 };
@@ -62,12 +63,13 @@ void register_error(CLI::App& app, Action& action) {
                                             "error, deviation, and for polar tapes the thesis's F_sum, F_dif and F1");
   c->add_option("tape", o->tape, "step tape (polar, any rule; or Cartesian)")->required();
   c->add_option("--job", o->job, "the job the tape was made from (its tool path is the reference)")->required();
+  add_pattern_options(c, o->pattern);
   c->add_flag("--json", o->json, "print the metrics as one JSON object");
   c->add_option("--segments", o->segments, "segments for F_sum, F_dif, F1 (default: the job's [optimize] segments, 100)")
       ->check(CLI::Range(1, 100000));
   c->callback([o, &action] {
     action = [o] {
-      const Job job = load_job(o->job);
+      const Job job = load_job_input(o->job, o->pattern);
       TapeAxes axes;
       {
         TapeReader rd(o->tape);

@@ -31,6 +31,7 @@ json num(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
 struct Opts {
   std::string job, objective, method, hold, map, map_image, write_job;
+  PatternArgs pattern;
   bool json = false, pole_outside = false, torque_limit = false;
   int segments = 0, max_evaluations = 0, threads = -1, map_size = 41, levels = 6, survey = 25;
   double safety_factor = 0.0;
@@ -125,7 +126,7 @@ int run_pareto(const Job& job, PlacementOptions opt, const Opts& o) {
 }
 
 int run(const Opts& o) {
-  Job job = load_job(o.job);
+  Job job = load_job_input(o.job, o.pattern);
   if (o.safety_factor != 0.0) {
     if (!(o.safety_factor >= 1.0)) throw InputError("--safety-factor must be at least 1");
     job.safety_factor = o.safety_factor;
@@ -275,6 +276,7 @@ void register_optimize(CLI::App& app, Action& action) {
                                                "or the thesis's F1), for balanced axis torque, or show the trade-off "
                                                "between the two");
   c->add_option("job", o->job, "job file (TOML); its [optimize] section gives defaults for these options")->required();
+  add_pattern_options(c, o->pattern);
   c->add_option("--objective", o->objective,
                 "area (exact area error), f1 (the thesis's surrogate), balanced (balanced axis torque, Sec. 6.6.2) or "
                 "pareto (area error against the worst torque ratio)")

@@ -14,6 +14,7 @@ namespace {
 
 struct Opts {
   std::string job, output;
+  PatternArgs pattern;
   StudyOptions report;
   double safety_factor = 0.0;
 };
@@ -21,7 +22,7 @@ struct Opts {
 int run(const Opts& o) {
   const std::string ext = std::filesystem::path(o.output).extension().string();
   if (ext != ".html" && ext != ".htm") throw InputError("the report is an .html file", o.output);
-  Job job = load_job(o.job);
+  Job job = load_job_input(o.job, o.pattern);
   if (o.safety_factor != 0.0) {
     if (!(o.safety_factor >= 1.0)) throw InputError("--safety-factor must be at least 1");
     job.safety_factor = o.safety_factor;
@@ -39,6 +40,7 @@ void register_report(CLI::App& app, Action& action) {
   CLI::App* c = app.add_subcommand("report", "The operator's report: one self-contained HTML page to read before "
                                              "running a job (verdict, accuracy, torques, capacity, placement)");
   c->add_option("job", o->job, "job file (TOML) whose machine has dynamics")->required();
+  add_pattern_options(c, o->pattern);
   c->add_option("-o,--output", o->output, "the report (.html)")->required();
   c->add_option("--map-size", o->report.map_size, "poles per side of the pole survey (default 31)")
       ->check(CLI::Range(4, 201));

@@ -46,6 +46,8 @@ class ToolPath final : public Curve {
   const Curve& contour() const { return *contour_; }
   const Placement& placement() const { return placement_; }
   double offset() const { return d_; }  // signed: + left of travel
+  // True when the tool path is the contour itself: no placement, no offset, forward from the contour's start.
+  bool is_contour_itself() const { return pole_ == Vec2{} && d_ == 0.0 && !reverse_ && shift_ == 0.0; }
 
  private:
   CurvePtr contour_;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
@@ -30,6 +31,30 @@ std::string where(const AxisTrack& tr, const TrackExtent& e, double shift, doubl
   const double th0 = tr.q(1, e.piece, e.t), r = tr.q(0, e.piece, e.t) - c * th0, th = th0 + shift;
   return "at path parameter " + fmt(p.u_at(e.t)) + " (r = " + fmt(r * 1e3) + " mm, theta = " + fmt(th) +
          " rad, machine x = " + fmt(r * std::cos(th) * 1e3) + " mm, y = " + fmt(r * std::sin(th) * 1e3) + " mm)";
+}
+
+// Range of r = q0 - c q1 over a coupled arm's track: the ends of the pieces and the roots of dQ0 - c dQ1.
+void ball_radius_range(const AxisTrack& tr, double c, TrackExtent& lo, TrackExtent& hi) {
+  lo = {std::numeric_limits<double>::infinity(), 0, -1.0};
+  hi = {-std::numeric_limits<double>::infinity(), 0, -1.0};
+  auto consider = [&](size_t i, double t) {
+    const double r = tr.q(0, i, t) - c * tr.q(1, i, t);
+    if (r < lo.value) lo = {r, i, t};
+    if (r > hi.value) hi = {r, i, t};
+  };
+  std::vector<double> roots;
+  for (size_t i = 0; i < tr.pieces().size(); ++i) {
+    const TrackPiece& p = tr.pieces()[i];
+    consider(i, -1.0);
+    Cheb d = p.dQ[1];
+    d.scale(-c);
+    for (int k = 0; k <= std::max(d.deg, p.dQ[0].deg); ++k) d.c[k] = (k <= d.deg ? d.c[k] : 0.0) + (k <= p.dQ[0].deg ? p.dQ[0].c[k] : 0.0);
+    d.deg = std::max(d.deg, p.dQ[0].deg);
+    roots.clear();
+    cheb_sign_changes(d, roots);
+    for (double t : roots) consider(i, t);
+  }
+  consider(tr.pieces().size() - 1, 1.0);
 }
 
 struct Emitter {
@@ -132,16 +157,18 @@ double place_on_grid_arm(const AxisTrack& tr, double c, const Grid& grid) {
     double a0 = tr.pieces().front().q_a[1];
     shift = -kTwoPi * std::floor(a0 / kTwoPi);
   }
-  // the radial motor's travel: r itself on a polar machine, q = r + c theta on a coupled arm
-  const TrackExtent rmin = tr.q_min(0), rmax = tr.q_max(0);
-  const double qmin = rmin.value + c * shift, qmax = rmax.value + c * shift;
-  const char* what = c == 0.0 ? "r" : "the radial motor position";
-  if (qmin < grid.r_min)
-    throw InputError(std::string("the path leaves the work area: ") + what + " falls to " + fmt(qmin * 1e3) +
-                     " mm < r_min " + fmt(grid.r_min * 1e3) + " mm " + where(tr, rmin, shift, c));
-  if (grid.r_max && qmax > *grid.r_max)
-    throw InputError(std::string("the path leaves the work area: ") + what + " reaches " + fmt(qmax * 1e3) +
-                     " mm > r_max " + fmt(*grid.r_max * 1e3) + " mm " + where(tr, rmax, shift, c));
+  // the work area bounds the ball's (tool's) radius r = q0 - c q1: r itself on a polar machine; on a coupled arm
+  // the radial motor is geared to the arm and has no travel of its own to bound
+  TrackExtent rmin = tr.q_min(0), rmax = tr.q_max(0);
+  if (c != 0.0) ball_radius_range(tr, c, rmin, rmax);
+  // the ball's r on a coupled arm is q0 - c q1, rounded at the size of c theta: a thousandth of a step is slack
+  const double slack = c == 0.0 ? 0.0 : 1e-3 * grid.dr;
+  if (rmin.value < grid.r_min - slack)
+    throw InputError("the path leaves the work area: r falls to " + fmt(rmin.value * 1e3) + " mm < r_min " +
+                     fmt(grid.r_min * 1e3) + " mm " + where(tr, rmin, shift, c));
+  if (grid.r_max && rmax.value > *grid.r_max + slack)
+    throw InputError("the path leaves the work area: r reaches " + fmt(rmax.value * 1e3) + " mm > r_max " +
+                     fmt(*grid.r_max * 1e3) + " mm " + where(tr, rmax, shift, c));
   return shift;
 }
 

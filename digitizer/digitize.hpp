@@ -41,7 +41,8 @@ class StepSink {
 // the start angle lies in [0, 2 pi)). Throws InputError naming where the path leaves the work area.
 double place_on_grid(const PolarTrack& track, const Grid& grid);
 // The same for an arm whose radial motor stands at q = r + c theta (track axis 0; c in m/rad, 0 on the polar
-// machine) and whose angular motor at theta (axis 1): r_min and r_max bound q (theta_rho.hpp).
+// machine) and whose angular motor at theta (axis 1): r_min and r_max bound the ball's radius r = q - c theta
+// (theta_rho.hpp).
 double place_on_grid_arm(const AxisTrack& track, double c, const Grid& grid);
 
 struct AxisSummary {

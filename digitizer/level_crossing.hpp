@@ -9,16 +9,16 @@
 
 namespace polarcam {
 
-// g, g', g'', S, S' at t in one Clenshaw pass (the recurrences are independent and interleave well); without
-// the arc length (kWithS false) g, g', g'' alone, and s = s1 = 0.
+// g, g', g'', S, S', S'' at t in one Clenshaw pass (the recurrences are independent and interleave well); without
+// the arc length (kWithS false) g, g', g'' alone, and s = s1 = s2 = 0.
 struct GS {
-  double g, g1, g2, s, s1;
+  double g, g1, g2, s, s1, s2;
 };
 template <bool kWithS>
 inline GS eval_gs(const Cheb& g, const Cheb& S, double t) {
   const int n = kWithS ? std::max(g.deg, S.deg) : g.deg;
   const double tt = 2.0 * t;
-  double b1 = 0, b2 = 0, d1 = 0, d2 = 0, e1 = 0, e2 = 0, B1 = 0, B2 = 0, D1 = 0, D2 = 0;
+  double b1 = 0, b2 = 0, d1 = 0, d2 = 0, e1 = 0, e2 = 0, B1 = 0, B2 = 0, D1 = 0, D2 = 0, E1 = 0, E2 = 0;
   for (int k = n; k >= 1; --k) {
     double b0 = g.c[k] + tt * b1 - b2, d0 = 2.0 * b1 + tt * d1 - d2, e0 = 4.0 * d1 + tt * e1 - e2;
     b2 = b1;
@@ -28,15 +28,18 @@ inline GS eval_gs(const Cheb& g, const Cheb& S, double t) {
     e2 = e1;
     e1 = e0;
     if constexpr (kWithS) {
-      double B0 = S.c[k] + tt * B1 - B2, D0 = 2.0 * B1 + tt * D1 - D2;
+      double B0 = S.c[k] + tt * B1 - B2, D0 = 2.0 * B1 + tt * D1 - D2, E0 = 4.0 * D1 + tt * E1 - E2;
       B2 = B1;
       B1 = B0;
       D2 = D1;
       D1 = D0;
+      E2 = E1;
+      E1 = E0;
     }
   }
-  if constexpr (!kWithS) return {g.c[0] + t * b1 - b2, b1 + t * d1 - d2, 2.0 * d1 + t * e1 - e2, 0.0, 0.0};
-  return {g.c[0] + t * b1 - b2, b1 + t * d1 - d2, 2.0 * d1 + t * e1 - e2, S.c[0] + t * B1 - B2, B1 + t * D1 - D2};
+  if constexpr (!kWithS) return {g.c[0] + t * b1 - b2, b1 + t * d1 - d2, 2.0 * d1 + t * e1 - e2, 0.0, 0.0, 0.0};
+  return {g.c[0] + t * b1 - b2, b1 + t * d1 - d2, 2.0 * d1 + t * e1 - e2,
+          S.c[0] + t * B1 - B2, B1 + t * D1 - D2,   2.0 * D1 + t * E1 - E2};
 }
 
 struct LevelCrossing {
@@ -45,8 +48,10 @@ struct LevelCrossing {
 
 // Root of g(t) = y in [lo, hi]; flo = g(lo) - y and fhi = g(hi) - y as the caller knows them (opposite signs,
 // or flo == 0). Newton from `guess` with bisection as the safeguard. The last Newton step is taken without a
-// further evaluation once its own error, g'' dt^2 / (2 g'), is below 1e-15 (t is on [-1, 1]); S(t) comes with it
-// when kWithS (the polar digitizer); a caller that needs S rarely leaves it out of the iteration (s is then 0).
+// further evaluation once its own error, g'' dt^2 / (2 g'), is below 1e-15 (t is on [-1, 1]) and so is that of
+// the arc length extrapolated along it, S'' dt^2 / (2 S') (a coordinate linear in t, as on a theta-rho polyline,
+// converges in one step while S still curves); S(t) comes with it when kWithS (the polar digitizer); a caller
+// that needs S rarely leaves it out of the iteration (s is then 0).
 template <bool kWithS = true>
 inline LevelCrossing solve_crossing(const Cheb& g, const Cheb& S, double y, double lo, double hi, double flo, double fhi,
                                     double guess) {
@@ -72,7 +77,8 @@ inline LevelCrossing solve_crossing(const Cheb& g, const Cheb& S, double y, doub
       const double dt = -f / v.g1;
       if (t + dt > lo && t + dt < hi) {
         tn = t + dt;
-        if (std::abs(dt) <= 1e-4 && std::abs(v.g2 * dt * dt) <= 2e-15 * std::abs(v.g1))
+        if (std::abs(dt) <= 1e-4 && std::abs(v.g2 * dt * dt) <= 2e-15 * std::abs(v.g1) &&
+            (!kWithS || std::abs(v.s2 * dt * dt) <= 2e-15 * std::abs(v.s1)))
           return {tn, v.s + v.s1 * dt};
       }
     }

@@ -7,7 +7,8 @@
 // with c the coupling in metres per radian (the gear ratio; 0: the plain polar machine, negative when turning
 // the arm draws the ball inward). The digitizer steps q on DeltaR = grid.dr and theta on DeltaTheta with the
 // polar machine's rules; tape axis 0 is the radial motor, axis 1 the angular motor. The work area's r_min /
-// r_max bound the radial motor's travel q. A closed path that winds about the pole does not bring the radial
+// r_max bound the ball's radius r (the radial motor is geared to the arm: its position q grows with every turn of
+// a pattern whose theta accumulates, and has no travel of its own to bound). A closed path that winds about the pole does not bring the radial
 // motor back to its start (it ends 2 pi c per turn away), so such a tape is not periodic.
 #include "cam/theta_rho_path.hpp"
 #include "digitizer/digitize.hpp"

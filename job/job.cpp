@@ -91,6 +91,16 @@ Machine parse_machine(Section& machine, const jobfile::MachineTables& tables, js
   Machine m;
   m.grid = parse_grid(machine, pm, m.name);
   if (!m.name.empty()) pm["name"] = m.name;
+  if (auto n = machine.number("coupling")) {
+    if (!std::isfinite(*n) || std::abs(*n) > 1e9) machine.fail("coupling", "must be a finite number of radial steps per revolution of the arm");
+    m.coupling = *n * m.grid.dr / (2.0 * std::numbers::pi);
+    pm["coupling_steps_per_rev"] = *n;
+  }
+  if (auto w = machine.quantity("max_angular_speed", dim::angular_speed)) {
+    if (!(*w > 0.0) || !std::isfinite(*w)) machine.fail("max_angular_speed", "must be a positive angular speed (e.g. \"2 rad/s\" or \"20 rpm\")");
+    m.max_angular_speed = *w;
+    pm["max_angular_speed_rad_s"] = *w;
+  }
   m.dynamics = jobfile::parse_dynamics(machine, tables);
   machine.finish();
   return m;
@@ -153,7 +163,7 @@ Job load_job(const std::string& path) {
   // [contour]
   Section contour = top.subsection("contour");
   json& pc = prov["contour"];
-  job.contour = jobfile::parse_contour(contour, base, pc, job.contour_kind);
+  job.contour = jobfile::parse_contour(contour, base, pc, job.contour_kind, job.machine.grid.r_max);
 
   // [placement]
   Section pl = top.subsection("placement");
@@ -253,13 +263,13 @@ Job load_job(const std::string& path) {
   return job;
 }
 
-Machine load_machine(const std::string& path) {
+Machine load_machine(const std::string& path, json* prov) {
   toml::table root = jobfile::parse_toml_file(path);
   const toml::node* mt = root.get("machine");
   if (!mt || !mt->is_table()) throw InputError("the [machine] section is missing", path);
   Section machine(mt->as_table(), path, "machine");
-  json prov;
-  return parse_machine(machine, {mt->as_table(), path, nullptr, path}, prov);
+  json local;
+  return parse_machine(machine, {mt->as_table(), path, nullptr, path}, prov ? *prov : local);
 }
 
 ToolPathPtr make_job_path(const Job& job) {

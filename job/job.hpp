@@ -40,6 +40,13 @@ struct CartesianSpec {
 struct Machine {
   std::string name;                      // [machine] name (may be empty)
   Grid grid;                             // resolutions, work area, home (docs/job-format.md)
+  // The sand-table arm's radial-angular coupling (digitizer/theta_rho.hpp): the radial motor stands at
+  // q = r + coupling theta; from `coupling`, the radial steps the radial motor must add per revolution of the arm
+  // to keep the ball at its radius (coupling = steps dR / (2 pi)). 0 on a plain polar machine.
+  double coupling = 0.0;                 // m/rad
+  // The arm's top angular speed (rad/s), when given: near the centre, where a turn of the arm hardly moves the
+  // ball, steps are timed so that the arm does not turn faster (docs/patterns.md, "The centre").
+  std::optional<double> max_angular_speed;
   std::optional<MachineModel> dynamics;  // mechanics and motors, when described (docs/dynamics.md)
 };
 
@@ -63,7 +70,8 @@ Job load_job(const std::string& path);
 
 // Reads a machine file (a [machine] table, keys as in a job's [machine]): grid, work area and, when described,
 // mechanics and motors; every key checked. Throws InputError naming the file, line and key.
-Machine load_machine(const std::string& path);
+// `prov`, when given, receives the machine's canonical description (as a job's provenance holds it).
+Machine load_machine(const std::string& path, nlohmann::ordered_json* prov = nullptr);
 
 // The tool-centre path in the machine frame.
 ToolPathPtr make_job_path(const Job& job);

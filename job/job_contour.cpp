@@ -2,6 +2,7 @@
 
 #include <zlib.h>
 
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -14,6 +15,7 @@
 #include "cam/path.hpp"
 #include "cam/point_files.hpp"
 #include "cam/spline.hpp"
+#include "cam/thr_file.hpp"
 
 namespace polarcam::jobfile {
 namespace {
@@ -66,23 +68,47 @@ uint32_t points_crc(const std::vector<Vec2>& pts) {
   return c;
 }
 
-CurvePtr parse_points(Section& s, const std::string& base_dir, nlohmann::ordered_json& prov) {
+bool is_thr(const std::string& file) {
+  std::string ext = std::filesystem::path(file).extension().string();
+  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  return ext == ".thr";
+}
+
+// [contour] kind = "theta-rho" (or a points contour whose file is a .thr): the pattern's own segments, linear in
+// theta and rho.
+CurvePtr parse_theta_rho(Section& s, const std::string& base_dir, nlohmann::ordered_json& prov,
+                         std::optional<double> table_radius) {
+  const std::string file = s.require_string("file");
+  double scale = 0.0;
+  if (s.has("rho_scale")) {
+    scale = s.require_quantity("rho_scale", dim::length);
+    if (!(scale > 0.0)) s.fail("rho_scale", "must be a positive length");
+  } else if (table_radius) {
+    scale = *table_radius;
+  } else {
+    s.fail_section("a theta-rho pattern needs 'rho_scale' (the radius rho = 1 means) or a machine with r_max");
+  }
+  const ThrPattern p = read_thr(resolve(base_dir, file));
+  return theta_rho_contour(p, scale, std::filesystem::path(file).filename().string(), prov);
+}
+
+CurvePtr parse_points(Section& s, const std::string& base_dir, nlohmann::ordered_json& prov,
+                      std::optional<double> table_radius) {
   std::vector<Vec2> pts;
   std::string source;
   const toml::node* inline_pts = s.node("points");
   auto file = s.string("file");
   if ((inline_pts != nullptr) == file.has_value()) s.fail_section("give either 'points' (a list) or 'file' (CSV or .thr)");
+  if (file && is_thr(*file)) {
+    if (s.has("interpolation")) s.fail("interpolation", "does not apply to a .thr file: its points are joined by segments linear in theta and rho");
+    return parse_theta_rho(s, base_dir, prov, table_radius);
+  }
+  const std::string interp = s.string("interpolation").value_or("spline");
+  if (interp != "spline" && interp != "line") s.fail("interpolation", "must be \"spline\" or \"line\"");
   if (file) {
     std::string path = resolve(base_dir, *file);
     source = std::filesystem::path(*file).filename().string();
-    if (std::filesystem::path(path).extension() == ".thr") {
-      double scale = s.require_quantity("rho_scale", dim::length);
-      if (!(scale > 0.0)) s.fail("rho_scale", "must be positive");
-      pts = read_points_thr(path, scale);
-      prov["rho_scale_m"] = scale;
-    } else {
-      pts = read_points_csv(path, unit_of(s));
-    }
+    pts = read_points_csv(path, unit_of(s));
   } else {
     const toml::array* arr = inline_pts->as_array();
     if (!arr) s.fail("points", "expected a list of points [[x, y], ...]");
@@ -114,6 +140,10 @@ CurvePtr parse_points(Section& s, const std::string& base_dir, nlohmann::ordered
   prov["count"] = pts.size();
   prov["closed"] = closed;
   prov["points_crc32"] = points_crc(pts);
+  if (interp == "line") {
+    prov["interpolation"] = "line";
+    return polyline_contour(pts, closed);
+  }
   return make_spline(pts, closed, source);
 }
 
@@ -204,7 +234,48 @@ CurvePtr parse_dxf(Section& s, const std::string& base_dir, nlohmann::ordered_js
 
 }  // namespace
 
-CurvePtr parse_contour(Section& s, const std::string& base_dir, nlohmann::ordered_json& prov, std::string& kind) {
+CurvePtr polyline_contour(const std::vector<Vec2>& pts, bool closed) {
+  std::vector<PathSegment> segs;
+  for (size_t i = 1; i < pts.size(); ++i) {
+    if (pts[i] == (segs.empty() ? pts[0] : segs.back().to)) continue;  // repeated points are merged
+    PathSegment seg;
+    seg.from = segs.empty() ? pts[0] : segs.back().to;
+    seg.to = pts[i];
+    segs.push_back(seg);
+  }
+  if (segs.empty()) throw InputError("a polyline needs two distinct points");
+  if (closed && !(segs.back().to == pts[0])) {
+    PathSegment seg;
+    seg.from = segs.back().to;
+    seg.to = pts[0];
+    segs.push_back(seg);
+  }
+  return make_path(std::move(segs), closed);
+}
+
+CurvePtr theta_rho_contour(const ThrPattern& p, double rho_scale, const std::string& source,
+                           nlohmann::ordered_json& prov) {
+  std::vector<ThetaRho> v = p.vertices;
+  for (ThetaRho& x : v) x.rho *= rho_scale;
+  // merging in normalised units first, then scaling, cannot make two neighbours equal: scaling is monotone
+  uint32_t c = static_cast<uint32_t>(crc32(0L, Z_NULL, 0));
+  for (const ThetaRho& x : p.vertices) {
+    double tr[2] = {x.theta, x.rho};
+    c = static_cast<uint32_t>(crc32(c, reinterpret_cast<const Bytef*>(tr), sizeof tr));
+  }
+  prov["kind"] = "theta-rho";
+  prov["file"] = source;
+  prov["rho_scale_m"] = rho_scale;
+  prov["count"] = v.size();
+  prov["merged"] = p.merged;
+  prov["vertices_crc32"] = c;
+  CurvePtr curve = make_theta_rho_path(std::move(v), "theta-rho " + source);
+  prov["closed"] = curve->closed();
+  return curve;
+}
+
+CurvePtr parse_contour(Section& s, const std::string& base_dir, nlohmann::ordered_json& prov, std::string& kind,
+                       std::optional<double> table_radius) {
   if (!s.present()) throw InputError("the [contour] section is missing", s.file());
   kind = s.require_string("kind");
   prov["kind"] = kind;
@@ -305,14 +376,16 @@ CurvePtr parse_contour(Section& s, const std::string& base_dir, nlohmann::ordere
       c = make_parametric_expr(x, y, *t0, *t1, closed.value_or(false), unit, k);
       if (!closed && closed_auto(*c)) c = make_parametric_expr(x, y, *t0, *t1, true, unit, k);
     } else if (kind == "points") {
-      c = parse_points(s, base_dir, prov);
+      c = parse_points(s, base_dir, prov, table_radius);
+    } else if (kind == "theta-rho") {
+      c = parse_theta_rho(s, base_dir, prov, table_radius);
     } else if (kind == "dxf") {
       c = parse_dxf(s, base_dir, prov);
     } else if (kind == "path") {
       c = parse_path(s, prov);
     } else {
       s.fail("kind", "unknown contour kind '" + kind +
-                         "' (circle, line, limacon, witch, serpentine, spiral, rose, polar, cartesian, parametric, points, path, dxf)");
+                         "' (circle, line, limacon, witch, serpentine, spiral, rose, polar, cartesian, parametric, points, theta-rho, path, dxf)");
     }
   } catch (const InputError& e) {
     if (e.names(s.file())) throw;

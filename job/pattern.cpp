@@ -4,24 +4,112 @@
 #include <cctype>
 #include <filesystem>
 
+#include "cam/dxf_import.hpp"
 #include "cam/error.hpp"
+#include "cam/path.hpp"
+#include "cam/point_files.hpp"
+#include "cam/thr_file.hpp"
+#include "job/job_contour.hpp"
+#include "job/job_dynamics.hpp"
+#include "job/job_optimize.hpp"
+#include "job/toml_section.hpp"
 
 namespace polarcam {
+namespace {
 
-bool is_pattern_file(const std::string& path) {
+using json = nlohmann::ordered_json;
+
+std::string extension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+// The contour of a pattern file, in the machine's frame (the pattern's origin is the machine pole).
+CurvePtr pattern_contour(const std::string& path, const Machine& m, json& prov, std::string& kind) {
+  const std::string ext = extension(path);
+  const std::string name = std::filesystem::path(path).filename().string();
+  if (ext == ".thr") {
+    kind = "theta-rho";
+    if (!m.grid.r_max)
+      throw InputError("the machine has no r_max: a theta-rho pattern's rho = 1 is the table's radius r_max", "--machine");
+    return jobfile::theta_rho_contour(read_thr(path), *m.grid.r_max, name, prov);
+  }
+  if (ext == ".csv") {
+    kind = "points";
+    std::vector<Vec2> pts = read_points_csv(path, 1e-3);
+    const bool closed = pts.size() > 2 && pts.front() == pts.back();
+    prov["kind"] = "points";
+    prov["file"] = name;
+    prov["unit_m"] = 1e-3;
+    prov["interpolation"] = "line";
+    prov["count"] = pts.size();
+    prov["closed"] = closed;
+    return in_file(path, [&] { return jobfile::polyline_contour(pts, closed); });
+  }
+  if (ext == ".dxf") {
+    kind = "dxf";
+    DxfOptions o;
+    o.unit_m = 1e-3;
+    DxfPath d = read_dxf_path(path, o);
+    prov["kind"] = "dxf";
+    prov["file"] = name;
+    prov["unit_m"] = o.unit_m;
+    prov["entities"] = d.entities;
+    prov["closed"] = d.closed;
+    const bool closed = d.closed;
+    return in_file(path, [&] { return make_path(std::move(d.segments), closed); });
+  }
+  throw InputError("SVG drawings are not read as patterns yet; convert it to DXF or give a job file", path);
+}
+
+Job pattern_job(const std::string& path, const PatternOptions& o) {
+  if (o.machine_file.empty())
+    throw InputError("a pattern file needs the machine that draws it: --machine FILE (e.g. examples/machines/sand-table.toml)", "--machine");
+  if (!o.speed) throw InputError("a pattern file needs the speed along it: --speed (e.g. \"40 mm/s\")", "--speed");
+  if (!(*o.speed > 0.0)) throw InputError("must be a positive speed", "--speed");
+  Job job;
+  job.file = path;
+  json prov;
+  prov["format"] = "polarcam-job/1";
+  job.machine = load_machine(o.machine_file, &prov["machine"]);
+  job.contour = pattern_contour(path, job.machine, prov["contour"], job.contour_kind);
+  prov["placement"] = {{"C_m", 0.0}, {"beta_rad", 0.0}};
+  job.tool.side = ToolSide::left;
+  prov["tool"] = {{"radius_m", 0.0}, {"side", "left"}};
+  job.motion.speed = *o.speed;
+  job.motion.rule = StepRule::nearest;
+  prov["motion"] = {{"speed_mps", *o.speed}, {"rule", "nearest"}, {"direction", "forward"}};
+  job.cartesian.resolution = job.machine.grid.dr;
+  job.cartesian.tolerance = 0.25 * job.machine.grid.dr;
+  // the optional tables of a job, absent: their defaults
+  jobfile::Section none(nullptr, path, "optimize");
+  job.optimize = jobfile::parse_optimize(none);
+  job.load = jobfile::parse_load(jobfile::Section(nullptr, path, "load"));
+  job.safety_factor = jobfile::parse_limits(jobfile::Section(nullptr, path, "limits"));
+  job.provenance = std::move(prov);
+  return job;
+}
+
+}  // namespace
+
+bool is_pattern_file(const std::string& path) {
+  const std::string ext = extension(path);
   return ext == ".thr" || ext == ".svg" || ext == ".dxf" || ext == ".csv";
 }
 
 Job load_job_or_pattern(const std::string& path, const PatternOptions& o) {
-  if (is_pattern_file(path)) throw InputError("pattern files are not read yet", path);
-  if (!o.machine_file.empty()) throw InputError("--machine applies to pattern files; a job names its machine in [machine]", "--machine");
+  if (is_pattern_file(path)) return pattern_job(path, o);
+  if (!o.machine_file.empty())
+    throw InputError("applies to pattern files (.thr, .svg, .dxf, .csv); a job file names its machine in [machine]", "--machine");
   Job job = load_job(path);
   if (o.speed) {
     if (!(*o.speed > 0.0)) throw InputError("must be a positive speed", "--speed");
     job.motion.speed = *o.speed;
     job.motion.table.clear();
+    job.motion.accel.reset();
+    job.provenance["motion"].erase("speed_profile");
+    job.provenance["motion"].erase("accel_mps2");
     job.provenance["motion"]["speed_mps"] = *o.speed;
   }
   return job;

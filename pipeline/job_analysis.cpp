@@ -1,5 +1,7 @@
 #include "pipeline/job_analysis.hpp"
 
+#include "pipeline/job_tape.hpp"
+
 #include "cam/error.hpp"
 
 namespace polarcam {
@@ -12,7 +14,7 @@ PreparedDynamics prepare_dynamics(const Job& job) {
   PreparedDynamics p;
   p.path = make_job_path(job);
   try {
-    p.track = PolarTrack::build(*p.path);
+    p.track = job_polar_track(job, *p.path);
     p.theta_shift = place_on_grid(p.track, job.machine.grid);
     p.side = tool_side_sign(*job.contour, job.tool, job.motion.travel);
   } catch (const InputError& e) {

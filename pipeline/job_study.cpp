@@ -1,5 +1,6 @@
 #include "pipeline/job_study.hpp"
 
+#include "pipeline/job_tape.hpp"
 #include "cam/error.hpp"
 #include "pipeline/job_placement.hpp"
 
@@ -29,7 +30,7 @@ JobStudy study_job(const Job& job, const StudyOptions& o) {
   // --- the tape: digitize once, with the error meters and a log of the steps
   st.path = make_job_path(job);
   try {
-    const PolarTrack track = PolarTrack::build(*st.path);
+    const PolarTrack track = job_polar_track(job, *st.path);
     const SpeedProfilePtr prof = make_job_profile(job, track.length());
     ErrorMeters meters;
     meters.reset(*st.path, track, job.machine.grid, job.optimize.segments);

@@ -1,8 +1,10 @@
 #include "pipeline/job_tape.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "cam/error.hpp"
+#include "digitizer/theta_rho.hpp"
 
 #ifndef POLARCAM_VERSION
 #define POLARCAM_VERSION "0.0.0"
@@ -44,13 +46,42 @@ void complete_header(TapeHeader& h, const DigitizeResult& r) {
   h.path_length_m = r.path_length_m;
 }
 
+const ThetaRhoPath* job_theta_rho_path(const Job& job, const Curve& path) {
+  const auto* tp = dynamic_cast<const ToolPath*>(&path);
+  if (!tp || !tp->is_contour_itself()) return nullptr;
+  (void)job;
+  return as_theta_rho_path(tp->contour());
+}
+
+double job_timing_radius(const Job& job) {
+  if (!job.machine.max_angular_speed) return 0.0;
+  double v = job.motion.speed;
+  for (const SpeedStation& st : job.motion.table) v = std::max(v, st.v);
+  return v / *job.machine.max_angular_speed;
+}
+
+PolarTrack job_polar_track(const Job& job, const Curve& path) {
+  return in_file(job.file, [&] {
+    if (const ThetaRhoPath* trp = job_theta_rho_path(job, path)) return polyline_polar_track(*trp, job_timing_radius(job));
+    return PolarTrack::build(path);
+  });
+}
+
 DigitizedJob digitize_job(const Job& job, StepSink* sink) {
   DigitizedJob d;
   d.path = make_job_path(job);
+  d.track = job_polar_track(job, *d.path);
   try {
-    d.track = PolarTrack::build(*d.path);
     d.profile = make_job_profile(job, d.track.length());
-    d.result = digitize(d.track, job.machine.grid, job.motion.rule, *d.profile, sink);
+    const double c = job.machine.coupling;
+    if (c == 0.0) {
+      d.result = digitize(d.track, job.machine.grid, job.motion.rule, *d.profile, sink);
+    } else {
+      // the coupled arm's radial motor: its own track, the same arc length
+      const ThetaRhoPath* trp = job_theta_rho_path(job, *d.path);
+      const ThetaRhoTrack arm = trp ? ThetaRhoTrack::build(*trp, c, job_timing_radius(job)) : ThetaRhoTrack::build(*d.path, c);
+      d.result = digitize(arm, job.machine.grid, job.motion.rule, *d.profile, sink);
+    }
   } catch (const InputError& e) {
     throw e.in_file(job.file);
   }

@@ -3,6 +3,7 @@
 #include <string>
 
 #include "job/job.hpp"
+#include "cam/theta_rho_path.hpp"
 #include "digitizer/tape.hpp"
 
 namespace polarcam {
@@ -11,6 +12,16 @@ namespace polarcam {
 TapeHeader tape_header_for(const Job& job);
 // Fields known after: start/end nodes, duration, closure, path length.
 void complete_header(TapeHeader& h, const DigitizeResult& r);
+
+// The theta-rho polyline the job's tool path is, when it is one (a theta-rho contour drawn as it is: no
+// placement, no tool radius, forward from its start); nullptr otherwise.
+const ThetaRhoPath* job_theta_rho_path(const Job& job, const Curve& path);
+// Near the centre of a theta-rho path, the radius whose arc times a turn of the arm (digitizer/theta_rho.hpp):
+// the job's top speed over the machine's max_angular_speed, 0 when the machine gives none.
+double job_timing_radius(const Job& job);
+// The polar track (r, theta) of a path of the job: from the vertices of a theta-rho polyline (exact through the
+// centre), else from x and y. Errors name the job file.
+PolarTrack job_polar_track(const Job& job, const Curve& path);
 
 struct DigitizedJob {
   ToolPathPtr path;

@@ -1,5 +1,6 @@
 #include "pipeline/tape_metrics.hpp"
 
+#include "pipeline/job_tape.hpp"
 #include "pipeline/job_cartesian.hpp"
 #include "cam/error.hpp"
 #include "digitizer/tape.hpp"
@@ -9,7 +10,7 @@ namespace polarcam {
 
 PolarTapeMetrics polar_tape_metrics(const Job& job, const std::string& tape, int segments) {
   const ToolPathPtr path = make_job_path(job);
-  const PolarTrack track = in_file(job.file, [&] { return PolarTrack::build(*path); });
+  const PolarTrack track = job_polar_track(job, *path);
   TapeReader rd(tape);
   const TapeHeader& h = rd.header();
   if (h.axes != TapeAxes::polar) throw InputError("a Cartesian tape, not a polar one", tape);

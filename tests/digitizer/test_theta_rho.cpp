@@ -187,14 +187,27 @@ TEST(ThetaRho, WindingWithCouplingDoesNotCloseTheRadialMotor) {
   EXPECT_FALSE(tp.res.returns_to_start);
 }
 
-TEST(ThetaRho, RadialTravelIsCheckedOnTheMotorPosition) {
+TEST(ThetaRho, TheWorkAreaBoundsTheBallNotTheGearedRadialMotor) {
   Grid g = thesis_grid();
   g.r_min = 0.04;
+  g.r_max = 0.06;
   auto circle = make_circle({0.0, 0.0}, 0.05);
-  // r stays at 0.05 m but with c = -0.003 m/rad the radial motor goes down to 0.05 - 0.003 * 2 pi < 0.04
+  // r stays at 0.05 m; with c = -0.003 m/rad the radial motor itself goes down to 0.05 - 0.003 * 2 pi < 0.04,
+  // which is no limit: it is geared to the arm
   const ThetaRhoTrack tr = ThetaRhoTrack::build(*circle, -0.003);
   auto prof = make_constant_speed(0.02, tr.length());
-  EXPECT_THROW(digitize(tr, g, StepRule::nearest, *prof, nullptr), InputError);
-  const ThetaRhoTrack plain = ThetaRhoTrack::build(*circle, 0.0);
-  EXPECT_NO_THROW(digitize(plain, g, StepRule::nearest, *prof, nullptr));
+  EXPECT_NO_THROW(digitize(tr, g, StepRule::nearest, *prof, nullptr));
+  // the ball's radius is bounded: a circle of radius 49.5 mm 2 mm off the pole reaches r = 51.5 mm
+  auto off = make_circle({0.002, 0.0}, 0.0495);
+  const ThetaRhoTrack tr2 = ThetaRhoTrack::build(*off, -0.003);
+  auto prof2 = make_constant_speed(0.02, tr2.length());
+  g.r_max = 0.0514;
+  try {
+    digitize(tr2, g, StepRule::nearest, *prof2, nullptr);
+    FAIL() << "expected the path to leave the work area";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("r reaches 51.5 mm"), std::string::npos) << e.what();
+  }
+  g.r_max = 0.0516;
+  EXPECT_NO_THROW(digitize(tr2, g, StepRule::nearest, *prof2, nullptr));
 }

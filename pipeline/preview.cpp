@@ -1,0 +1,156 @@
+#include "pipeline/preview.hpp"
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "cam/error.hpp"
+#include "digitizer/replay.hpp"
+#include "digitizer/tape.hpp"
+#include "pipeline/job_tape.hpp"
+
+namespace polarcam {
+namespace {
+
+// Keeps a node walk as a polyline of points at least `res` apart (and always the last one).
+class Thinner {
+ public:
+  Thinner(Polyline& out, double res) : out_(out), res2_(res * res) {}
+  void add(double x, double y) {
+    last_[0] = x, last_[1] = y, pending_ = true;
+    if (!out_.x.empty()) {
+      const double dx = x - out_.x.back(), dy = y - out_.y.back();
+      if (dx * dx + dy * dy < res2_) return;
+    }
+    out_.x.push_back(x);
+    out_.y.push_back(y);
+    pending_ = false;
+  }
+  void finish() {
+    if (pending_) out_.x.push_back(last_[0]), out_.y.push_back(last_[1]);
+  }
+
+ private:
+  Polyline& out_;
+  double res2_;
+  double last_[2] = {0, 0};
+  bool pending_ = false;
+};
+
+// The machine's position at node (n, m): a coupled arm's radial motor stands at q = r + c theta.
+struct NodeMap {
+  double dr, dtheta, c;
+  void xy(const int64_t node[2], double& x, double& y) const {
+    const double th = static_cast<double>(node[1]) * dtheta;
+    const double r = static_cast<double>(node[0]) * dr - c * th;
+    x = r * std::cos(th) * 1e3;
+    y = r * std::sin(th) * 1e3;
+  }
+};
+
+class NodeSink : public StepSink {
+ public:
+  NodeSink(const NodeMap& map, Thinner& th, const int64_t start[2]) : map_(map), th_(th) {
+    node_[0] = start[0], node_[1] = start[1];
+    double x, y;
+    map_.xy(node_, x, y);
+    th_.add(x, y);
+  }
+  void step(int axis, int dir, int64_t) override {
+    node_[axis] += dir;
+    ++steps;
+    double x, y;
+    map_.xy(node_, x, y);
+    th_.add(x, y);
+  }
+  uint64_t steps = 0;
+
+ private:
+  const NodeMap& map_;
+  Thinner& th_;
+  int64_t node_[2];
+};
+
+}  // namespace
+
+Preview preview_job(const Job& job, double resolution_mm) {
+  Preview pv;
+  pv.title = job.contour->name();
+  pv.r_min_mm = job.machine.grid.r_min * 1e3;
+  if (job.machine.grid.r_max) pv.r_max_mm = *job.machine.grid.r_max * 1e3;
+  // the tape once without a sink for its start node, then again into the node walk
+  const DigitizedJob first = digitize_job(job, nullptr);
+  const NodeMap map{job.machine.grid.dr, job.machine.grid.dtheta, job.machine.coupling};
+  Thinner th(pv.stepped, resolution_mm);
+  const int64_t start[2] = {first.result.start_n, first.result.start_m};
+  NodeSink sink(map, th, start);
+  digitize_job(job, &sink);
+  th.finish();
+  pv.steps = sink.steps;
+  // the tool path, and where the tool is slower than asked: the timing radius r_c near the centre of a theta-rho
+  // path (docs/patterns.md) scales the speed by |P'| / sqrt(|P'|^2 + r_c^2 theta'^2)
+  const double rc = job_theta_rho_path(job, *first.path) ? job_timing_radius(job) : 0.0;
+  const PolarTrack& tr = first.track;
+  bool in_slow = false;
+  for (size_t i = 0; i < tr.pieces().size(); ++i) {
+    const TrackPiece& p = tr.pieces()[i];
+    for (int k = 0; k < 16; ++k) {
+      const double t = -1.0 + 2.0 * k / 16.0;
+      const double r = tr.r(i, t), theta = tr.theta(i, t);
+      const double x = r * std::cos(theta) * 1e3, y = r * std::sin(theta) * 1e3;
+      pv.path.x.push_back(x);
+      pv.path.y.push_back(y);
+      double dr, dth;
+      double f;
+      p.Q[0].eval2(t, f, dr);
+      p.Q[1].eval2(t, f, dth);
+      const double ds2 = dr * dr + r * r * dth * dth;
+      const bool slow = rc > 0.0 && ds2 < 0.99 * 0.99 * (ds2 + rc * rc * dth * dth);
+      if (slow) {
+        if (!in_slow) pv.slowed.emplace_back();
+        pv.slowed.back().x.push_back(x);
+        pv.slowed.back().y.push_back(y);
+      }
+      in_slow = slow;
+    }
+  }
+  const double rb = tr.r(tr.pieces().size() - 1, 1.0), thb = tr.theta(tr.pieces().size() - 1, 1.0);
+  pv.path.x.push_back(rb * std::cos(thb) * 1e3);
+  pv.path.y.push_back(rb * std::sin(thb) * 1e3);
+  pv.start[0] = pv.path.x.front(), pv.start[1] = pv.path.y.front();
+  pv.end[0] = pv.path.x.back(), pv.end[1] = pv.path.y.back();
+  return pv;
+}
+
+Preview preview_tape(const std::string& path, double resolution_mm) {
+  TapeReader rd(path);
+  const TapeHeader& h = rd.header();
+  if (h.axes != TapeAxes::polar) throw InputError("preview draws polar tapes; this one is Cartesian", path);
+  Preview pv;
+  pv.title = std::filesystem::path(path).filename().string();
+  pv.r_min_mm = h.r_min * 1e3;
+  if (h.has_r_max) pv.r_max_mm = h.r_max * 1e3;
+  // the coupling of a sand-table arm, from the machine the provenance records
+  double c = 0.0;
+  const auto prov = nlohmann::json::parse(h.provenance, nullptr, false);
+  if (!prov.is_discarded() && prov.contains("job") && prov["job"].contains("machine") &&
+      prov["job"]["machine"].contains("coupling_steps_per_rev") && prov["job"]["machine"]["coupling_steps_per_rev"].is_number())
+    c = prov["job"]["machine"]["coupling_steps_per_rev"].get<double>() * h.res[0] / (2.0 * M_PI);
+  const NodeMap map{h.res[0], h.res[1], c};
+  Thinner th(pv.stepped, resolution_mm);
+  TapeReplay rp(rd);
+  double x, y;
+  map.xy(h.start, x, y);
+  th.add(x, y);
+  pv.start[0] = x, pv.start[1] = y;
+  MachineStep s;
+  while (rp.next(s)) {
+    map.xy(s.node, x, y);
+    th.add(x, y);
+    ++pv.steps;
+  }
+  th.finish();
+  pv.end[0] = pv.stepped.x.back(), pv.end[1] = pv.stepped.y.back();
+  return pv;
+}
+
+}  // namespace polarcam

@@ -1,0 +1,35 @@
+#pragma once
+// What `polarcam preview` draws, computed: the tool path a job asks for, the motion the machine makes stepping its
+// tape (the nodes it stands on, in order), where it starts and ends, and the stretches where the tool does not
+// move at the requested speed (near the centre of a theta-rho pattern, where the arm runs at its top angular
+// speed). Millimetres about the machine pole; report/preview_figure renders it.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "job/job.hpp"
+
+namespace polarcam {
+
+struct Polyline {
+  std::vector<double> x, y;  // mm
+};
+
+struct Preview {
+  std::string title;
+  std::optional<double> r_min_mm, r_max_mm;  // the work area
+  Polyline path;                 // the job's tool path (empty for a tape alone)
+  Polyline stepped;              // the machine's nodes in order, thinned to points `resolution_mm` apart
+  std::vector<Polyline> slowed;  // stretches of the path where the tool moves below 99 % of the requested speed
+  double start[2] = {0, 0}, end[2] = {0, 0};
+  uint64_t steps = 0;
+};
+
+// A job: its tool path, and the tape digitizing it would write (not written).
+Preview preview_job(const Job& job, double resolution_mm);
+// A tape alone: the nodes its steps walk (a coupled arm's radial motor is taken back to the ball's radius with
+// the coupling its provenance records).
+Preview preview_tape(const std::string& path, double resolution_mm);
+
+}  // namespace polarcam

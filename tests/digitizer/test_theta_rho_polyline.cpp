@@ -1,0 +1,183 @@
+// Theta-rho polylines (cam/theta_rho_path.hpp) stepped from their vertices (digitizer/theta_rho.hpp): every step
+// of both motors against an independent walk of the segments written here. On each segment theta and rho are
+// linear, so a motor's steps fall where its coordinate (rho + c theta, or theta) crosses a level halfway between
+// nodes, at a fraction of the segment found by one division; the time of each is the ball's arc length to that
+// point (composite Gauss-Legendre in long double on sqrt(drho^2 + (rho^2 + r_floor^2) dtheta^2)) over the speed.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include "cam/error.hpp"
+#include "cam/theta_rho_path.hpp"
+#include "digitizer/theta_rho.hpp"
+#include "tests/helpers.hpp"
+
+using namespace polarcam;
+using polarcam::test::RecordingSink;
+
+namespace {
+
+using ld = long double;
+
+// Arc length (timing length) of the segment a -> b from fraction 0 to phi.
+ld seg_len(const ThetaRho& a, const ThetaRho& b, ld phi, ld r_floor) {
+  static const ld x[4] = {0.1834346424956498049394761L, 0.5255324099163289858177390L, 0.7966664774136267395915539L,
+                          0.9602898564975362316835609L};
+  static const ld w[4] = {0.3626837833783619829651504L, 0.3137066458778872873379622L, 0.2223810344533744705443560L,
+                          0.1012285362903762591525314L};
+  const ld dth = (ld)b.theta - a.theta, drho = (ld)b.rho - a.rho;
+  auto g = [&](ld f) {
+    const ld rho = (ld)a.rho + drho * f;
+    return std::sqrt(drho * drho + (rho * rho + r_floor * r_floor) * dth * dth);
+  };
+  const int panels = 64;
+  ld sum = 0;
+  for (int p = 0; p < panels; ++p) {
+    const ld lo = phi * p / panels, hi = phi * (p + 1) / panels, m = 0.5L * (lo + hi), h = 0.5L * (hi - lo);
+    for (int k = 0; k < 4; ++k) sum += h * w[k] * (g(m - h * x[k]) + g(m + h * x[k]));
+  }
+  return sum;
+}
+
+struct RefStep {
+  int axis, dir;
+  ld s;
+  ld dq_ds;  // |d(motor coordinate) / d(arc length)| at the step: how well its place is defined
+  ld q_scale;  // size of the numbers the motor coordinate is computed from (its rounding is 8 eps of it)
+};
+
+// The independent walk: every level crossing of both motors, in order of arc length (radial first on a tie).
+std::vector<RefStep> reference(const std::vector<ThetaRho>& v, const Grid& g, double c, double r_floor,
+                               int64_t& n0, int64_t& m0) {
+  const ld res[2] = {g.dr, g.dtheta};
+  auto q = [&](const ThetaRho& p, int axis) -> ld { return axis == 0 ? (ld)p.rho + (ld)c * p.theta : (ld)p.theta; };
+  n0 = static_cast<int64_t>(std::floor(q(v[0], 0) / res[0] + 0.5L));
+  m0 = static_cast<int64_t>(std::floor(q(v[0], 1) / res[1] + 0.5L));
+  std::vector<RefStep> out;
+  ld s0 = 0;
+  for (size_t k = 0; k + 1 < v.size(); ++k) {
+    std::vector<std::pair<ld, RefStep>> seg;
+    for (int axis = 0; axis < 2; ++axis) {
+      const ld fa = q(v[k], axis) / res[axis], fb = q(v[k + 1], axis) / res[axis];
+      if (fb > fa)
+        for (ld lv = std::floor(fa + 0.5L) + 0.5L; lv <= fb; lv += 1) seg.push_back({(lv - fa) / (fb - fa), {axis, +1, 0}});
+      else if (fb < fa)
+        for (ld lv = std::floor(fa + 0.5L) - 0.5L; lv > fb; lv -= 1) seg.push_back({(lv - fa) / (fb - fa), {axis, -1, 0}});
+    }
+    std::stable_sort(seg.begin(), seg.end(), [](const auto& x, const auto& y) {
+      return x.first < y.first || (x.first == y.first && x.second.axis < y.second.axis);
+    });
+    for (auto& [phi, st] : seg) {
+      st.s = s0 + seg_len(v[k], v[k + 1], phi, r_floor);
+      const ld dth = (ld)v[k + 1].theta - v[k].theta, drho = (ld)v[k + 1].rho - v[k].rho;
+      const ld rho = (ld)v[k].rho + drho * phi, th = (ld)v[k].theta + dth * phi;
+      const ld ds = std::sqrt(drho * drho + (rho * rho + (ld)r_floor * r_floor) * dth * dth);
+      st.dq_ds = std::abs(st.axis == 0 ? drho + (ld)c * dth : dth) / ds;
+      st.q_scale = st.axis == 0 ? std::abs(rho) + std::abs((ld)c * th) : std::abs(th);
+      out.push_back(st);
+    }
+    s0 += seg_len(v[k], v[k + 1], 1.0L, r_floor);
+  }
+  return out;
+}
+
+void expect_matches_reference(const std::vector<ThetaRho>& v, const Grid& g, double c, double r_floor, double speed) {
+  auto curve = make_theta_rho_path(v, "test pattern");
+  const auto& path = *as_theta_rho_path(*curve);
+  ThetaRhoTrack tr = ThetaRhoTrack::build(path, c, r_floor);
+  auto prof = make_constant_speed(speed, tr.length());
+  RecordingSink sink;
+  DigitizeResult res = digitize(tr, g, StepRule::nearest, *prof, &sink);
+  int64_t n0, m0;
+  std::vector<RefStep> ref = reference(v, g, c, r_floor, n0, m0);
+  EXPECT_EQ(res.start_n, n0);
+  EXPECT_EQ(res.start_m, m0);
+  ASSERT_EQ(sink.steps.size(), ref.size());
+  int64_t n = n0, m = m0;
+  for (size_t i = 0; i < ref.size(); ++i) {
+    ASSERT_EQ(sink.steps[i].axis, ref[i].axis) << "step " << i;
+    ASSERT_EQ(sink.steps[i].dir, ref[i].dir) << "step " << i;
+    const ld t_ref = ref[i].s / speed * 1e9L;
+    // 1 ns, and more only where the motor barely moves along the path, so that the rounding of its coordinate
+    // in double (a few units in the last place) moves the crossing further than 1 ns
+    const ld tol = 1.0L + 8 * 2.2e-16L * ref[i].q_scale / ref[i].dq_ds / speed * 1e9L;
+    ASSERT_LE(std::abs((ld)sink.steps[i].t_ns - t_ref), tol) << "step " << i << " dq/ds " << (double)ref[i].dq_ds;
+    (ref[i].axis == 0 ? n : m) += ref[i].dir;
+  }
+  EXPECT_EQ(res.end_n, n);
+  EXPECT_EQ(res.end_m, m);
+}
+
+Grid coarse_grid() {
+  Grid g;
+  g.dr = 0.2e-3;
+  g.steps_per_rev = 1600;
+  g.dtheta = dtheta_from_steps(g.steps_per_rev);
+  return g;
+}
+
+// A pattern of our own: cumulative theta far past +-100 rad, through the centre, back and forth.
+std::vector<ThetaRho> wild_pattern() {
+  const double R = 0.2;
+  std::vector<ThetaRho> v;
+  double th = 0.3;
+  for (int i = 0; i < 40; ++i) {
+    const double rho = R * (i % 7 == 3 ? 0.0 : 0.5 + 0.45 * std::sin(1.7 * i));
+    v.push_back({th, rho});
+    th += (i < 25 ? 6.1 : -13.5) + 0.37 * std::cos(2.3 * i);  // out past +140 rad, then back below -40 rad
+  }
+  return v;
+}
+
+}  // namespace
+
+TEST(ThetaRhoPolyline, StepsMatchAnIndependentWalkOfTheSegments) {
+  const auto v = wild_pattern();
+  double lo = 1e9, hi = -1e9;
+  for (const auto& p : v) lo = std::min(lo, p.theta), hi = std::max(hi, p.theta);
+  ASSERT_GT(hi, 100.0);  // the pattern does what the test says it does
+  ASSERT_LT(lo, -30.0);
+  expect_matches_reference(v, coarse_grid(), 0.0, 0.0, 0.04);
+}
+
+TEST(ThetaRhoPolyline, CoupledArmAndTimingRadiusMatchTheWalk) {
+  auto v = wild_pattern();
+  // a turn of the arm at the centre (no ball motion): timed by the timing radius
+  v.insert(v.begin() + 4, {v[3].theta + 2.5, 0.0});
+  ASSERT_EQ(v[3].rho, 0.0);
+  const double c = 0.2e-3 * 3200 / (2 * std::numbers::pi) * 0.01;  // 0.032 radial steps per angular step
+  expect_matches_reference(v, coarse_grid(), c, 0.004, 0.04);
+  expect_matches_reference(v, coarse_grid(), -c, 0.004, 0.03);
+}
+
+TEST(ThetaRhoPolyline, AnArmTurnAtTheCentreNeedsATimingRadius) {
+  std::vector<ThetaRho> v = {{0.0, 0.1}, {0.0, 0.0}, {3.0, 0.0}, {3.0, 0.1}};
+  auto curve = make_theta_rho_path(v, "turn");
+  try {
+    (void)ThetaRhoTrack::build(*as_theta_rho_path(*curve), 0.0, 0.0);
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.place(), "segment 2 (points 2-3)");
+    EXPECT_NE(std::string(e.what()).find("max_angular_speed"), std::string::npos);
+  }
+  // with a timing radius the turn takes the time of an arc of that radius
+  ThetaRhoTrack tr = ThetaRhoTrack::build(*as_theta_rho_path(*curve), 0.0, 0.01);
+  EXPECT_NEAR(tr.length(), 0.1 + 3.0 * 0.01 + 0.1, 1e-15);
+}
+
+TEST(ThetaRhoPolyline, PolarTrackOfAPolylineIsRAndTheta) {
+  // through the pole and out the other side: r goes to 0 and back, theta continues linearly (the arm's angle)
+  std::vector<ThetaRho> v = {{0.5, 0.08}, {0.5, 0.0}, {0.5 + std::numbers::pi, 0.05}};
+  auto curve = make_theta_rho_path(v, "across");
+  PolarTrack tr = polyline_polar_track(*as_theta_rho_path(*curve), 0.0);
+  EXPECT_DOUBLE_EQ(tr.r_min().value, 0.0);
+  EXPECT_DOUBLE_EQ(tr.r_max().value, 0.08);
+  EXPECT_DOUBLE_EQ(tr.theta_max().value, 0.5 + std::numbers::pi);
+  // second segment: the Archimedean spiral r = 0.05 phi / pi from the pole, length by its closed form
+  const double b = 0.05 / std::numbers::pi, phi = std::numbers::pi;
+  const double spiral = 0.5 * b * (phi * std::sqrt(1 + phi * phi) + std::asinh(phi));
+  EXPECT_NEAR(tr.length(), 0.08 + spiral, 1e-15);
+}
