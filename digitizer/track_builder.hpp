@@ -51,7 +51,8 @@ class TrackBuilder {
     Sample prev = sample(us[0], zero);
     for (size_t i = 1; i < us.size(); ++i) {
       Sample next = sample(us[i], prev.q);
-      fit(prev, next, 0, tr.pieces_);
+      const bool at_cut = i + 1 < us.size() && std::binary_search(cuts.begin() + 1, cuts.end() - 1, us[i]);
+      fit(prev, at_cut ? from_left(next) : next, 0, tr.pieces_);
       prev = next;
       take_end(prev, tr.pieces_.back());  // continuity of an unwrapped angle
     }
@@ -92,6 +93,15 @@ class TrackBuilder {
     if (!std::isfinite(s.v)) throw InputError("the path's tangent is not finite at " + where(u));
     if (!map_.coords(p.p, ref, s.q, s.aux)) throw InputError(std::string("the path ") + Map::kSingular + " at " + where(u));
     return s;
+  }
+  // The sample s at a breakpoint as the end of the piece before it: a curve whose parameter speed |P'| jumps at
+  // the breakpoint (a curve of segments with one parameter unit each) has the speed of its left side there. A speed
+  // that does not jump (beyond 1e-9 relative) is kept as it is, so that such paths are fitted as before, bit for bit.
+  Sample from_left(const Sample& s) const {
+    Sample l = s;
+    const double v = norm(c_.eval(std::nextafter(s.u, -HUGE_VAL), 1).d1);
+    if (std::isfinite(v) && std::abs(v - s.v) > 1e-9 * std::max(v, s.v)) l.v = v;
+    return l;
   }
   // Sample s with its coordinates taken against `ref` again (an angle on the branch of ref).
   void rewrap(Sample& s, const double ref[2]) const { map_.coords(s.p, ref, s.q, s.aux); }

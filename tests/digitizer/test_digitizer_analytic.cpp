@@ -8,6 +8,7 @@
 #include "cam/curves.hpp"
 #include "cam/error.hpp"
 #include "cam/path.hpp"
+#include "cam/segments.hpp"
 #include "cam/spline.hpp"
 #include "tests/helpers.hpp"
 
@@ -247,4 +248,33 @@ TEST(DigitizerAnalytic, PassingCloseToThePoleStaysExact) {
     ASSERT_NEAR(static_cast<double>(s.t_ns), (x + 0.05) / V * 1e9, 1.0) << "angular step " << k;
     ++k;
   }
+}
+
+TEST(DigitizerAnalytic, SegmentCurveStepsAsTheSameArcLengthPath) {
+  // a slot (two lines, two half circles of radius 1 cm) as a path parametrised by arc length and as a curve of
+  // segments with one parameter unit each, whose speed |P'| jumps at every joint: the same steps at the same times
+  const double r = 0.01;
+  auto path = make_path({PathSegment{PathSegment::Kind::line, {0.04, -r}, {0.08, -r}, {}, 0},
+                         make_arc_segment({0.08, -r}, {0.08, 0}, kPi),
+                         PathSegment{PathSegment::Kind::line, {0.08, r}, {0.04, r}, {}, 0},
+                         make_arc_segment({0.04, r}, {0.04, 0}, kPi)},
+                        true);
+  auto segs = make_segment_curve({line_segment({0.04, -r}, {0.08, -r}), arc_segment({0.08, 0}, {r, 0}, {0, r}, -kPi / 2, kPi / 2),
+                                  line_segment({0.08, r}, {0.04, r}), arc_segment({0.04, 0}, {r, 0}, {0, r}, kPi / 2, 3 * kPi / 2)},
+                                 true, "slot");
+  const double L = 2 * 0.04 + 2 * kPi * r;
+  auto a = run_digitizer(*placed(path), thesis_grid(), StepRule::nearest, 0.0152);
+  auto b = run_digitizer(*placed(segs), thesis_grid(), StepRule::nearest, 0.0152);
+  EXPECT_NEAR(b.track.length(), L, 1e-15);
+  EXPECT_NEAR(b.result.path_length_m, L, 1e-15);
+  EXPECT_TRUE(b.result.returns_to_start);
+  ASSERT_EQ(a.steps.size(), b.steps.size());
+  ASSERT_GT(a.steps.size(), 1000u);
+  int64_t worst = 0;
+  for (size_t i = 0; i < a.steps.size(); ++i) {
+    ASSERT_EQ(a.steps[i].axis, b.steps[i].axis) << i;
+    ASSERT_EQ(a.steps[i].dir, b.steps[i].dir) << i;
+    worst = std::max(worst, std::abs(a.steps[i].t_ns - b.steps[i].t_ns));
+  }
+  EXPECT_LE(worst, 1);  // nanosecond rounding of the same time
 }
