@@ -9,7 +9,7 @@
 namespace polarcam {
 
 void cheb_sign_changes(const Cheb& d, std::vector<double>& out) {
-  if (d.max_abs() == 0.0) return;
+  if (d.deg == 0 || d.max_abs() == 0.0) return;  // a constant has no sign change (theta-rho segments: every piece)
   constexpr int kMaxSamples = 48;
   // a degree-d series has at most d - 1 turning points: sample it four times as densely
   const int M = std::min(kMaxSamples, std::max(8, 4 * d.deg));

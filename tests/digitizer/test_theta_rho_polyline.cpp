@@ -70,9 +70,9 @@ std::vector<RefStep> reference(const std::vector<ThetaRho>& v, const Grid& g, do
     for (int axis = 0; axis < 2; ++axis) {
       const ld fa = q(v[k], axis) / res[axis], fb = q(v[k + 1], axis) / res[axis];
       if (fb > fa)
-        for (ld lv = std::floor(fa + 0.5L) + 0.5L; lv <= fb; lv += 1) seg.push_back({(lv - fa) / (fb - fa), {axis, +1, 0}});
+        for (ld lv = std::floor(fa + 0.5L) + 0.5L; lv <= fb; lv += 1) seg.push_back({(lv - fa) / (fb - fa), {axis, +1, 0, 0, 0}});
       else if (fb < fa)
-        for (ld lv = std::floor(fa + 0.5L) - 0.5L; lv > fb; lv -= 1) seg.push_back({(lv - fa) / (fb - fa), {axis, -1, 0}});
+        for (ld lv = std::floor(fa + 0.5L) - 0.5L; lv > fb; lv -= 1) seg.push_back({(lv - fa) / (fb - fa), {axis, -1, 0, 0, 0}});
     }
     std::stable_sort(seg.begin(), seg.end(), [](const auto& x, const auto& y) {
       return x.first < y.first || (x.first == y.first && x.second.axis < y.second.axis);
