@@ -17,7 +17,7 @@ nlohmann::ordered_json summary_json(const Job& job, const DigitizedJob& d, const
   nlohmann::ordered_json j;
   j["job"] = job.file;
   j["contour"] = job.contour->name();
-  j["contours"] = 1;  // contours in the job, joined in order into one tool path
+  j["contours"] = job.contours;  // contours in the job, joined in order into one tool path
   j["closed"] = r.closed;
   j["rule"] = to_string(job.motion.rule);
   j["steps_radial"] = r.radial.steps();

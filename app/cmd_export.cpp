@@ -102,6 +102,7 @@ int run(const Opts& o) {
   check_output_path(o.out);
   PatternOptions po;
   po.machine_file = o.machine;
+  po.tolerance = eo.tolerance;
   if (!o.speed.empty()) po.speed = option_quantity(o.speed, dim::speed, "--speed");
   const Job job = load_job_or_pattern(o.input, po);
   const ExportResult r = export_job(job, eo);

@@ -57,6 +57,7 @@ struct Job {
   Machine machine;                       // [machine], over the machine file it names
   std::string contour_kind;
   CurvePtr contour;                      // in the contour's own frame (origin = contour pole O1)
+  size_t contours = 1;                   // contours of the drawing joined into `contour` (an SVG's subpaths)
   Placement placement;
   ToolSpec tool;
   MotionSpec motion;

@@ -4,10 +4,16 @@
 #include <cctype>
 #include <filesystem>
 
+#include <cmath>
+#include <numbers>
+
 #include "cam/dxf_import.hpp"
 #include "cam/error.hpp"
 #include "cam/path.hpp"
 #include "cam/point_files.hpp"
+#include "cam/segments.hpp"
+#include "cam/svg_import.hpp"
+#include "cam/thr_export.hpp"
 #include "cam/thr_file.hpp"
 #include "job/job_contour.hpp"
 #include "job/job_dynamics.hpp"
@@ -26,7 +32,8 @@ std::string extension(const std::string& path) {
 }
 
 // The contour of a pattern file, in the machine's frame (the pattern's origin is the machine pole).
-CurvePtr pattern_contour(const std::string& path, const Machine& m, json& prov, std::string& kind) {
+CurvePtr pattern_contour(const std::string& path, const Machine& m, double tolerance, json& prov, std::string& kind,
+                         size_t& contours) {
   const std::string ext = extension(path);
   const std::string name = std::filesystem::path(path).filename().string();
   if (ext == ".thr") {
@@ -60,7 +67,42 @@ CurvePtr pattern_contour(const std::string& path, const Machine& m, json& prov, 
     const bool closed = d.closed;
     return in_file(path, [&] { return make_path(std::move(d.segments), closed); });
   }
-  throw InputError("SVG drawings are not read as patterns yet; convert it to DXF or give a job file", path);
+  if (ext == ".svg") {
+    kind = "svg";
+    SvgDrawing d = read_svg(path);
+    std::vector<CurvePtr> curves;
+    for (const SvgContour& c : d.contours) curves.push_back(c.curve);
+    // centred on the pole and, on a machine with a rim, scaled so that the drawing's box fits inside it
+    const Box box = bounding_box(curves);
+    const Vec2 centre = 0.5 * (box.lo + box.hi);
+    const double half_diagonal = 0.5 * std::hypot(box.width(), box.height());
+    double scale = 1.0;
+    if (m.grid.r_max && half_diagonal > 0.0) scale = 0.98 * *m.grid.r_max / half_diagonal;
+    for (CurvePtr& c : curves) c = transform_curve(c, scale, -scale * centre);
+    prov["kind"] = "svg";
+    prov["file"] = name;
+    prov["contours"] = curves.size();
+    prov["scale"] = scale;
+    prov["centre_m"] = {centre.x, centre.y};
+    contours = curves.size();
+    if (curves.size() == 1) return curves.front();
+    // several contours: one theta-rho path, joined by the moves a sand table makes between them
+    std::vector<ThetaRho> all;
+    for (size_t i = 0; i < curves.size(); ++i) {
+      std::vector<ThetaRho> v = in_file(path, [&] { return to_theta_rho(*curves[i], tolerance); });
+      if (!all.empty()) {
+        // the next contour on the arm's nearest turn: theta continues from where the last one ended
+        const double shift = 2.0 * std::numbers::pi * std::nearbyint((all.back().theta - v.front().theta) / (2.0 * std::numbers::pi));
+        for (ThetaRho& x : v) x.theta += shift;
+        if (v.front().theta == all.back().theta && v.front().rho == all.back().rho) v.erase(v.begin());
+      }
+      all.insert(all.end(), v.begin(), v.end());
+    }
+    prov["tolerance_m"] = tolerance;
+    prov["vertices"] = all.size();
+    return in_file(path, [&] { return make_theta_rho_path(std::move(all), "svg " + name); });
+  }
+  throw InputError("not a pattern file: give .thr, .svg, .dxf or .csv, or a job file", path);
 }
 
 Job pattern_job(const std::string& path, const PatternOptions& o) {
@@ -73,7 +115,8 @@ Job pattern_job(const std::string& path, const PatternOptions& o) {
   json prov;
   prov["format"] = "polarcam-job/1";
   job.machine = load_machine(o.machine_file, &prov["machine"]);
-  job.contour = pattern_contour(path, job.machine, prov["contour"], job.contour_kind);
+  if (!(o.tolerance > 0.0)) throw InputError("must be a positive length", "--tolerance");
+  job.contour = pattern_contour(path, job.machine, o.tolerance, prov["contour"], job.contour_kind, job.contours);
   prov["placement"] = {{"C_m", 0.0}, {"beta_rad", 0.0}};
   job.tool.side = ToolSide::left;
   prov["tool"] = {{"radius_m", 0.0}, {"side", "left"}};

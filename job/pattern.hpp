@@ -2,7 +2,10 @@
 // Pattern files as jobs: every command that takes a job file also takes a pattern (.thr, .svg, .dxf, .csv) with
 // a machine file (--machine) and a speed (--speed). The job made from a pattern has the pattern as its contour,
 // the machine's pole as the contour's pole (no placement), a tool of zero radius, and the given speed
-// (docs/patterns.md).
+// (docs/patterns.md). An SVG drawing is centred on the pole and scaled to fit the work area (the circle of the
+// machine's r_max, less 2 %); several contours (an SVG's subpaths) are joined in order into one theta-rho path,
+// each contour within `tolerance` of its curve and the connecting moves linear in theta and rho, as a sand table
+// draws them; a single contour keeps its exact curve.
 #include <optional>
 #include <string>
 
@@ -13,6 +16,7 @@ namespace polarcam {
 struct PatternOptions {
   std::string machine_file;        // --machine: required for a pattern, refused for a job file
   std::optional<double> speed;     // --speed (m/s): required for a pattern; overrides a job's [motion] speed
+  double tolerance = 1e-4;         // m: contours of a drawing joined into one theta-rho path stay this close
 };
 
 // True for the file types read as patterns (by extension, case-insensitive): .thr, .svg, .dxf, .csv.

@@ -231,3 +231,18 @@ TEST(Patterns, PreviewDrawsThePatternAndItsTape) {
   EXPECT_NE(read_file(svg).find("<svg"), std::string::npos);
   expect_one_line_error(run_cli("preview " + file + " --machine " + kTable + " --speed \"40 mm/s\" -o " + sc.path("p.jpg")), "-o");
 }
+
+TEST(Patterns, AnSvgDrawingIsCentredScaledToTheTableAndItsContoursJoined) {
+  // the example logo: a ring, the P's outline and counter, and the C: four contours, joined into one path
+  const json j = cli_json(digitize_args(kSource + "/examples/patterns/logo.svg"));
+  EXPECT_EQ(j.value("contours", 0), 4);
+  // scaled so that the drawing's box fits the 200 mm table with 2 % to spare: nothing beyond 196 mm
+  EXPECT_LE(j.value("r_max_path_m", 1.0), 0.196 + 1e-9);
+  EXPECT_GT(j.value("r_max_path_m", 0.0), 0.100);
+  // the same drawing exported as a theta-rho file and read back draws the same steps (the file holds the vertices)
+  Scratch sc;
+  const std::string thr = sc.path("logo.thr");
+  cli_json("export " + kSource + "/examples/patterns/logo.svg --machine " + kTable + " --speed \"40 mm/s\" --format thr -o " + thr + " --json");
+  const json k = cli_json(digitize_args(thr));
+  EXPECT_NEAR(k.value("steps_total", 0.0), j.value("steps_total", 0.0), 4.0);
+}
