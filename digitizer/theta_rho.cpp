@@ -31,6 +31,7 @@ struct PolylineTrackFill {
     tr.pieces_.clear();
     tr.extrema_.clear();
     tr.closed_ = path.closed();
+    tr.pieces_.reserve(v.size() - 1);  // one piece a segment as a rule: no doubling of the largest array
     for (size_t k = 0; k + 1 < v.size(); ++k) {
       const ThetaRho& a = v[k];
       const ThetaRho& b = v[k + 1];
