@@ -5,6 +5,7 @@
 #include <functional>
 #include <string>
 
+#include "cam/units.hpp"
 #include "job/job.hpp"
 
 namespace polarcam::cli {
@@ -18,7 +19,10 @@ struct PatternArgs {
 // with_speed false: the command has a --speed of its own, which the caller copies into a.speed.
 void add_pattern_options(CLI::App* c, PatternArgs& a, bool with_speed = true);
 // The job file or pattern `path` with the pattern options; a bad --speed is an InputError naming it.
-Job load_job_input(const std::string& path, const PatternArgs& a);
+// `tolerance` (m): how close a drawing's joined contours stay to their curves (job/pattern.hpp).
+Job load_job_input(const std::string& path, const PatternArgs& a, double tolerance = 1e-4);
+// The quantity an option gives ("0.1 mm"), of dimension d; InputError naming the option otherwise.
+double option_quantity(const std::string& text, const Dim& d, const std::string& option);
 
 // Adds one subcommand to `app`; when it is chosen, stores what to run in `action`.
 using Register = void(CLI::App& app, Action& action);

@@ -8,24 +8,16 @@
 #include "cam/error.hpp"
 #include "cam/units.hpp"
 #include "io/output.hpp"
-#include "job/pattern.hpp"
 #include "pipeline/job_export.hpp"
 
 namespace polarcam::cli {
 namespace {
 
 struct Opts {
-  std::string input, out, format, tolerance = "0.1 mm", feed_mode, machine, speed;
+  std::string input, out, format, tolerance = "0.1 mm", feed_mode;
+  PatternArgs pattern;
   bool json = false;
 };
-
-double option_quantity(const std::string& text, const Dim& d, const std::string& option) {
-  try {
-    return parse_quantity_as(text, d);
-  } catch (const InputError& e) {
-    throw InputError(e.message(), option);
-  }
-}
 
 nlohmann::ordered_json summary_json(const Job& job, const ExportOptions& eo, const ExportResult& r,
                                     const std::string& out) {
@@ -100,11 +92,7 @@ int run(const Opts& o) {
     else throw InputError("must be inverse-time or axis", "--feed-mode");
   }
   check_output_path(o.out);
-  PatternOptions po;
-  po.machine_file = o.machine;
-  po.tolerance = eo.tolerance;
-  if (!o.speed.empty()) po.speed = option_quantity(o.speed, dim::speed, "--speed");
-  const Job job = load_job_or_pattern(o.input, po);
+  const Job job = load_job_input(o.input, o.pattern, eo.tolerance);
   const ExportResult r = export_job(job, eo);
   write_file_atomic(o.out, r.content);
   if (o.json)
@@ -124,8 +112,7 @@ void register_export(CLI::App& app, Action& action) {
   c->add_option("-o,--output", o->out, "the file to write")->required();
   c->add_option("--tolerance", o->tolerance, "largest distance of the theta-rho segments from the path (default 0.1 mm)");
   c->add_option("--feed-mode", o->feed_mode, "G-code: inverse-time (constant ball speed) or axis (constant axis feed)");
-  c->add_option("--machine", o->machine, "machine file, for a pattern file");
-  c->add_option("--speed", o->speed, "ball (tool) speed, e.g. \"40 mm/s\": required for a pattern, overrides a job's");
+  add_pattern_options(c, o->pattern);
   c->add_flag("--json", o->json, "print the summary as one JSON object");
   c->callback([o, &action] { action = [o] { return run(*o); }; });
 }

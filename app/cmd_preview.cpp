@@ -27,12 +27,7 @@ void register_preview(CLI::App& app, Action& action) {
   c->add_flag("--json", o->json, "print what was drawn as one JSON object");
   c->callback([o, &action] {
     action = [o] {
-      double res = 0.0;
-      try {
-        res = parse_quantity_as(o->resolution, dim::length);
-      } catch (const InputError& e) {
-        throw InputError(e.message(), "--resolution");
-      }
+      const double res = option_quantity(o->resolution, dim::length, "--resolution");
       if (!(res > 0.0)) throw InputError("must be a positive length", "--resolution");
       const std::string ext = std::filesystem::path(o->out).extension().string();
       if (ext != ".png" && ext != ".svg") throw InputError("the picture is written as .png or .svg", "-o");

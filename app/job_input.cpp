@@ -12,16 +12,19 @@ void add_pattern_options(CLI::App* c, PatternArgs& a, bool with_speed) {
     c->add_option("--speed", a.speed, "speed along the path, e.g. \"40 mm/s\" (a pattern needs it; overrides a job's)");
 }
 
-Job load_job_input(const std::string& path, const PatternArgs& a) {
+double option_quantity(const std::string& text, const Dim& d, const std::string& option) {
+  try {
+    return parse_quantity_as(text, d);
+  } catch (const InputError& e) {
+    throw InputError(e.message(), option);
+  }
+}
+
+Job load_job_input(const std::string& path, const PatternArgs& a, double tolerance) {
   PatternOptions o;
   o.machine_file = a.machine;
-  if (!a.speed.empty()) {
-    try {
-      o.speed = parse_quantity_as(a.speed, dim::speed);
-    } catch (const InputError& e) {
-      throw InputError(e.message(), "--speed");
-    }
-  }
+  o.tolerance = tolerance;
+  if (!a.speed.empty()) o.speed = option_quantity(a.speed, dim::speed, "--speed");
   return load_job_or_pattern(path, o);
 }
 
