@@ -5,6 +5,7 @@
 
 #include "app/cli.hpp"
 #include "io/output.hpp"
+#include "io/progress.hpp"
 #include "job/job.hpp"
 #include "pipeline/tape_metrics.hpp"
 #include "cam/error.hpp"
@@ -19,14 +20,17 @@ std::string fmt(double v, int prec = 6) { return significant(v, prec); }
 struct Opts {
   std::string tape, job;
   PatternArgs pattern;
-  bool json = false;
+  bool json = false, quiet = false;
   int segments = 0;
 };
 
 // A Cartesian tape: area error and deviation (F1 is a polar measure).
 int cartesian(const Opts& o, const Job& job) {
   if (o.segments > 0) throw InputError("--segments: F_sum, F_dif and F1 apply to polar tapes only");
-  const CartesianTapeMetrics cm = cartesian_tape_metrics(job, o.tape);
+  const CartesianTapeMetrics cm = [&] {
+    TerminalBar bar("error", o.quiet);  // erased before the output
+    return cartesian_tape_metrics(job, o.tape, bar.callback());
+  }();
   const CartesianErrorMetrics& m = cm.m;
   if (o.json) {
     nlohmann::ordered_json j;
@@ -65,6 +69,7 @@ void register_error(CLI::App& app, Action& action) {
   c->add_option("--job", o->job, "the job the tape was made from (its tool path is the reference)")->required();
   add_pattern_options(c, o->pattern);
   c->add_flag("--json", o->json, "print the metrics as one JSON object");
+  c->add_flag("--quiet", o->quiet, "no progress bar (shown on a terminal only)");
   c->add_option("--segments", o->segments, "segments for F_sum, F_dif, F1 (default: the job's [optimize] segments, 100)")
       ->check(CLI::Range(1, 100000));
   c->callback([o, &action] {
@@ -76,7 +81,10 @@ void register_error(CLI::App& app, Action& action) {
         axes = rd.header().axes;
       }
       if (axes == TapeAxes::cartesian) return cartesian(*o, job);
-      const PolarTapeMetrics pm = polar_tape_metrics(job, o->tape, o->segments);
+      const PolarTapeMetrics pm = [&] {
+        TerminalBar bar("error", o->quiet);  // erased before the output
+        return polar_tape_metrics(job, o->tape, o->segments, bar.callback());
+      }();
       const ErrorMetrics& m = pm.m;
       const Grid& g = pm.grid;
       if (o->json) {

@@ -73,7 +73,7 @@ void register_play(CLI::App& app, Action& action) {
     long long angle_offset = 0;
     unsigned long long resume = 0;
     double tick_ns = 1000;
-    bool simulate = false, json = false;
+    bool simulate = false, json = false, quiet = false;
   };
   auto o = std::make_shared<Opts>();
   CLI::App* c = app.add_subcommand("play", "Play a step tape on a stepper controller over a serial line, or simulate it");
@@ -94,6 +94,7 @@ void register_play(CLI::App& app, Action& action) {
                 "skip the first N machine steps: continue a run that stopped after N confirmed steps (the error "
                 "message of the stopped run gives N; use the same tape, scales and offset)");
   c->add_flag("--json", o->json, "print the result as one JSON object");
+  c->add_flag("--quiet", o->quiet, "no progress bar (shown on a terminal only)");
   c->callback([o, c, &action] {
     action = [o, c] {
       if (!o->simulate && o->port.empty()) throw InputError("play: give --port DEV (a controller) or --simulate");
@@ -183,7 +184,7 @@ void register_play(CLI::App& app, Action& action) {
       HostLink link(port_io, lo);
       proto::Ident id = link.identify();
       Schedule s = compress_schedule(plan, id.tick_ps);
-      const bool tty = ::isatty(2);
+      const bool tty = ::isatty(2) && !o->quiet;
       if (tty) link.on_progress = progress_bar;
       g_stop.store(false);
       auto old = std::signal(SIGINT, on_sigint);

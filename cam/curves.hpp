@@ -1,5 +1,5 @@
 #pragma once
-// The named curves: the thesis's test contours (Eq. 4.18-4.20 of 002_d776f0f2af43efa4.txt), the circle and the
+// The named curves: the thesis's test contours (Eq. 4.18-4.20 of A. Fahim's thesis (1983)), the circle and the
 // straight line, and the sand-table staples (Archimedean spiral, rose). All lengths in metres.
 #include "cam/curve.hpp"
 

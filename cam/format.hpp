@@ -1,6 +1,7 @@
 #pragma once
 // Numbers in messages and reports: v to `digits` significant digits, as a stream prints it by default
 // ("0.0254", "1.5e+06").
+#include <cmath>
 #include <sstream>
 #include <string>
 
@@ -11,6 +12,21 @@ inline std::string significant(double v, int digits = 6) {
   os.precision(digits);
   os << v;
   return os.str();
+}
+
+// A number for a reader, never in exponent form: `digits` significant digits below 10^digits, the nearest whole
+// number above ("0.0254", "57.6", "2910", "55500"). For ratios and factors in messages, not for data.
+inline std::string plain(double v, int digits = 3) {
+  if (!std::isfinite(v)) return v != v ? "nan" : v > 0 ? "infinite" : "-infinite";
+  if (std::abs(v) >= std::pow(10.0, digits)) return significant(std::round(v), 17);
+  return significant(v, digits);
+}
+
+// A fraction for a reader: as a percentage below 1000 % ("57.6 %", "-20 %"), beyond that as a plain ratio
+// ("57.6 times", "2910 times"): a percentage in the thousands, in exponent form ("5.76e+03 %"), says nothing the ratio does not.
+inline std::string share(double fraction, int digits = 3) {
+  if (!(std::abs(fraction) < 10.0)) return plain(fraction, digits) + " times";
+  return significant(100.0 * fraction, digits) + " %";
 }
 
 }  // namespace polarcam

@@ -1,5 +1,5 @@
 #pragma once
-// The software digitizer (Sec. 2.3 and Appendix C of 002_d776f0f2af43efa4.txt, rebuilt): every axis step of a
+// The software digitizer (Sec. 2.3 and Appendix C of A. Fahim's thesis (1983), rebuilt): every axis step of a
 // polar machine, in order, with the exact time at which it is due, for the tool centre moving along the path at
 // the tangential speed of a SpeedProfile.
 //

@@ -1,5 +1,5 @@
 #pragma once
-// The exact area error (Eq. 4.2-4.3 of 002_d776f0f2af43efa4.txt, generalised; docs/area-error.md): the area
+// The exact area error (Eq. 4.2-4.3 of A. Fahim's thesis (1983), generalised; docs/area-error.md): the area
 // enclosed between the tool-centre path and the quasi-static path of the machine, the polyline of radial
 // segments and arcs about the machine pole through the grid nodes the tape visits. Exact up to rounding (the
 // contour is the digitizer's polar track, accurate to rounding; the sector integrals are exact series).

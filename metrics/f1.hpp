@@ -1,5 +1,5 @@
 #pragma once
-// The thesis's surrogate objective for pole placement (Sec. 4.5-4.7 of 002_d776f0f2af43efa4.txt,
+// The thesis's surrogate objective for pole placement (Sec. 4.5-4.7 of A. Fahim's thesis (1983),
 // docs/area-error.md): the contour is cut into n segments; for each, N_R and N_theta are its radial and angular
 // step counts, and with the penalty K / R_m, K = DeltaR / DeltaTheta (a length), applied where N_R > N_theta:
 //   F_sum = sum |N_R + N_theta K/R_m|,  F_dif = sum |N_R - N_theta K/R_m|  (K/R_m -> 1 where N_R <= N_theta),

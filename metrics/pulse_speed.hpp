@@ -1,7 +1,7 @@
 #pragma once
 // The tangential speed of a step stream, measured from its pulse rates: "the frequency of the command pulses is
-// proportional to the velocity of the table in the corresponding direction" (000_4afce2e042f0d022.txt, Sec.
-// 3.2.1). Between two consecutive pulses of one axis, that axis moves one step length in the time between them,
+// proportional to the velocity of the table in the corresponding direction" (M. A. Elbestawi's thesis, McMaster
+// University, 1980, Sec. 3.2.1). Between two consecutive pulses of one axis, that axis moves one step length in the time between them,
 // so its speed over that interval is step_length / interval. The tangential speed at the middle of an interval of
 // one axis is the hypotenuse of that axis's speed and the other axis's speed over its own interval containing the
 // same instant. Every interval of every axis is one sample, weighted by its duration; the statistics are the

@@ -1,5 +1,5 @@
 #pragma once
-// The load-carrying capacity of a placed job (Sec. 6.6.2-6.6.3 of 002_d776f0f2af43efa4.txt, "scaling";
+// The load-carrying capacity of a placed job (Sec. 6.6.2-6.6.3 of A. Fahim's thesis (1983), "scaling";
 // docs/optimum-loading.md): the largest speed, and the largest load (added mass, depth of cut, or tool force), at
 // which the worst torque ratio along the path reaches the limit 1 / safety factor. The thesis scaled the ratios of its
 // optimum by Eq. 6.1-6.12 (linear in the load, quartic in the speed); here the same machine model as `analyze` is

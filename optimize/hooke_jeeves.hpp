@@ -1,5 +1,5 @@
 #pragma once
-// Hooke and Jeeves direct search (Sec. 4.8 of 002_d776f0f2af43efa4.txt and its subroutine HOOKE, App. E):
+// Hooke and Jeeves direct search (Sec. 4.8 of A. Fahim's thesis (1983) and its subroutine HOOKE, App. E):
 // exploratory moves of +-step along each coordinate from a base point, keeping each move that lowers the
 // function; after a successful exploration, pattern moves x_new = x + alpha (x - x_old) followed by exploration
 // while they keep succeeding; when an exploration fails, every step is multiplied by the reduction factor. Stops

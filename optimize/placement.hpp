@@ -1,5 +1,5 @@
 #pragma once
-// Pole placement for minimum contouring error (Sec. 4.4-4.9 of 002_d776f0f2af43efa4.txt; docs/area-error.md).
+// Pole placement for minimum contouring error (Sec. 4.4-4.9 of A. Fahim's thesis (1983); docs/area-error.md).
 //
 // Unknown: the machine pole's position O - O1 = C e^{j beta} relative to the contour pole. Objective: the exact
 // area error of the job's staircase (or the thesis's surrogate F1). Constraints: the whole tool path inside the

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "cam/format.hpp"
 #include "pipeline/job_tape.hpp"
 #include "io/output.hpp"
 #include "pipeline/tape_metrics.hpp"
@@ -416,7 +417,7 @@ void add_verdicts(Comparison& c) {
     if (!s.empty()) s[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(s[0])));
     return s;
   };
-  auto pct = [&](double dv) { return fmt(100.0 * dv / V, 3) + " %"; };
+  auto pct = [&](double dv) { return polarcam::share(dv / V); };
   std::vector<AttributeVerdict>& out = c.verdicts;
 
   {  // Table 3.1: contouring speed

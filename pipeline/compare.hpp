@@ -3,7 +3,7 @@
 // machine of its [machine] and stepped on a Cartesian machine with the same linear resolution (the BLU) and the
 // same tangential speed, both tapes measured by the same meters: step counts, contouring time, tangential speed
 // from the pulse rates, exact area error and deviation against the same tool path, step rates, tape size, and the
-// attributes of Table 3.1 of 002_d776f0f2af43efa4.txt as measured facts (speed scaling without reprocessing,
+// attributes of Table 3.1 of A. Fahim's thesis (1983) as measured facts (speed scaling without reprocessing,
 // size scaling by one axis, resolution at the worst point of the path), with which machine wins on each for this
 // job. The measurements live in digitizer/, machine/ and optimize/; this file only runs them and collects.
 #include <optional>

@@ -75,6 +75,15 @@ double load_display(const Job& job, LoadMeasure m, double v) {
   }
 }
 
+std::optional<double> theoretical_load_factor(const Job& job, const JobCapacity& c) {
+  if (c.measure != LoadMeasure::mass || !c.load_cap.value || !job.machine.dynamics) return std::nullopt;
+  const double mc = job.machine.dynamics->mech.carriage_mass;
+  if (!(mc > 0.0)) return std::nullopt;
+  const double f = *c.load_cap.value / mc;
+  if (!(f > kTheoreticalLoadFactor)) return std::nullopt;
+  return f;
+}
+
 const char* load_display_unit(LoadMeasure m) {
   switch (m) {
     case LoadMeasure::mass: return "kg";

@@ -42,4 +42,10 @@ double load_display(const Job& job, LoadMeasure m, double value);
 const char* load_display_unit(LoadMeasure m);
 const char* load_display_name(LoadMeasure m);
 
+// The largest mass on the carriage as a multiple of the carriage's own mass (M_c), when it is more than
+// kTheoreticalLoadFactor times it: such a load is a limit of the motors' torque only (the arm, the screw, the nut
+// and the bearings are not modelled and would not carry it). nullopt for other measures, no limit, or a smaller one.
+inline constexpr double kTheoreticalLoadFactor = 10.0;
+std::optional<double> theoretical_load_factor(const Job& job, const JobCapacity& c);
+
 }  // namespace polarcam

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "cam/error.hpp"
 #include "digitizer/theta_rho.hpp"
@@ -86,6 +87,24 @@ DigitizedJob digitize_job(const Job& job, StepSink* sink) {
     throw e.in_file(job.file);
   }
   return d;
+}
+
+std::vector<StepRateExcess> step_rate_excess(const Job& job, const DigitizeResult& r) {
+  std::vector<StepRateExcess> out;
+  if (!job.machine.dynamics) return out;
+  const MachineModel& m = *job.machine.dynamics;
+  const Grid& g = job.machine.grid;
+  for (int axis = 0; axis < 2; ++axis) {
+    const StepperMotor& motor = axis == 0 ? m.radial : m.angular;
+    if (!motor.max_step_rate) continue;
+    const double per = axis == 0 ? g.dr * m.mech.k_R * motor.steps_per_rev
+                                 : g.dtheta * m.mech.k_theta * motor.steps_per_rev / (2.0 * std::numbers::pi);
+    const double tape_rate = axis == 0 ? r.radial.max_rate_hz : r.angular.max_rate_hz;
+    const double motor_rate = tape_rate * per;
+    if (std::isfinite(per) && per > 0.0 && motor_rate > *motor.max_step_rate)
+      out.push_back({axis, tape_rate, per, motor_rate, *motor.max_step_rate});
+  }
+  return out;
 }
 
 }  // namespace polarcam

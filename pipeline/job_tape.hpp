@@ -1,6 +1,7 @@
 #pragma once
 // Job -> tape glue: the header a job's tape starts with, and digitizing a job end to end.
 #include <string>
+#include <vector>
 
 #include "job/job.hpp"
 #include "cam/theta_rho_path.hpp"
@@ -32,5 +33,20 @@ struct DigitizedJob {
 
 // Builds the tool path and its track, and digitizes it into `sink` (may be null). Errors name the job file.
 DigitizedJob digitize_job(const Job& job, StepSink* sink);
+
+// A tape axis whose steps come faster than its motor can step ([machine.motor] max_step_rate, in motor steps/s).
+// A tape step is not a motor step: the drive train turns one into `motor_steps_per_tape_step` motor steps
+// (radial: radial_resolution x screw turns per metre x motor steps per turn; angular: the motor steps per arm
+// turn over the tape's angular steps per turn), as the dynamics convert path rates into motor step rates, so the
+// tape's largest rate (V |d step / ds|, geometric) times that is compared with the limit.
+struct StepRateExcess {
+  int axis = 0;                           // 0 radial, 1 angular
+  double tape_rate_hz = 0.0;              // tape steps per second
+  double motor_steps_per_tape_step = 1.0;
+  double motor_rate_hz = 0.0;             // motor steps per second
+  double limit_hz = 0.0;                  // the motor's max_step_rate
+};
+// The axes over their limit (empty for a machine without dynamics or without max_step_rate).
+std::vector<StepRateExcess> step_rate_excess(const Job& job, const DigitizeResult& r);
 
 }  // namespace polarcam

@@ -1,5 +1,7 @@
 #include "pipeline/tape_metrics.hpp"
 
+#include <algorithm>
+
 #include "pipeline/job_tape.hpp"
 #include "pipeline/job_cartesian.hpp"
 #include "cam/error.hpp"
@@ -8,7 +10,7 @@
 
 namespace polarcam {
 
-PolarTapeMetrics polar_tape_metrics(const Job& job, const std::string& tape, int segments) {
+PolarTapeMetrics polar_tape_metrics(const Job& job, const std::string& tape, int segments, const Progress& progress) {
   const ToolPathPtr path = make_job_path(job);
   const PolarTrack track = job_polar_track(job, *path);
   TapeReader rd(tape);
@@ -24,7 +26,11 @@ PolarTapeMetrics polar_tape_metrics(const Job& job, const std::string& tape, int
   ErrorMeters em;
   em.reset(*path, track, g, segments > 0 ? segments : job.optimize.segments);
   StepRecord r;
-  while (rd.next(r)) em.record(r.axis, r.dir);  // the reader checks totals and checksums at the end
+  const double total = static_cast<double>(std::max<uint64_t>(h.record_count, 1));
+  while (rd.next(r)) {  // the reader checks totals and checksums at the end
+    em.record(r.axis, r.dir);
+    if ((rd.records_read() & 0xffff) == 0) report_progress(progress, static_cast<double>(rd.records_read()) / total);
+  }
   try {
     out.m = em.finish(h.start[0], h.start[1]);
   } catch (const InputError& e) {
@@ -33,7 +39,7 @@ PolarTapeMetrics polar_tape_metrics(const Job& job, const std::string& tape, int
   return out;
 }
 
-CartesianTapeMetrics cartesian_tape_metrics(const Job& job, const std::string& tape) {
+CartesianTapeMetrics cartesian_tape_metrics(const Job& job, const std::string& tape, const Progress& progress) {
   const ToolPathPtr path = make_cartesian_job_path(job);
   const CartesianTrack track = in_file(job.file, [&] { return CartesianTrack::build(*path); });
   TapeReader rd(tape);
@@ -48,7 +54,11 @@ CartesianTapeMetrics cartesian_tape_metrics(const Job& job, const std::string& t
   CartesianErrorMeters em;
   em.reset(*path, track, out.blu);
   StepRecord r;
-  while (rd.next(r)) em.record(r.axis, r.dir);
+  const double total = static_cast<double>(std::max<uint64_t>(h.record_count, 1));
+  while (rd.next(r)) {
+    em.record(r.axis, r.dir);
+    if ((rd.records_read() & 0xffff) == 0) report_progress(progress, static_cast<double>(rd.records_read()) / total);
+  }
   try {
     out.m = em.finish(h.start[0], h.start[1]);
   } catch (const InputError& e) {

@@ -7,6 +7,7 @@
 
 #include "job/job.hpp"
 #include "digitizer/tape.hpp"
+#include "io/progress.hpp"
 #include "metrics/cartesian_error.hpp"
 #include "metrics/error_metrics.hpp"
 
@@ -17,14 +18,16 @@ struct PolarTapeMetrics {
   Grid grid;  // the tape's
   TapeRule rule = TapeRule::nearest;
 };
-// `segments`: F_sum, F_dif, F1 segments (0: the job's [optimize] segments).
-PolarTapeMetrics polar_tape_metrics(const Job& job, const std::string& tape, int segments);
+// `segments`: F_sum, F_dif, F1 segments (0: the job's [optimize] segments). `progress`: the share of the tape's
+// records read.
+PolarTapeMetrics polar_tape_metrics(const Job& job, const std::string& tape, int segments,
+                                    const Progress& progress = {});
 
 struct CartesianTapeMetrics {
   CartesianErrorMetrics m;
   double blu = 0.0;  // the tape's
   TapeRule rule = TapeRule::dda;
 };
-CartesianTapeMetrics cartesian_tape_metrics(const Job& job, const std::string& tape);
+CartesianTapeMetrics cartesian_tape_metrics(const Job& job, const std::string& tape, const Progress& progress = {});
 
 }  // namespace polarcam

@@ -144,6 +144,14 @@ std::string verdict_line(const Job& job, const CaseResult& c) {
           axis_name(v.axis), g(av.ratio), g(std::abs(d.torque)), g(d.pullout), g(d.step_rate), g(v.limit),
           g(v.safety_factor), place, g(-100.0 * av.margin, 3));
     }
+    // a step rate over its limit is named even when the torque is what fails first
+    for (int axis = 0; axis < 2; ++axis) {
+      const AxisVerdict& x = axis == 0 ? v.radial : v.angular;
+      if (!x.rate_limit || !(x.rate_margin < 0.0) || (v.failure == Failure::step_rate && axis == v.axis)) continue;
+      const AxisExtremes& e = axis == 0 ? c.analysis.radial : c.analysis.angular;
+      s += fmt::format("; the {} motor must also step at {} Hz, above its limit of {} Hz (at theta = {} rad)",
+                       axis_name(axis), g(e.step_rate.value), g(*x.rate_limit), g(e.step_rate.at.theta));
+    }
   }
   if (c.search.factor && c.speed) {
     const double vp = *c.search.factor * *c.speed;

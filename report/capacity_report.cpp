@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "cam/format.hpp"
+
 namespace polarcam::cli {
 namespace {
 
@@ -51,6 +53,8 @@ json capacity_json(const Job& job, const JobCapacity& c) {
       j["max_force_normal_N"] = *l.value * job.load.force.normal;
     }
     j["load_capped"] = l.capped;
+    const auto tf = theoretical_load_factor(job, c);
+    j["load_theoretical_only"] = tf.has_value();
     j["worst_torque_ratio_at_max_load"] = l.value ? num(l.worst) : json(nullptr);
     j["load_at_speed_mps"] = c.load_speed;
   }
@@ -82,12 +86,16 @@ std::string capacity_text(const Job& job, const JobCapacity& c) {
   if (c.measure != LoadMeasure::none) {
     const LoadCapacity& l = c.load_cap;
     const char* unit = load_display_unit(c.measure);
-    if (l.value)
+    if (l.value) {
       s += fmt::format("  load       largest {} at {} cm/s: {} {}{} (job: {} {}; worst ratio there {})\n",
                        load_display_name(c.measure), g(c.load_speed * 100), g(load_display(job, c.measure, *l.value), 6),
                        unit, l.capped ? " or more" : "", g(load_display(job, c.measure, c.load_at_job)), unit,
                        g(l.worst, 6));
-    else
+      if (const auto tf = theoretical_load_factor(job, c))
+        s += fmt::format("             a theoretical limit of the motors' torque only: {} times the carriage's own {} kg; "
+                         "the arm, screw and bearings are not modelled, check what they can hold\n",
+                         plain(*tf, 3), g(job.machine.dynamics->mech.carriage_mass, 3));
+    } else
       s += fmt::format("  load       even without {} the torque ratios exceed the limit at {} cm/s\n",
                        load_display_name(c.measure), g(c.load_speed * 100));
   }

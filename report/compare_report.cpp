@@ -215,10 +215,11 @@ void write_compare_report(const Comparison& c, const std::string& path) {
 
   int wp = 0, wc = 0, ties = 0;
   for (const AttributeVerdict& v : c.verdicts) (v.winner == "polar" ? wp : v.winner == "cartesian" ? wc : ties) += 1;
-  r.heading(2, "AttributeVerdict for this job");
+  r.heading(2, "Which machine is better for this job");
+  const std::string tied = ties == 0 ? "none is a tie" : ties == 1 ? "one is a tie" : std::to_string(ties) + " are ties";
   r.paragraph("Of the " + std::to_string(c.verdicts.size()) + " attributes below, the polar machine is better on " +
               std::to_string(wp) + ", the " + cartesian_name(c) + " machine on " + std::to_string(wc) + ", and " +
-              std::to_string(ties) + " are a tie. The attributes of the thesis's Table 3.1 (contouring speed, speed "
+              tied + ". The attributes of the thesis's Table 3.1 (contouring speed, speed "
               "scaling, size scaling, accuracy) are measured here, not argued.");
   verdict_table(r, c);
 

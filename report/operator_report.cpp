@@ -14,6 +14,7 @@
 #include "report/html.hpp"
 #include "report/report_figures.hpp"
 #include "cam/error.hpp"
+#include "cam/format.hpp"
 
 #ifndef POLARCAM_VERSION
 #define POLARCAM_VERSION "0.0.0"
@@ -25,7 +26,13 @@ namespace {
 std::string g(double v, int prec = 4) { return std::isfinite(v) ? fmt::format("{:.{}g}", v, prec) : "infinite"; }
 std::string mm(double m, int prec = 4) { return g(m * 1e3, prec) + " mm"; }
 std::string cms(double v, int prec = 4) { return g(v * 1e2, prec) + " cm/s"; }
-std::string pct(double v) { return g(100.0 * v, 3) + " %"; }
+std::string pct(double v) { return share(v); }
+// A drive's margin (limit / ratio - 1): a percentage while it reads as one, else how many times the limit exceeds
+// what the drive needs ("59 times what it needs", never "5.76e+03 %").
+std::string margin_text(double margin) {
+  if (margin < 9.0) return share(margin);
+  return plain(margin + 1.0, 3) + " times what it needs";
+}
 
 std::string placement_text(const Placement& p) {
   return fmt::format("C = {}, beta = {} rad", mm(p.C, 6), g(p.beta, 6));
@@ -106,9 +113,9 @@ OperatorReport operator_report(const Job& job, const JobStudy& study) {
   rep.verdict(v.go, headline, detail);
   rep.table({"drive", "largest torque ratio", "limit", "share of the limit used", "margin"},
             {{"radial (carriage along the arm)", g(v.radial.ratio), g(limit), pct(v.radial.ratio / limit),
-              pct(v.radial.margin)},
+              margin_text(v.radial.margin)},
              {"angular (arm about the pole)", g(v.angular.ratio), g(limit), pct(v.angular.ratio / limit),
-              pct(v.angular.margin)}},
+              margin_text(v.angular.margin)}},
             "Torque ratio = torque the drive needs / torque its motor can give at that speed (pull-out torque). "
             "The job passes when both stay within 1 / safety factor.");
   {
@@ -144,11 +151,20 @@ OperatorReport operator_report(const Job& job, const JobStudy& study) {
       if (fu)
         items.push_back(fmt::format("Speed: the job still passes up to {}{} (now {}).", cms(*fu * cap.top_speed, 4),
                                     cap.speed_cap.capped ? " or more" : "", cms(cap.top_speed, 4)));
-      if (cap.measure != LoadMeasure::none && cap.load_cap.value)
-        items.push_back(fmt::format("Load: up to {} {} of {} at this speed{} (now {} {}).",
-                                    g(load_display(job, cap.measure, *cap.load_cap.value), 4), unit,
-                                    load_display_name(cap.measure), cap.load_cap.capped ? " or more" : "",
-                                    g(load_display(job, cap.measure, cap.load_at_job), 4), unit));
+      if (cap.measure != LoadMeasure::none && cap.load_cap.value) {
+        if (const auto tf = theoretical_load_factor(job, cap))
+          items.push_back(fmt::format("Load: the motors' torque would allow up to {} {} of {} at this speed{} (now {} "
+                                      "{}), {} times the carriage's own mass: a theoretical limit of the motors only; "
+                                      "the arm, screw and bearings are not modelled, check what they can hold.",
+                                      g(load_display(job, cap.measure, *cap.load_cap.value), 4), unit,
+                                      load_display_name(cap.measure), cap.load_cap.capped ? " or more" : "",
+                                      g(load_display(job, cap.measure, cap.load_at_job), 4), unit, plain(*tf, 3)));
+        else
+          items.push_back(fmt::format("Load: up to {} {} of {} at this speed{} (now {} {}).",
+                                      g(load_display(job, cap.measure, *cap.load_cap.value), 4), unit,
+                                      load_display_name(cap.measure), cap.load_cap.capped ? " or more" : "",
+                                      g(load_display(job, cap.measure, cap.load_at_job), 4), unit));
+      }
     }
     if (!dyn.analysis.corners.empty())
       items.push_back(fmt::format("Caution: the path has {} sharp corner(s) where the drives' speeds jump; the model "
@@ -249,7 +265,10 @@ OperatorReport operator_report(const Job& job, const JobStudy& study) {
     if (cap.measure != LoadMeasure::none)
       rows.push_back({fmt::format("largest {} at {}", load_display_name(cap.measure), cms(cap.load_speed)),
                       cap.load_cap.value ? g(load_display(job, cap.measure, *cap.load_cap.value), 5) + " " +
-                                               load_display_unit(cap.measure) + (cap.load_cap.capped ? " or more" : "")
+                                               load_display_unit(cap.measure) + (cap.load_cap.capped ? " or more" : "") +
+                                               (theoretical_load_factor(job, cap)
+                                                    ? " (a theoretical limit of the motors' torque only)"
+                                                    : "")
                                          : "none passes"});
     rep.table({"", "value"}, rows, "At the job's placement; the other quantity held at the job's value.");
     if (!cap.curve.empty())

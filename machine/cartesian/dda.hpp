@@ -1,6 +1,6 @@
 #pragma once
-// A conventional NC control's interpolator, as in the NC program of Appendix III of 000_4afce2e042f0d022.txt
-// (Elbestawi 1980; an HP 2100 assembly listing): a fixed-rate interrupt runs a feed accumulator; each time the
+// A conventional NC control's interpolator, as in the NC program of Appendix III of M. A. Elbestawi's thesis
+// (McMaster University, 1980; an HP 2100 assembly listing): a fixed-rate interrupt runs a feed accumulator; each time the
 // accumulator overflows, the interpolator simulates one cycle of two digital differential analysers (DDAs), and
 // every DDA register overflow is one command pulse (one BLU) on its axis. Each block (line or arc within one
 // quadrant) carries its end point, its axis counters, a PATH word that is the capacity of its DDA registers,

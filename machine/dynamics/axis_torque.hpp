@@ -1,5 +1,5 @@
 #pragma once
-// Torques the two motors must deliver at one point of the path (Eq. 5.15, 5.16 of 002_d776f0f2af43efa4.txt), the
+// Torques the two motors must deliver at one point of the path (Eq. 5.15, 5.16 of A. Fahim's thesis (1983)), the
 // pull-out torque their motors offer at the step rate there (Eq. 5.17-5.21), and the torque ratio.
 //   T_R     = K2 [ M a_cr + F_cr ]                                                (Eq. 5.15)
 //   T_theta = K1 [ J_A theta'' + M r a_cn + r F_cn + F_f L_A sgn(theta') ]        (Eq. 5.16)

@@ -1,6 +1,6 @@
 #pragma once
 // Kinematics of the arm and carriage at one point of the tool-centre path (Eq. 5.1-5.8 of
-// 002_d776f0f2af43efa4.txt), computed from the path geometry and the speed profile, in vector form:
+// A. Fahim's thesis (1983)), computed from the path geometry and the speed profile, in vector form:
 //   velocity v = V T, acceleration a = a_t T + V^2 kappa N   (T unit tangent, N = T turned +90 deg, kappa signed
 //   curvature, + when the path turns left; a_t = dV/dt, zero at the thesis's constant speed),
 //   r' = v.e_r = V cos gamma,  r theta' = v.e_theta = V sin gamma               (Eq. 5.2, 5.3)

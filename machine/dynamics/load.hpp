@@ -1,5 +1,5 @@
 #pragma once
-// The process load on the carriage (Sec. 5.5 of 002_d776f0f2af43efa4.txt): mass added to the carriage, and a force
+// The process load on the carriage (Sec. 5.5 of A. Fahim's thesis (1983)): mass added to the carriage, and a force
 // the process exerts on the tool, in path coordinates:
 //  - tangential: against the direction of travel (a cutting force resisting the feed is positive);
 //  - normal: perpendicular to the path, pushing the tool away from the material, i.e. towards the side the tool

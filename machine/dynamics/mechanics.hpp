@@ -1,5 +1,5 @@
 #pragma once
-// The mechanics of a polar machine as Ch. 5 of 002_d776f0f2af43efa4.txt (Fahim 1983) models it: an arm swung
+// The mechanics of a polar machine as Ch. 5 of A. Fahim's thesis (1983) models it: an arm swung
 // about the pole by a motor through a worm and worm gear, a carriage driven along the arm by a second motor
 // through a power screw and split nut; every part rigid, the reducers transformers with friction losses only.
 // docs/dynamics.md gives the equations with units and the corrections made to the printed ones.

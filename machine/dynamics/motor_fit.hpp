@@ -1,6 +1,6 @@
 #pragma once
 // Fitting the electrical pull-out model (Eq. 5.17 = F.6, generalised in stepper.hpp) to a measured pull-out curve,
-// as Appendix F.3 of 002_d776f0f2af43efa4.txt compares the model with measurements. The supply voltage, winding
+// as Appendix F.3 of A. Fahim's thesis (1983) compares the model with measurements. The supply voltage, winding
 // resistance, rotor teeth and energisation are known (nameplate, ohmmeter); the fit finds the torque constant K_T,
 // the voltage constant K_V and the inductance L_a (the three combinations the curve determines: the low-speed
 // torque c_p V K_T / R_a, the time constant L_a / R_a and the back-emf term K_V K_T / (N_s R_a)).

@@ -1,5 +1,5 @@
 #pragma once
-// The analytical parametric study of Sec. 6.2-6.5 of 002_d776f0f2af43efa4.txt (Fahim 1983), corrected
+// The analytical parametric study of Sec. 6.2-6.5 of A. Fahim's thesis (1983), corrected
 // (docs/optimum-loading.md): at one point of a contour traversed at a constant speed V_t,
 //  - the torque ratios of both axes as the ratio of a quartic in V_t to [L10^2 + Lc^2 V_t^2]^(1/2) - Ld V_t
 //    (Eq. 6.3-6.4 inertial, 6.9-6.10 grinding), with the thesis's coefficients Lambda_8 .. Lambda_23;

@@ -1,7 +1,7 @@
 #pragma once
 // Stepping-motor pull-out torque: the largest load torque a motor carries without losing steps at a given step
 // rate. Two models:
-//  - electrical (Eq. 5.17 = F.6 of 002_d776f0f2af43efa4.txt): from the supply voltage, the torque and voltage
+//  - electrical (Eq. 5.17 = F.6 of A. Fahim's thesis (1983)): from the supply voltage, the torque and voltage
 //    constants, the rotor teeth and the winding's resistance and inductance,
 //      T_p(w) = c_p V K_T / sqrt(R^2 + w^2 L^2) - K_V w R K_T / (N_s (R^2 + w^2 L^2)),
 //    w the electrical angular frequency (N_s times the shaft's rad/s). c_p is the amplitude of the fundamental of

@@ -1,6 +1,6 @@
 #pragma once
 // Torques, pull-out torques and torque ratios of both axes along a whole path (Sec. 5.5 of
-// 002_d776f0f2af43efa4.txt): a series of samples, and the maxima with where they occur.
+// A. Fahim's thesis (1983)): a series of samples, and the maxima with where they occur.
 //
 // Sampling. The path is cut into segments at the pieces of its polar track, at every reversal of the arm
 // (theta' = 0, where the Coulomb friction of the arm support changes sign) and where the speed profile's
@@ -10,7 +10,7 @@
 // Maxima. The largest samples of each quantity are refined by Brent's method inside their segment, so the maxima
 // do not depend on the sampling (beyond missing a peak narrower than the spacing).
 // Cost: one evaluation of the path and the models per sample, plus about a thousand for the refinement; no
-// digitizing. Issue 5's optimiser calls it as its objective, with keep_series = false.
+// digitizing. The torque-balancing optimiser calls it as its objective, with keep_series = false.
 #include <vector>
 
 #include "cam/curve.hpp"

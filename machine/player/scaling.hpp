@@ -1,6 +1,6 @@
 #pragma once
 // Speed and size scaling of a step tape, and the floating angular reference (Sec. 3.6, 3.7 and 3.11 of
-// 002_d776f0f2af43efa4.txt; docs/player.md).
+// A. Fahim's thesis (1983); docs/player.md).
 //  - speed scale K = num/den: every interval is divided by K (times t -> t den / num), exactly;
 //  - size scale P/Q: the machine's radial index is N(n) = round(n P / Q), halves rounded up, i.e.
 //    N(n) = floor((2 n P + Q) / (2 Q)), a function of the tape's absolute radial index n (the radial reference is

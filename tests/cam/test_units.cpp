@@ -3,6 +3,7 @@
 #include <numbers>
 
 #include "cam/error.hpp"
+#include "cam/format.hpp"
 #include "cam/units.hpp"
 
 using namespace polarcam;
@@ -42,4 +43,21 @@ TEST(Units, WrongUnitsAreRejectedWithTheText) {
   EXPECT_THROW(parse_quantity_as("1/0 cm", dim::length), InputError);
   EXPECT_THROW(parse_quantity_as("nan cm", dim::length), InputError);
   EXPECT_THROW(parse_quantity_as("2 cm^x", dim::area), InputError);
+}
+
+// A fraction in a message: a percentage while it reads as one, a plain ratio beyond 1000 % (never "5.76e+03 %").
+TEST(Share, PercentBelowAThousandPercentRatioBeyond) {
+  EXPECT_EQ(polarcam::share(0.576), "57.6 %");
+  EXPECT_EQ(polarcam::share(-0.2), "-20 %");
+  EXPECT_EQ(polarcam::share(9.99), "999 %");
+  EXPECT_EQ(polarcam::share(57.6), "57.6 times");
+  EXPECT_EQ(polarcam::share(-12.0), "-12 times");
+}
+
+TEST(Share, PlainNumbersNeverInExponentForm) {
+  EXPECT_EQ(polarcam::plain(0.0254), "0.0254");
+  EXPECT_EQ(polarcam::plain(2909.92), "2910");
+  EXPECT_EQ(polarcam::plain(55512.4), "55512");
+  EXPECT_EQ(polarcam::share(29.1), "29.1 times");
+  EXPECT_EQ(polarcam::share(2909.92), "2910 times");
 }

@@ -62,7 +62,10 @@ TEST(CompareCli, ReportIsSelfContainedAndDeterministic) {
   const std::string h = read_file(a);
   EXPECT_EQ(h, read_file(b));
   EXPECT_NE(h.find("<!DOCTYPE html>"), std::string::npos);
-  EXPECT_NE(h.find("Verdict for this job"), std::string::npos);
+  EXPECT_NE(h.find("Which machine is better for this job"), std::string::npos);
+  // no type names or number agreement slips in the text
+  EXPECT_EQ(h.find("AttributeVerdict"), std::string::npos);
+  EXPECT_EQ(h.find(" 1 are "), std::string::npos);
   EXPECT_NE(h.find("Tangential speed along the path"), std::string::npos);
   size_t images = 0;
   for (size_t p = h.find("data:image/png;base64,"); p != std::string::npos; p = h.find("data:image/png;base64,", p + 1))

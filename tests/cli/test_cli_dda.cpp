@@ -130,7 +130,8 @@ TEST(CliDda, SameJobSameBytes) {
 }
 
 TEST(CliDda, TestPieceExamplesRun) {
-  // the standard test shapes of 001_1899f4ece75412b5.txt: both methods, closed, the same step counts
+  // the standard test shapes of J. Peng's thesis (University of British Columbia, 1989): both methods, closed,
+  // the same step counts
   for (const char* name : {"testpiece_square", "testpiece_diamond", "testpiece_circle"}) {
     SCOPED_TRACE(name);
     const std::string job = std::string(POLARCAM_SOURCE_DIR) + "/examples/" + name + ".toml";

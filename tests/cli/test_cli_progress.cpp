@@ -1,0 +1,55 @@
+// Progress on the terminal: a bar with the percentage and an ETA on stderr when stderr is a terminal (here a
+// pseudo-terminal made by script(1)), nothing when it is a pipe or a file, nothing with --quiet.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "tests/cli_runner.hpp"
+
+using namespace polarcam::test;
+
+namespace {
+
+// The thesis's circle on a grid ten times finer (about 10^5 steps): long enough for the bar to be drawn.
+std::string fine_job(const Scratch& sc) {
+  std::filesystem::create_directories(sc.dir / "ch5");
+  // (the scratch directory has the machine file at machines/, as examples/ does)
+  std::string text = read_file(std::string(POLARCAM_SOURCE_DIR) + "/examples/ch5/circle.toml");
+  const std::string m = "[machine]\n";
+  text.replace(text.find(m), m.size(), m + "radial_resolution = \"0.0001 in\"\nangular_steps_per_rev = 160000\n");
+  return sc.write("ch5/fine.toml", text);
+}
+
+// What the command wrote on its terminal (stdout goes to a file): script(1) runs it on a pseudo-terminal.
+std::string on_a_terminal(const std::string& args, const Scratch& sc) {
+  const std::string log = sc.path("pty.log");
+  const std::string cmd = "script -qec \"" + std::string(POLARCAM_BIN) + " " + args + " > " + sc.path("stdout.txt") +
+                          "\" /dev/null > " + log + " 2>&1 < /dev/null";
+  const int st = std::system(cmd.c_str());
+  EXPECT_EQ(st, 0) << cmd;
+  return read_file(log);
+}
+
+}  // namespace
+
+TEST(Progress, ErrorDrawsABarOnATerminalOnly) {
+  if (std::system("command -v script > /dev/null 2>&1") != 0) GTEST_SKIP() << "script(1) is not installed";
+  Scratch sc;
+  const std::string job = fine_job(sc), tape = sc.path("fine.tape");
+  ASSERT_EQ(run_cli("digitize " + job + " -o " + tape).code, 0);
+  const std::string args = "error " + tape + " --job " + job;
+
+  const std::string tty = on_a_terminal(args, sc);
+  EXPECT_NE(tty.find('%'), std::string::npos) << tty;
+  EXPECT_NE(tty.find("ETA"), std::string::npos) << tty;
+  EXPECT_NE(tty.find("\r\033[K"), std::string::npos) << "the bar is erased at the end: " << tty;
+  EXPECT_NE(read_file(sc.path("stdout.txt")).find("area"), std::string::npos);  // the result, on stdout
+
+  const CliResult piped = run_cli(args);
+  EXPECT_EQ(piped.code, 0) << piped.err;
+  EXPECT_EQ(piped.err, "");
+
+  EXPECT_EQ(on_a_terminal(args + " --quiet", sc), "");
+}
