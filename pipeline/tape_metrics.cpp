@@ -11,6 +11,12 @@
 namespace polarcam {
 
 PolarTapeMetrics polar_tape_metrics(const Job& job, const std::string& tape, int segments, const Progress& progress) {
+  // the area and deviation meters measure the staircase of a polar machine, whose radial steps move the tool
+  // radially and angular steps about the pole; on a coupled arm an angular step also moves the ball radially
+  if (job.machine.coupling != 0.0)
+    throw InputError("the machine's radial motor is coupled to its arm (coupling): the error meters measure "
+                     "tapes of uncoupled polar machines; give a machine file without 'coupling' to measure the path",
+                     job.file);
   const ToolPathPtr path = make_job_path(job);
   const PolarTrack track = job_polar_track(job, *path);
   TapeReader rd(tape);
