@@ -37,7 +37,7 @@ constexpr uint8_t kEnable = _BV(PB0), kLed = _BV(PB5);
 
 // ---- UART (115200 baud, 8N1; U2X: UBRR 16 gives 117 647 baud, 2.1 % fast, as every Uno) ---------------------
 
-constexpr uint8_t kRxSize = 64, kTxSize = 64;  // powers of two
+constexpr uint8_t kRxSize = 128, kTxSize = 64;  // powers of two
 uint8_t rx_buf[kRxSize], tx_buf[kTxSize];
 volatile uint8_t rx_head, rx_tail, tx_head, tx_tail;
 
