@@ -37,7 +37,7 @@ constexpr uint8_t kEnable = _BV(PB0), kLed = _BV(PB5);
 
 // ---- UART (115200 baud, 8N1; U2X: UBRR 16 gives 117 647 baud, 2.1 % fast, as every Uno) ---------------------
 
-constexpr uint8_t kRxSize = 64, kTxSize = 64;  // powers of two
+constexpr uint8_t kRxSize = 128, kTxSize = 64;  // powers of two
 uint8_t rx_buf[kRxSize], tx_buf[kTxSize];
 volatile uint8_t rx_head, rx_tail, tx_head, tx_tail;
 
@@ -81,27 +81,36 @@ uint8_t* payload_out() { return out_frame + kHeader; }
 constexpr size_t kPayloadOut = sizeof out_frame - kOverhead;
 
 // ---- events: what the timer interrupt executes ---------------------------------------------------------------
+//
+// The main loop precomputes everything an event does: its timer tick (32 bits), the whole of PORTD at its step
+// (both direction pins and the step pins of the axes stepping at that tick) and whether it toggles the LED. The
+// interrupt writes them: the step edges of every event, and the LED's edge at START, come the same few cycles
+// after their tick begins, on one code path, whatever the event.
 
-constexpr uint8_t kEvR = 1, kEvT = 2, kEvRPlus = 4, kEvTPlus = 8, kEvStart = 16, kEvStop = 32, kEvEnd = 64;
-constexpr uint8_t kEvents = 32;  // power of two
-uint32_t ev_tick[kEvents];       // schedule ticks
+constexpr uint8_t kDirs = kRDir | kTDir, kSteps = kRStep | kTStep;
+constexpr uint8_t kEvLed = kLed, kEvStop = 1, kEvEnd = 2;  // ev_bits: kEvLed is the LED's bit in PINB (a toggle)
+constexpr uint8_t kEvents = 32;   // power of two
+uint32_t ev_time[kEvents];        // timer ticks
+uint8_t ev_pd[kEvents];           // PORTD at the event: directions | steps
 uint8_t ev_bits[kEvents];
+uint8_t ev_gap[kEvents];          // ticks after the event before it in the ring (255: 255 or more)
 volatile uint8_t ev_head, ev_tail;  // the main loop writes at head, the interrupt reads at tail
+uint8_t ev_done;                  // the main loop's count of executed events (executed[], moved[]) reached here
 
 volatile bool running;          // the schedule clock advances
-volatile uint32_t offset;       // timer tick = schedule tick + offset
+uint32_t offset;                // timer tick = schedule tick + offset (main loop only)
 volatile uint16_t timer_hi;     // Timer1 overflows: the timer extended to 32 bits
 volatile bool stop_armed;       // an underrun stop in the ring still applies (the main loop disarms it)
-volatile uint32_t stopped_at;   // schedule tick where the clock stopped (hold or underrun)
+volatile uint32_t stop_time;    // timer tick where the clock stopped (hold or underrun)
 volatile uint8_t stop_reason;   // 0 none, 1 underrun, 2 hold
 volatile bool done;
-volatile uint32_t start_time, last_step_time;  // timer ticks
-volatile uint32_t executed[2];
-volatile int32_t moved[2];      // node - start node
+uint32_t start_time, last_step_time;  // timer ticks
+uint32_t executed[2];
+int32_t moved[2];               // node - start node
 volatile uint32_t underruns;
 
 // The 32-bit timer now (interrupts off).
-inline uint32_t now32() {
+__attribute__((always_inline)) inline uint32_t now32() {
   const uint16_t lo = TCNT1;
   uint16_t hi = timer_hi;
   if ((TIFR1 & _BV(TOV1)) && lo < 0x8000) ++hi;  // an overflow not counted yet
@@ -117,46 +126,11 @@ uint32_t timer_now() {
   return t;
 }
 
-inline void fire(uint8_t i) {
-  const uint8_t b = ev_bits[i];
-  const uint8_t steps = b & (kEvR | kEvT);
-  if (steps) {
-    // direction pins of the stepping axes (normally already set after the previous event: no wait then)
-    uint8_t want = PORTD;
-    if (b & kEvR) want = (b & kEvRPlus) ? (want | kRDir) : (want & static_cast<uint8_t>(~kRDir));
-    if (b & kEvT) want = (b & kEvTPlus) ? (want | kTDir) : (want & static_cast<uint8_t>(~kTDir));
-    if (want != PORTD) {
-      PORTD = want;
-      __builtin_avr_delay_cycles(16);  // 1 us of direction set-up (DRV8825: 650 ns)
-    }
-    const uint8_t with = static_cast<uint8_t>(want | ((b & kEvR) ? kRStep : 0) | ((b & kEvT) ? kTStep : 0));
-    PORTD = with;
-    const uint32_t t = ev_tick[i] + offset;
-    last_step_time = t;
-    if (b & kEvR) {
-      ++executed[0];
-      moved[0] += (b & kEvRPlus) ? 1 : -1;
-    }
-    if (b & kEvT) {
-      ++executed[1];
-      moved[1] += (b & kEvTPlus) ? 1 : -1;
-    }
-    __builtin_avr_delay_cycles(8);  // with the counting above: the step pulse is 2 us high (DRV8825: 1.9 us)
-    PORTD = want;
-    // the next event's directions now, so that they are set up before its step
-    const uint8_t n = static_cast<uint8_t>((i + 1) & (kEvents - 1));
-    if (n != ev_head) {
-      const uint8_t nb = ev_bits[n];
-      uint8_t p = want;
-      if (nb & kEvR) p = (nb & kEvRPlus) ? (p | kRDir) : (p & static_cast<uint8_t>(~kRDir));
-      if (nb & kEvT) p = (nb & kEvTPlus) ? (p | kTDir) : (p & static_cast<uint8_t>(~kTDir));
-      PORTD = p;
-    }
-  }
-  if (b & kEvStart) PORTB |= kLed;
+// The rare events (interrupts off).
+__attribute__((noinline)) void special(uint8_t b, uint32_t t) {
   if ((b & kEvStop) && stop_armed) {  // underrun: the schedule clock stops here
     running = false;
-    stopped_at = ev_tick[i];
+    stop_time = t;
     stop_reason = 1;
     stop_armed = false;
     ++underruns;
@@ -164,40 +138,86 @@ inline void fire(uint8_t i) {
   if (b & kEvEnd) {
     done = true;
     running = false;
-    PORTB &= static_cast<uint8_t>(~kLed);
   }
 }
 
-// Fires the events that are due and sets the compare for the next one (interrupts off). The compare is set two
-// ticks early and the last ticks are waited for here, on the timer's low byte: every event, whatever path leads
-// to it, then reaches its pins the same few cycles after its tick begins. A compare is only set within the
-// timer's current 16-bit period; the overflow interrupt sets the ones beyond. A compare at another time does no
-// harm: events fire by the extended time, never by the compare alone.
+// Fires the events that are due and sets the compare for the next one (interrupts off). The compare wakes the
+// interrupt four ticks ahead of an event; it sets the event's direction pins, waits for the tick on the timer's
+// low byte and writes the precomputed pins. While the step pulse is high (2 us at least: DRV8825 1.9 us, A4988
+// 1 us) it fetches the next event; one due within 3 ticks of this one (its gap, precomputed) is waited for at
+// once on the low byte, with its direction pins set as this step falls, so that events one tick apart keep their
+// ticks (a direction changes only for the axis stepping next, whose last step rose a tick earlier at least:
+// DRV8825's hold 650 ns). A compare is only set within the timer's current 16-bit period; the overflow
+// interrupt sets the ones beyond. A compare at another time does no harm: events fire by the extended time,
+// never by the compare alone.
+bool ovf_wake;  // the next event is in a later 16-bit period of the timer: the overflow looks at it
 void schedule() {
-  while (running && ev_tail != ev_head) {
-    const uint8_t i = ev_tail;
-    const uint32_t due = ev_tick[i] + offset;
-    const uint32_t now = now32();
-    const int32_t d = static_cast<int32_t>(due - now);
-    if (d <= 3) {
-      const uint8_t lo = static_cast<uint8_t>(due);
-      while (static_cast<int8_t>(TCNT1L - lo) < 0) {  // at most 3 ticks: the low byte suffices
+  ovf_wake = false;
+  if (!running) return;
+  uint8_t i = ev_tail;
+  if (i == ev_head) return;
+  uint32_t due = ev_time[i];
+  uint8_t pd = ev_pd[i];
+  PORTD = static_cast<uint8_t>(pd & kDirs);  // its directions: at least 1 us before its step (see below)
+  int32_t d = static_cast<int32_t>(due - now32());
+  for (;;) {
+    if (d > 5) {
+      // the compare matches at the end of tick `wake`: the interrupt at due - 4, which leaves the interrupt's
+      // entry and the code above (about 140 cycles) and another interrupt or a pause of the interrupts (up to
+      // about 100 cycles) four ticks
+      const uint32_t wake = due - 5;
+      const uint32_t now = now32();
+      if ((wake >> 16) != (now >> 16)) {  // in a later period: the overflow interrupt comes first
+        ovf_wake = true;
+        return;
       }
-      fire(i);
-      ev_tail = static_cast<uint8_t>((i + 1) & (kEvents - 1));
-      continue;
+      // (a stale compare flag costs one harmless interrupt; clearing it with TIFR1 would also clear a pending
+      // overflow in simavr 1.6)
+      OCR1A = static_cast<uint16_t>(wake);
+      d = static_cast<int32_t>(due - now32());
+      if (d > 5) return;  // the timer is still short of `wake`: the compare will match
+      continue;           // it passed while being set: fire from here
     }
-    const uint32_t wake = due - 2;
-    if ((wake >> 16) != (now >> 16)) return;  // in a later period: the overflow interrupt comes first
-    OCR1A = static_cast<uint16_t>(wake);  // (a stale compare flag costs one harmless interrupt)
-    if (static_cast<uint16_t>(wake) > TCNT1) return;  // still ahead (else: passed while being set, loop)
+    uint8_t lo = static_cast<uint8_t>(due);
+    for (;;) {
+      const uint8_t b = ev_bits[i];
+      const uint8_t led = b & kEvLed;
+      if (d >= -64) {  // at most 5 ticks ahead: the low byte suffices (a late event fires at once)
+        while (static_cast<int8_t>(TCNT1L - lo) < 0) {
+        }
+      }
+      PORTD = pd;   // the steps
+      PINB = led;   // START's and the end's LED edge, on the same cycle grid
+      i = static_cast<uint8_t>((i + 1) & (kEvents - 1));
+      ev_tail = i;
+      if (b & (kEvStop | kEvEnd)) {
+        __builtin_avr_delay_cycles(32);
+        PORTD = static_cast<uint8_t>(pd & kDirs);
+        special(b, due);
+        if (!running) return;
+      }
+      if (i == ev_head) {
+        __builtin_avr_delay_cycles(24);  // the pulse's 2 us
+        PORTD = static_cast<uint8_t>(pd & kDirs);
+        return;
+      }
+      const uint8_t g = ev_gap[i];
+      pd = ev_pd[i];
+      if (g > 3 || d < -64) break;
+      // the next event is due 0 to 3 ticks after this one
+      lo = static_cast<uint8_t>(lo + g);  // (the pulse: 38 cycles from here, measured in the simulator)
+      PORTD = static_cast<uint8_t>(pd & kDirs);  // the step falls; the next event's directions
+    }
+    due = ev_time[i];
+    d = static_cast<int32_t>(due - now32());
+    PORTD = static_cast<uint8_t>(pd & kDirs);  // the step falls (2 us: the loads and the clock above); directions
   }
 }
 
 ISR(TIMER1_COMPA_vect) { schedule(); }
 ISR(TIMER1_OVF_vect) {
   ++timer_hi;
-  schedule();
+  if (ovf_wake) schedule();  // else short: it may delay the compare's interrupt
 }
 
 // Makes the timer look at the ring now (after START or RESUME, or when new events may be due sooner).
@@ -206,6 +226,24 @@ void kick() {
   cli();
   schedule();
   SREG = s;
+}
+
+// Counts the events the interrupt has executed (steps, nodes, the last step's time) and frees their entries.
+void account() {
+  const uint8_t t = ev_tail;
+  while (ev_done != t) {
+    const uint8_t i = ev_done, pd = ev_pd[i];
+    if (pd & kRStep) {
+      ++executed[0];
+      moved[0] += (pd & kRDir) ? 1 : -1;
+    }
+    if (pd & kTStep) {
+      ++executed[1];
+      moved[1] += (pd & kTDir) ? 1 : -1;
+    }
+    if (pd & kSteps) last_step_time = ev_time[i];
+    ev_done = static_cast<uint8_t>((i + 1) & (kEvents - 1));
+  }
 }
 
 // ---- queued items: a pool of slots, one list per axis -----------------------------------------------------------
@@ -281,13 +319,17 @@ void send_error(ErrorCode code, const char* text, uint16_t seq) {
   send(seq, ERROR, encode_error(payload_out(), kPayloadOut, code, t, strlen(t)));
 }
 
+uint8_t pd_dirs;  // the direction pins after the last event in the ring (the producer's)
+
 void stop_timer_events() {
   const uint8_t s = SREG;
   cli();
   running = false;
-  ev_tail = ev_head;
   stop_armed = false;
   SREG = s;
+  account();
+  ev_tail = ev_done = ev_head;  // the events not executed are dropped
+  PORTD = pd_dirs = static_cast<uint8_t>(PORTD & kDirs);
 }
 
 void reset_job() {
@@ -304,6 +346,7 @@ void reset_job() {
   executed[0] = executed[1] = 0;
   moved[0] = moved[1] = 0;
   error = ErrorCode::none;
+  last_step_time = start_time = 0;
   PORTB &= static_cast<uint8_t>(~kLed);
 }
 
@@ -343,27 +386,34 @@ bool prepare(uint8_t ai) {
   return a.has_next;
 }
 
-bool ring_full() { return static_cast<uint8_t>((ev_head + 1) & (kEvents - 1)) == ev_tail; }
+bool ring_full() {
+  account();
+  return static_cast<uint8_t>((ev_head + 1) & (kEvents - 1)) == ev_done;
+}
 uint32_t last_emitted;
-void kick();
-void emit(uint32_t tick, uint8_t bits) {
+// An event at schedule tick `tick`: steps (kRStep, kTStep in `steps`, each axis's direction in `dirs`) and bits.
+void emit(uint32_t tick, uint8_t steps, uint8_t dirs, uint8_t bits) {
   const uint8_t h = ev_head;
-  const bool was_empty = h == ev_tail;
-  ev_tick[h] = tick;
+  pd_dirs = static_cast<uint8_t>((pd_dirs & ~((steps & kRStep ? kRDir : 0) | (steps & kTStep ? kTDir : 0))) | dirs);
+  ev_time[h] = tick + offset;
+  ev_pd[h] = static_cast<uint8_t>(pd_dirs | steps);
   ev_bits[h] = bits;
+  const uint32_t gap = tick - last_emitted;
+  ev_gap[h] = static_cast<uint8_t>(gap < 255 ? gap : 255);
   last_emitted = tick;
   asm volatile("" ::: "memory");  // the entry is written before the interrupt can see it
+  const uint8_t s = SREG;
+  cli();  // (the interrupt may empty the ring between a test and the new head: both at once)
+  const bool was_empty = h == ev_tail;
   ev_head = static_cast<uint8_t>((h + 1) & (kEvents - 1));
-  if (was_empty) kick();  // the interrupt had nothing to wait for: set the compare for this one
+  if (was_empty) schedule();  // the interrupt had nothing to wait for: set the compare for this one
+  SREG = s;
 }
 
 // Runs the axes' clocks ahead, in time order, into the event ring. An axis whose items have run out (and that
 // has not ended) gets a stop at the end of its clock: the schedule stops there unless items come first.
 void produce_events();
-void produce() {
-  produce_events();
-  kick();  // the first of new events may be sooner than any compare set
-}
+void produce() { produce_events(); }  // (emit() kicks the timer when the ring was empty)
 void produce_events() {
   if (!configured || state == State::ready || state == State::idle || state == State::fault ||
       state == State::aborted || end_emitted)
@@ -386,7 +436,7 @@ void produce_events() {
     for (uint8_t ai = 0; ai < 2; ++ai) prepare(ai);
     Axis &r = axes[0], &t = axes[1];
     if (r.ended && t.ended) {
-      emit(last_emitted, kEvEnd);  // right after the last step
+      emit(last_emitted, 0, 0, static_cast<uint8_t>(kEvEnd | kEvLed));  // right after the last step; LED off
       end_emitted = true;
       return;
     }
@@ -410,20 +460,21 @@ void produce_events() {
       const uint8_t s = SREG;
       cli();
       stop_armed = true;
-      emit(static_cast<uint32_t>(best), kEvStop);
+      emit(static_cast<uint32_t>(best), 0, 0, kEvStop);
       SREG = s;
       stop_emitted = true;
       return;
     }
-    uint8_t bits = 0;
+    uint8_t steps = 0, dirs = 0;
     for (uint8_t ai = 0; ai < 2; ++ai) {
       Axis& a = axes[ai];
       if (!a.ended && a.has_next && a.next_tick == best) {
-        bits |= ai == 0 ? (kEvR | (a.dir_plus ? kEvRPlus : 0)) : (kEvT | (a.dir_plus ? kEvTPlus : 0));
+        steps |= ai == 0 ? kRStep : kTStep;
+        if (a.dir_plus) dirs |= ai == 0 ? kRDir : kTDir;
         a.has_next = false;
       }
     }
-    emit(static_cast<uint32_t>(best), bits);
+    emit(static_cast<uint32_t>(best), steps, dirs, 0);
   }
 }
 
@@ -502,7 +553,7 @@ void start_job() {
   offset = t;
   start_time = t;
   running = true;
-  emit(0, kEvStart);  // START's own event: the LED at tick 0, before every step (steps are at tick 1 or later)
+  emit(0, 0, 0, kEvLed);  // START's own event: the LED at tick 0, before every step (steps are at tick 1 or later)
   SREG = s;
   produce();
 }
@@ -510,7 +561,10 @@ void start_job() {
 void resume_job() {
   const uint8_t s = SREG;
   cli();
-  offset = timer_now() + 4 - stopped_at;
+  // the schedule goes on 4 ticks from now where it stopped: the events waiting in the ring move by as much
+  const uint32_t delta = timer_now() + 4 - stop_time;
+  for (uint8_t i = ev_tail; i != ev_head; i = static_cast<uint8_t>((i + 1) & (kEvents - 1))) ev_time[i] += delta;
+  offset += delta;
   stop_reason = 0;
   running = true;
   SREG = s;
@@ -520,18 +574,20 @@ void resume_job() {
 }
 
 void fill_status(Status& st) {
-  const uint8_t s = SREG;
-  cli();
-  st.underruns = underruns;
+  account();  // outside the interrupts' pause: a long one would delay a step
   st.executed[0] = executed[0];
   st.executed[1] = executed[1];
   st.node[0] = start_node[0] + moved[0];
   st.node[1] = start_node[1] + moved[1];
-  const uint32_t now = timer_now();
+  const uint8_t s = SREG;
+  cli();  // (short: the interrupt's variables only)
+  st.underruns = underruns;
+  const uint32_t now = now32();
   const bool was_running = running;
-  const uint32_t sched = was_running ? now - offset : stopped_at;
-  const uint32_t start = start_time, last = last_step_time;
+  const uint32_t stopped = stop_time;
   SREG = s;
+  const uint32_t sched = (was_running ? now : stopped) - offset;
+  const uint32_t start = start_time, last = last_step_time;
   st.state = state;
   st.error = error;
   const bool started = state != State::idle && state != State::ready && state != State::aborted && state != State::fault;
@@ -635,7 +691,7 @@ __attribute__((noinline)) void handle(const uint8_t* f) {
           const uint8_t s = SREG;
           cli();
           if (running) {
-            stopped_at = timer_now() - offset;
+            stop_time = timer_now();
             running = false;
             stop_reason = 2;
           }

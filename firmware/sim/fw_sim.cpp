@@ -8,7 +8,7 @@
 // sees the board's pace; the UART's bytes take the simulated baud rate's time. Faults, in each direction, per
 // byte: drop=F drops it, corrupt=F flips one of its bits (a seeded generator: the same faults every run).
 // VCD signals: r_step (PD2), r_dir (PD5), theta_step (PD3), theta_dir (PD6), enable (PB0), run (PB5, the LED:
-// rising at schedule tick 0).
+// rising at schedule tick 0). At the end it reports the deepest stack (the RAM above the variables is painted).
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
@@ -32,6 +32,7 @@
 namespace {
 
 volatile sig_atomic_t g_quit = 0;
+constexpr uint8_t kPaint = 0xa5;
 extern "C" void on_term(int) { g_quit = 1; }
 
 struct Faults {
@@ -152,6 +153,9 @@ int main(int argc, char** argv) {
   avr_init(avr);
   avr_load_firmware(avr, &fw);
   avr->frequency = fw.frequency;
+  // the RAM above the variables painted, to find the stack's deepest point at the end
+  const uint32_t ram_vars_end = 0x100 + fw.datasize + fw.bsssize;
+  for (uint32_t a = ram_vars_end; a <= avr->ramend; ++a) avr->data[a] = kPaint;
   avr->sleep = no_sleep;
   // INT0 and INT1 share PD2 and PD3 with the step pins: simavr polls a low pin every cycle for a level-triggered
   // interrupt even while it is masked, which stops the simulator from sleeping. The firmware uses no external
@@ -245,8 +249,11 @@ int main(int argc, char** argv) {
   }
   avr_vcd_stop(&vcd);
   avr_vcd_close(&vcd);
-  std::fprintf(stderr, "fw_sim: %.3f s simulated; to the board %llu bytes dropped, %llu corrupted; to the host %llu dropped, %llu corrupted%s\n",
-               static_cast<double>(avr->cycle) / fw.frequency, static_cast<unsigned long long>(to_board.dropped),
+  uint32_t untouched = ram_vars_end;
+  while (untouched <= avr->ramend && avr->data[untouched] == kPaint) ++untouched;
+  std::fprintf(stderr, "fw_sim: %.3f s simulated; RAM %u bytes of variables, stack at most %u bytes, %u never used; to the board %llu bytes dropped, %llu corrupted; to the host %llu dropped, %llu corrupted%s\n",
+               static_cast<double>(avr->cycle) / fw.frequency, ram_vars_end - 0x100, avr->ramend + 1 - untouched,
+               untouched - ram_vars_end, static_cast<unsigned long long>(to_board.dropped),
                static_cast<unsigned long long>(to_board.corrupted), static_cast<unsigned long long>(to_host.dropped),
                static_cast<unsigned long long>(to_host.corrupted), state == cpu_Crashed ? " (the firmware crashed)" : "");
   ::close(keep);
