@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "cam/error.hpp"
+#include "cam/format.hpp"
 #include "digitizer/step_walker.hpp"
 
 namespace polarcam {
@@ -183,7 +184,17 @@ DigitizeResult digitize_arm(const AxisTrack& tr, double c, const Grid& grid, Ste
   res.winding = tr.winding();
   res.path_length_m = tr.length();
   res.duration_s = profile.time_at(tr.length());
+  if (!(res.duration_s * 1e9 <= kMaxDurationNs))
+    throw InputError("the path takes " + significant(res.duration_s, 3) +
+                     " s, longer than a tape can time (2^62 ns, about 146 years): raise the speed");
   res.duration_ns = std::llround(res.duration_s * 1e9);
+  // A tape times steps in whole nanoseconds: a step rate above 1e9 per second cannot be told apart.
+  max_rates(tr, grid, profile, res);
+  for (const auto& [ax, name] : {std::pair{&res.radial, "radial"}, std::pair{&res.angular, "angular"}})
+    if (!(ax->max_rate_hz <= 1e9))
+      throw InputError(std::string("the ") + name + " step rate reaches " + significant(ax->max_rate_hz, 3) +
+                       " Hz, beyond the tape's 1 ns tick (at most 1e9 steps per second): lower the speed at least " +
+                       significant(ax->max_rate_hz / 1e9 * 1.001, 3) + " times");
 
   WalkGrid wg;
   wg.res[0] = grid.dr;
@@ -227,7 +238,6 @@ DigitizeResult digitize_arm(const AxisTrack& tr, double c, const Grid& grid, Ste
     if (!res.returns_to_start && radial_closes && (grid.steps_per_rev > 0 || tr.winding() == 0))
       throw std::logic_error("internal error: a closed path did not return to its start node");
   }
-  max_rates(tr, grid, profile, res);
   return res;
 }
 

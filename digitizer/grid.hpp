@@ -8,6 +8,13 @@
 
 namespace polarcam {
 
+// What a tape and the step arithmetic can represent: at most 2^40 angular steps per revolution, resolutions no
+// finer than 1e-12 m and 2 pi / 2^40 rad, and node indices (work area and home over the resolution) within 2^50,
+// so that sums and scalings of node indices stay far from 64-bit overflow.
+inline constexpr int64_t kMaxStepsPerRev = int64_t{1} << 40;
+inline constexpr double kMinRadialResolution = 1e-12;  // m
+inline constexpr double kMaxNodeIndex = 1125899906842624.0;  // 2^50
+
 struct Grid {
   double dr = 0.0;                // m per radial step
   double dtheta = 0.0;            // rad per angular step

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "cam/error.hpp"
+#include "cam/format.hpp"
 
 namespace polarcam {
 namespace {
@@ -115,17 +116,36 @@ void check_speed(double v, const char* what) {
   if (!(v > 0.0) || !std::isfinite(v)) throw InputError(std::string(what) + " must be a positive speed");
 }
 
+// x rounded up to 3 significant digits, so that a suggested bound is on the right side of it
+std::string round_up3(double x) {
+  if (!(x > 0) || !std::isfinite(x)) return significant(x, 3);
+  const double e = std::pow(10.0, std::floor(std::log10(x)) - 2);
+  return significant(std::ceil(x / e * (1 - 1e-12)) * e, 3);
+}
+
+// A tape times steps in whole nanoseconds in 64-bit integers; a path whose duration exceeds 2^62 ns (about 146
+// years) cannot be timed (every later sum or difference of ticks could overflow). `slowest` is the profile's
+// lowest speed: scaling every speed by T / T_max brings the duration within the bound.
+SpeedProfilePtr checked(SpeedProfilePtr p, double slowest) {
+  const double T = p->total_time();
+  if (!(T * 1e9 <= kMaxDurationNs))
+    throw InputError("the path of " + significant(p->length()) + " m takes " + significant(T, 3) +
+                     " s at this speed, longer than a tape can time (2^62 ns, about 146 years): the lowest speed that "
+                     "fits is " + round_up3(slowest * T / (kMaxDurationNs * 1e-9)) + " m/s");
+  return p;
+}
+
 }  // namespace
 
 SpeedProfilePtr make_constant_speed(double v, double length) {
   check_speed(v, "the speed");
-  return std::make_shared<Constant>(v, length);
+  return checked(std::make_shared<Constant>(v, length), v);
 }
 
 SpeedProfilePtr make_trapezoid_speed(double v, double accel, double length) {
   check_speed(v, "the speed");
   if (!(accel > 0.0) || !std::isfinite(accel)) throw InputError("the acceleration limit must be positive");
-  return std::make_shared<Trapezoid>(v, accel, length);
+  return checked(std::make_shared<Trapezoid>(v, accel, length), v);
 }
 
 SpeedProfilePtr make_table_speed(std::vector<SpeedStation> st, double length) {
@@ -138,7 +158,9 @@ SpeedProfilePtr make_table_speed(std::vector<SpeedStation> st, double length) {
       throw InputError("speed table row " + std::to_string(i + 1) + ": arc lengths must increase");
   }
   if (st.size() == 1) return make_constant_speed(st[0].v, length);
-  return std::make_shared<Table>(std::move(st), length);
+  double slowest = st[0].v;
+  for (const auto& x : st) slowest = std::min(slowest, x.v);
+  return checked(std::make_shared<Table>(std::move(st), length), slowest);
 }
 
 }  // namespace polarcam

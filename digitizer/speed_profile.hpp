@@ -11,6 +11,10 @@
 
 namespace polarcam {
 
+// The longest path duration a tape can time: 2^62 ns (about 146 years). The factories below refuse a profile
+// whose total time exceeds it, naming the lowest speed that fits.
+inline constexpr double kMaxDurationNs = 4611686018427387904.0;
+
 class SpeedProfile {
  public:
   virtual ~SpeedProfile() = default;

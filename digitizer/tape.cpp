@@ -4,10 +4,14 @@
 #include <zlib.h>
 
 #include <cmath>
+#include <numbers>
 #include <cstring>
 #include <stdexcept>
 
 #include "cam/error.hpp"
+#include "cam/format.hpp"
+#include "digitizer/grid.hpp"
+#include "digitizer/speed_profile.hpp"
 
 namespace polarcam {
 
@@ -256,13 +260,59 @@ TapeReader::TapeReader(const std::string& path) : path_(path) {
   h_.records_crc = g.u32(kOffRecCrc);
   h_.header_crc = stored;
   h_.provenance.assign(reinterpret_cast<const char*>(all.data() + kTapeFixedHeader), plen);
-  if (!(h_.res[0] > 0.0) || !(h_.res[1] > 0.0) || !std::isfinite(h_.res[0]) || !std::isfinite(h_.res[1]))
-    fail("the header's resolutions are not positive");
-  if (h_.tick_ps == 0) fail("the header's tick is zero");
-  if (h_.plus[0] + h_.minus[0] + h_.plus[1] + h_.minus[1] != h_.record_count)
-    fail("the header's step totals do not add up to its record count");
+  validate_header();
   buf_.resize(kBuf);
   crc_ = static_cast<uint32_t>(crc32(0L, Z_NULL, 0));
+}
+
+// A tape that passes its checksums may still be hostile (or written by another program): every header field is
+// checked against what the later arithmetic can hold, the same bounds the digitizer keeps (digitizer/grid.hpp,
+// digitizer/speed_profile.hpp): node indices within 2^50, times within 2^62 ns, resolutions no finer than a tape
+// holds.
+constexpr int64_t kMaxNode = int64_t{1} << 50;
+
+void TapeReader::validate_header() const {
+  const bool polar = h_.axes == TapeAxes::polar;
+  for (int a = 0; a < 2; ++a) {
+    const double finest = (polar && a == 1) ? 2.0 * std::numbers::pi / static_cast<double>(kMaxStepsPerRev)
+                                            : kMinRadialResolution;
+    if (!(h_.res[a] >= finest) || !std::isfinite(h_.res[a]))
+      fail("the header's resolution of axis " + std::to_string(a) + " (" + significant(h_.res[a]) +
+           ") is not a finite positive number at least " + significant(finest));
+  }
+  if (h_.tick_ps == 0 || h_.tick_ps > 1000000000000ULL) fail("the header's tick is not from 1 ps to 1 s");
+  if (h_.steps_per_rev < 0 || h_.steps_per_rev > kMaxStepsPerRev)
+    fail("the header's steps per revolution (" + std::to_string(h_.steps_per_rev) + ") is not from 0 to 2^40");
+  if (!std::isfinite(h_.r_min) || (polar && h_.r_min < 0))
+    fail("the header's r_min (" + significant(h_.r_min) + ") is not a finite length of zero or more");
+  if (h_.has_r_max && (!std::isfinite(h_.r_max) || !(h_.r_max > h_.r_min)))
+    fail("the header's r_max (" + significant(h_.r_max) + ") is not a finite length above r_min");
+  if (h_.has_theta_range &&
+      (!std::isfinite(h_.theta_min) || !std::isfinite(h_.theta_max) || !(h_.theta_max > h_.theta_min)))
+    fail("the header's angular range (" + significant(h_.theta_min) + " to " + significant(h_.theta_max) +
+         " rad) is not finite and increasing");
+  if (!std::isfinite(h_.speed_mps) || h_.speed_mps < 0 || !std::isfinite(h_.path_length_m) || h_.path_length_m < 0)
+    fail("the header's speed or path length is not a finite number of zero or more");
+  const auto node_ok = [](int64_t v) { return v >= -kMaxNode && v <= kMaxNode; };
+  const char* name[2] = {polar ? "radial" : "x", polar ? "angular" : "y"};
+  for (int a = 0; a < 2; ++a) {
+    if (!node_ok(h_.home[a]) || !node_ok(h_.start[a]) || !node_ok(h_.end[a]))
+      fail(std::string("the header's ") + name[a] + " home, start or end node lies beyond 2^50 steps from node 0");
+    if (h_.plus[a] > static_cast<uint64_t>(kMaxNode) || h_.minus[a] > static_cast<uint64_t>(kMaxNode))
+      fail(std::string("the header's ") + name[a] + " step counts exceed 2^50");
+    if (h_.start[a] + static_cast<int64_t>(h_.plus[a]) - static_cast<int64_t>(h_.minus[a]) != h_.end[a])
+      fail(std::string("the header's ") + name[a] + " end node is not its start node plus its steps");
+  }
+  if (h_.plus[0] + h_.minus[0] + h_.plus[1] + h_.minus[1] != h_.record_count)
+    fail("the header's step totals do not add up to its record count");
+  const uint64_t max_ticks = max_time_ticks();
+  if (h_.duration_ticks > max_ticks || h_.last_step_ticks > max_ticks)
+    fail("the header's duration or last step time exceeds 2^62 ns (about 146 years)");
+}
+
+uint64_t TapeReader::max_time_ticks() const {
+  const double ticks = kMaxDurationNs * 1000.0 / static_cast<double>(h_.tick_ps);
+  return ticks >= 0x1p63 ? uint64_t{1} << 63 : static_cast<uint64_t>(ticks);
 }
 
 TapeReader::~TapeReader() {
@@ -313,6 +363,8 @@ bool TapeReader::next(StepRecord& r) {
   r.dir = (v & 1) ? 1 : -1;
   ++n_;
   (r.dir > 0 ? plus_ : minus_)[r.axis] += 1;
+  if (r.interval > max_time_ticks() - cum_)
+    fail("record " + std::to_string(n_) + " takes the tape's time beyond 2^62 ns (about 146 years)");
   cum_ += r.interval;
   return true;
 }

@@ -97,6 +97,8 @@ class TapeReader {
 
  private:
   [[noreturn]] void fail(const std::string& what) const;
+  void validate_header() const;     // InputError for values later arithmetic cannot hold
+  uint64_t max_time_ticks() const;  // 2^62 ns in this tape's ticks
   bool fill();
   std::string path_;
   std::FILE* f_ = nullptr;

@@ -43,7 +43,8 @@ Grid parse_grid(Section& s, json& prov, std::string& name) {
   }
   // angular resolution
   if (auto n = s.integer("angular_steps_per_rev")) {
-    if (*n <= 0) s.fail("angular_steps_per_rev", "must be a positive whole number");
+    if (*n <= 0 || *n > kMaxStepsPerRev)
+      s.fail("angular_steps_per_rev", "must be a whole number from 1 to 2^40 (1099511627776), the most a tape holds");
     g.steps_per_rev = *n;
     g.dtheta = dtheta_from_steps(*n);
   } else if (auto dt = s.quantity("angular_resolution", dim::angle)) {

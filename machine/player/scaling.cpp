@@ -69,6 +69,10 @@ int64_t scaled_radial_index(int64_t n, const Ratio& s) {
   i128 a = 2 * static_cast<i128>(n) * s.num + s.den, b = 2 * static_cast<i128>(s.den);
   i128 q = a / b;
   if ((a % b != 0) && ((a < 0) != (b < 0))) --q;  // floor
+  constexpr i128 kMax = i128{1} << 62;  // the machine's index, its sums and differences stay within 64 bits
+  if (q > kMax || q < -kMax)
+    throw InputError("the size scale " + to_string(s) + " takes radial node " + std::to_string(n) +
+                     " beyond 2^62 steps from the pole: use a smaller size scale");
   return static_cast<int64_t>(q);
 }
 

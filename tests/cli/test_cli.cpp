@@ -133,3 +133,17 @@ TEST(Cli, EveryExampleDigitizes) {
     EXPECT_EQ(r.code, 0) << ex << ": " << r.err;
   }
 }
+
+TEST(Cli, AbsurdNumbersAreRefusedNamingTheBound) {
+  Scratch sc;
+  const struct {
+    const char *from, *to, *mention;
+  } cases[] = {
+      // the limacon's path is about 0.48 m: at 1e-300 m/s it would take 1e299 s, beyond 2^62 ns
+      {"speed = \"1.52 cm/s\"", "speed = \"1e-300 m/s\"", "lowest speed that fits"},
+      {"speed = \"1.52 cm/s\"", "speed = \"1e308 m/s\"", "1 ns tick"},
+      {"r_min = \"0 cm\"", "r_min = \"0 cm\"\nangular_steps_per_rev = 9223372036854775807", "machine.angular_steps_per_rev"},
+      {"r_min = \"0 cm\"", "r_min = \"0 cm\"\nradial_resolution = \"1e-13 m\"", "1e-12 m"},
+  };
+  for (const auto& c : cases) expect_bad(sc, replace(kGoodJob, c.from, c.to), c.mention);
+}

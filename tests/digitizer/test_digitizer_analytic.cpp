@@ -278,3 +278,43 @@ TEST(DigitizerAnalytic, SegmentCurveStepsAsTheSameArcLengthPath) {
   }
   EXPECT_LE(worst, 1);  // nanosecond rounding of the same time
 }
+
+TEST(DigitizerAnalytic, DurationsBeyondTheTapesTicksNameTheLowestSpeed) {
+  // a tape times steps in 64-bit nanoseconds, bounded at 2^62 ns: a 0.1 m path fits down to 0.1 m / 2^62 ns
+  const double L = 0.1, v_min = L / (std::ldexp(1.0, 62) * 1e-9);  // 2.168...e-11 m/s
+  for (double v : {1e-300, v_min * 0.99}) {
+    try {
+      make_constant_speed(v, L);
+      FAIL() << v;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("lowest speed that fits is 2.17e-11 m/s"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_NO_THROW(make_constant_speed(2.17e-11, L));  // the speed named fits
+  EXPECT_THROW(make_table_speed({{0.0, 1e-300}, {L, 2e-300}}, L), InputError);
+  EXPECT_THROW(make_trapezoid_speed(1e-300, 1.0, L), InputError);
+}
+
+TEST(DigitizerAnalytic, StepRatesBeyondOneTickAndGridsBeyondTheTapeAreRefused) {
+  // 1e308 m/s on a circle of radius 0.1 m: the angular rate V / (R dtheta) is infinite in double precision, and
+  // every step would fall on one tick
+  Grid g = thesis_grid();
+  try {
+    run_digitizer(*placed(make_circle({0, 0}, 0.1)), g, StepRule::nearest, 1e308);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("1 ns tick"), std::string::npos) << e.what();
+  }
+  // 1e9 steps per second is the bound: V = 1e9 * R dtheta / 2 is below it
+  EXPECT_NO_THROW(run_digitizer(*placed(make_circle({0, 0}, 0.1)), g, StepRule::nearest, 0.5e9 * 0.1 * g.dtheta));
+  Grid fine = g;
+  fine.dr = 1e-13;
+  EXPECT_THROW(fine.validate(), InputError);
+  EXPECT_THROW(dtheta_from_steps((int64_t{1} << 40) + 1), InputError);
+  EXPECT_NO_THROW(dtheta_from_steps(int64_t{1} << 40));
+  EXPECT_EQ(steps_per_rev_from_dtheta(1e-300), 0);  // far beyond 2^40 steps: no whole number is claimed
+  Grid far = g;
+  far.r_max.reset();
+  far.home_r = 1e12;  // 1e12 m / 25.4 um = 3.9e16 steps from node 0, beyond 2^50
+  EXPECT_THROW(far.validate(), InputError);
+}

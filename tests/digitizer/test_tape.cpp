@@ -1,7 +1,10 @@
 // The step tape: round trip, determinism, and every kind of damage detected.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <limits>
 #include <fstream>
 #include <iterator>
 #include <numbers>
@@ -166,5 +169,102 @@ TEST(Tape, VarintsCoverTheWholeRange) {
     ++i;
   }
   EXPECT_EQ(i, intervals.size());
+  std::remove(p.c_str());
+}
+
+namespace {
+
+// CRC-32 (ISO-HDLC, reflected polynomial 0xEDB88320), bit by bit, as docs/tape-format.md specifies it
+uint32_t crc32_bits(const std::string& s) {
+  uint32_t c = 0xFFFFFFFFu;
+  for (unsigned char b : s) {
+    c ^= b;
+    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xEDB88320u & (0u - (c & 1u)));
+  }
+  return ~c;
+}
+template <class T>
+void put(std::string& s, size_t off, T v) {
+  std::memcpy(&s[off], &v, sizeof v);  // little-endian host, as the tape
+}
+// The tape with its header checksum recomputed the way the reader checks it (the fixed header and the
+// provenance, with the checksum field zeroed).
+std::string reseal(std::string s) {
+  uint32_t plen = 0;
+  std::memcpy(&plen, &s[12], 4);
+  put<uint32_t>(s, 220, 0);
+  put<uint32_t>(s, 220, crc32_bits(s.substr(0, 256 + plen)));
+  return s;
+}
+
+}  // namespace
+
+TEST(Tape, HostileHeadersThatPassTheirChecksumsAreRefused) {
+  std::string p = temp_path("host.tape"), q = temp_path("host2.tape");
+  write_limacon(p);
+  const std::string good = slurp(p);
+  spit(q, reseal(good));
+  ASSERT_NO_THROW(verify_tape(q)) << "resealing an untouched tape must keep it valid";
+  auto expect_bad = [&](std::string bytes, const char* mention) {
+    spit(q, reseal(std::move(bytes)));
+    try {
+      verify_tape(q);
+      ADD_FAILURE() << "accepted: " << mention;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(mention), std::string::npos) << e.what();
+    }
+  };
+  const double nan = std::nan("");
+  std::string s = good;
+  put(s, 56, nan);
+  expect_bad(s, "r_min");
+  s = good;
+  put<uint16_t>(s, 18, static_cast<uint16_t>(s[18] | 2));  // has r_max
+  put(s, 64, nan);
+  expect_bad(s, "r_max");
+  s = good;
+  put<int64_t>(s, 48, -16000);
+  expect_bad(s, "steps per revolution");
+  s = good;
+  put(s, 32, 0.0);
+  expect_bad(s, "resolution");
+  s = good;
+  put(s, 40, std::numeric_limits<double>::infinity());
+  expect_bad(s, "resolution");
+  // the start node at 2^62 (the end node moved with it, so the steps still add up)
+  int64_t start = 0, end = 0;
+  std::memcpy(&start, &good[104], 8);
+  std::memcpy(&end, &good[120], 8);
+  s = good;
+  put<int64_t>(s, 104, int64_t{1} << 62);
+  put<int64_t>(s, 120, (int64_t{1} << 62) + (end - start));
+  expect_bad(s, "2^50");
+  s = good;
+  put<int64_t>(s, 120, end + 1);
+  expect_bad(s, "end node");
+  std::remove(p.c_str());
+  std::remove(q.c_str());
+}
+
+TEST(Tape, RecordsWhoseTimesPassTwoToTheSixtyTwoNanosecondsAreRefused) {
+  std::string p = temp_path("long.tape");
+  TapeHeader h;
+  h.res[0] = 1e-4;
+  h.res[1] = 2 * std::numbers::pi / 1000;
+  h.steps_per_rev = 1000;
+  h.provenance = "{}";
+  {
+    TapeWriter w(p, h);
+    w.write(StepRecord{(uint64_t{1} << 62) - 1, 1, 1});  // the largest interval a record holds, then one more tick
+    w.write(StepRecord{2, 1, 1});
+    h.end[1] = 2;
+    w.finish(h);
+  }
+  try {
+    verify_tape(p);
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("2^62"), std::string::npos) << e.what();
+  }
   std::remove(p.c_str());
 }

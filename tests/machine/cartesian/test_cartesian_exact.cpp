@@ -103,7 +103,9 @@ TEST(CartesianExact, TrackIsAccurateToRounding) {
 TEST(CartesianExact, PathTooLargeForTheResolutionIsAnError) {
   auto line = make_line({0, 0}, {1e12, 0});
   CartesianTrack tr = CartesianTrack::build(*line);
-  auto prof = make_constant_speed(1.0, tr.length());
+  // at 1 m/s the 1e12 m line would take 1e21 ns, beyond what a tape times: the speed profile refuses it
+  EXPECT_THROW(make_constant_speed(1.0, tr.length()), InputError);
+  auto prof = make_constant_speed(1e6, tr.length());  // 1e15 ns: timed, but 1e18 steps beyond the node numbers
   EXPECT_THROW(step_exact(tr, 1e-6, *prof, nullptr), InputError);
   // within reach of the node numbers, but 2 * 10^12 steps: refused before any work
   auto metre = make_line({0, 0}, {1.0, 0});

@@ -55,6 +55,10 @@ TEST(Scaling, RadialIndexIsTheNearestToNTimesPOverQHalvesUp) {
     }
   EXPECT_EQ(scaled_radial_index(4501, Ratio{1, 2}), 2251);  // 2250.5 rounds up
   EXPECT_EQ(scaled_radial_index(4499, Ratio{1, 2}), 2250);  // 2249.5 rounds up
+  // 2^62 scaled 2/1 is 2^63, beyond int64: refused, not wrapped
+  EXPECT_THROW(scaled_radial_index(int64_t{1} << 62, Ratio{2, 1}), InputError);
+  EXPECT_THROW(scaled_radial_index(-(int64_t{1} << 62), Ratio{3, 1}), InputError);
+  EXPECT_EQ(scaled_radial_index(int64_t{1} << 61, Ratio{2, 1}), int64_t{1} << 62);
 }
 
 // Machine node after all machine steps that come from tape records 1..i, for every i.
