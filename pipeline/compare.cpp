@@ -564,6 +564,9 @@ void add_verdicts(Comparison& c) {
 Comparison compare_job(const Job& job, const CompareOptions& opt) {
   if (opt.speed_scale.num <= 0 || opt.speed_scale.den <= 0 || opt.size_scale.num <= 0 || opt.size_scale.den <= 0)
     throw InputError("the scale factors must be above zero");
+  if (job.machine.coupling != 0.0)  // the polar tape's radial axis would be the geared motor, not the radius
+    throw InputError("the machine's radial motor is coupled to its arm (coupling): the comparison measures an "
+                     "uncoupled polar machine; give a machine file without 'coupling'", job.file);
   Comparison c;
   c.job_file = job.file;
   c.contour = job.contour->name();

@@ -25,10 +25,12 @@ struct CartesianMap {
     return true;
   }
   bool smooth(const double[2], const double[2]) const { return true; }
-  // The scale of a coordinate is its size on the piece, not its distance from the origin alone.
+  // The scale of a coordinate is the size of the point on the piece, both coordinates: a path computed in polar
+  // form (a theta-rho pattern, a rotated drawing) rounds y at the size of x where it crosses the x axis.
   void tolerances(const double qa[2], const double span[2], double, double tol[2]) const {
-    tol[0] = 16 * kEps * (std::abs(qa[0]) + span[0] + span[1]) + 1e-300;
-    tol[1] = 16 * kEps * (std::abs(qa[1]) + span[0] + span[1]) + 1e-300;
+    const double size = std::abs(qa[0]) + std::abs(qa[1]) + span[0] + span[1];
+    tol[0] = 16 * kEps * size + 1e-300;
+    tol[1] = 16 * kEps * size + 1e-300;
   }
   int close(const double first[2], double last[2]) const {  // a closed path ends exactly where it starts
     last[0] = first[0];
