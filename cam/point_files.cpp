@@ -74,11 +74,4 @@ std::vector<Vec2> read_pairs(const std::string& path, const char* kind, F conver
 std::vector<Vec2> read_points_csv(const std::string& path, double unit_m) {
   return read_pairs(path, "CSV", [unit_m](double x, double y) { return Vec2{x * unit_m, y * unit_m}; });
 }
-
-std::vector<Vec2> read_points_thr(const std::string& path, double rho_scale_m) {
-  return read_pairs(path, "theta-rho", [rho_scale_m](double th, double rho) {
-    return Vec2{rho * rho_scale_m * std::cos(th), rho * rho_scale_m * std::sin(th)};
-  });
-}
-
 }  // namespace polarcam

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "cam/error.hpp"
+#include "cam/format.hpp"
 #include "cam/svg_export.hpp"
 #include "cam/thr_export.hpp"
 #include "cam/thr_file.hpp"
@@ -12,12 +13,7 @@
 namespace polarcam {
 namespace {
 
-std::string mm(double m) {
-  std::ostringstream os;
-  os.precision(6);
-  os << m * 1e3 << " mm";
-  return os.str();
-}
+std::string mm(double m) { return significant(m * 1e3) + " mm"; }
 
 // The lines that say where a file comes from: the job file's name (not its directory), the contour, the tolerance.
 std::vector<std::string> source_lines(const Job& job, const ExportOptions& o) {

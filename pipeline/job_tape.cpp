@@ -47,10 +47,9 @@ void complete_header(TapeHeader& h, const DigitizeResult& r) {
   h.path_length_m = r.path_length_m;
 }
 
-const ThetaRhoPath* job_theta_rho_path(const Job& job, const Curve& path) {
+const ThetaRhoPath* job_theta_rho_path(const Curve& path) {
   const auto* tp = dynamic_cast<const ToolPath*>(&path);
   if (!tp || !tp->is_contour_itself()) return nullptr;
-  (void)job;
   return as_theta_rho_path(tp->contour());
 }
 
@@ -63,7 +62,7 @@ double job_timing_radius(const Job& job) {
 
 PolarTrack job_polar_track(const Job& job, const Curve& path) {
   return in_file(job.file, [&] {
-    if (const ThetaRhoPath* trp = job_theta_rho_path(job, path)) return polyline_polar_track(*trp, job_timing_radius(job));
+    if (const ThetaRhoPath* trp = job_theta_rho_path(path)) return polyline_polar_track(*trp, job_timing_radius(job));
     return PolarTrack::build(path);
   });
 }
@@ -79,7 +78,7 @@ DigitizedJob digitize_job(const Job& job, StepSink* sink) {
       d.result = digitize(d.track, job.machine.grid, job.motion.rule, *d.profile, sink);
     } else {
       // the coupled arm's radial motor: its own track, the same arc length
-      const ThetaRhoPath* trp = job_theta_rho_path(job, *d.path);
+      const ThetaRhoPath* trp = job_theta_rho_path(*d.path);
       const ThetaRhoTrack arm = trp ? ThetaRhoTrack::build(*trp, c, job_timing_radius(job)) : ThetaRhoTrack::build(*d.path, c);
       d.result = digitize(arm, job.machine.grid, job.motion.rule, *d.profile, sink);
     }

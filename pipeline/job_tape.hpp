@@ -16,7 +16,7 @@ void complete_header(TapeHeader& h, const DigitizeResult& r);
 
 // The theta-rho polyline the job's tool path is, when it is one (a theta-rho contour drawn as it is: no
 // placement, no tool radius, forward from its start); nullptr otherwise.
-const ThetaRhoPath* job_theta_rho_path(const Job& job, const Curve& path);
+const ThetaRhoPath* job_theta_rho_path(const Curve& path);
 // Near the centre of a theta-rho path, the radius whose arc times a turn of the arm (digitizer/theta_rho.hpp):
 // the job's top speed over the machine's max_angular_speed, 0 when the machine gives none.
 double job_timing_radius(const Job& job);

@@ -88,7 +88,7 @@ Preview preview_job(const Job& job, double resolution_mm) {
   pv.steps = sink.steps;
   // the tool path, and where the tool is slower than asked: the timing radius r_c near the centre of a theta-rho
   // path (docs/patterns.md) scales the speed by |P'| / sqrt(r'^2 + r_c^2 theta'^2) where r < r_c
-  const double rc = job_theta_rho_path(job, *first.path) ? job_timing_radius(job) : 0.0;
+  const double rc = job_theta_rho_path(*first.path) ? job_timing_radius(job) : 0.0;
   const PolarTrack& tr = first.track;
   bool in_slow = false;
   for (size_t i = 0; i < tr.pieces().size(); ++i) {

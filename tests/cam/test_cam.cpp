@@ -11,6 +11,7 @@
 #include "cam/expr_curves.hpp"
 #include "cam/path.hpp"
 #include "cam/point_files.hpp"
+#include "cam/thr_file.hpp"
 #include "cam/spline.hpp"
 #include "cam/toolpath.hpp"
 #include "tests/temp_path.hpp"
@@ -216,10 +217,14 @@ TEST(PointFiles, CsvAndThetaRho) {
   auto p = read_points_csv(csv, 0.001);
   ASSERT_EQ(p.size(), 3u);
   EXPECT_DOUBLE_EQ(p[2].y, 0.006);
-  auto t = read_points_thr(thr, 0.2);
-  ASSERT_EQ(t.size(), 3u);
-  EXPECT_NEAR(t[1].y, 0.1, 1e-15);
-  EXPECT_NEAR(t[2].x, -0.2, 1e-15);
+  // a theta-rho file is a pattern: its vertices, rho scaled, are the points x = rho cos theta, y = rho sin theta
+  const ThrPattern tp = read_thr(thr);
+  ASSERT_EQ(tp.vertices.size(), 3u);
+  std::vector<ThetaRho> v = tp.vertices;
+  for (ThetaRho& x : v) x.rho *= 0.2;
+  const CurvePtr t = make_theta_rho_path(v, "pts");
+  EXPECT_NEAR(t->eval(1.0, 0).p.y, 0.1, 1e-15);
+  EXPECT_NEAR(t->eval(2.0, 0).p.x, -0.2, 1e-15);
   {
     std::ofstream f(csv);
     f << "x,y\n1,2\n3,abc\n";
