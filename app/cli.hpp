@@ -5,6 +5,7 @@
 #include <functional>
 #include <string>
 
+#include "cam/image_trace.hpp"
 #include "cam/units.hpp"
 #include "job/job.hpp"
 
@@ -15,9 +16,17 @@ using Action = std::function<int()>;
 // --machine and --speed: what makes a pattern file (.thr, .svg, .dxf, .csv) a job (job/pattern.hpp).
 struct PatternArgs {
   std::string machine, speed;
+  std::string pixel_size;  // an image's tracing (cam/image_trace.hpp)
+  double threshold = 0.5;
+  bool invert = false;
+  int despeckle = 2;
 };
 // with_speed false: the command has a --speed of its own, which the caller copies into a.speed.
 void add_pattern_options(CLI::App* c, PatternArgs& a, bool with_speed = true);
+// --pixel-size, --threshold, --invert, --despeckle: how an image is traced.
+void add_trace_options(CLI::App* c, PatternArgs& a);
+// The tracing options they give; InputError naming the option that is wrong.
+TraceOptions trace_options(const PatternArgs& a);
 // The job file or pattern `path` with the pattern options; a bad --speed is an InputError naming it.
 // `tolerance` (m): how close a drawing's joined contours stay to their curves (job/pattern.hpp).
 Job load_job_input(const std::string& path, const PatternArgs& a, double tolerance = 1e-4);
@@ -28,12 +37,12 @@ double option_quantity(const std::string& text, const Dim& d, const std::string&
 using Register = void(CLI::App& app, Action& action);
 Register register_digitize, register_inspect, register_dda, register_play, register_controller_sim, register_error,
     register_optimize, register_analyze, register_motor, register_compare, register_capacity, register_report,
-    register_check, register_preview, register_export;
+    register_check, register_preview, register_export, register_trace;
 
 // The subcommands, in the order `polarcam --help` lists them.
 inline constexpr Register* kCommands[] = {
     register_digitize, register_inspect, register_dda,     register_play,    register_controller_sim, register_error,
     register_optimize, register_analyze, register_motor,   register_compare, register_capacity,       register_report,
-    register_check,    register_preview,    register_export};
+    register_check,    register_preview,    register_export,  register_trace};
 
 }  // namespace polarcam::cli

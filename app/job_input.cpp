@@ -7,9 +7,26 @@
 namespace polarcam::cli {
 
 void add_pattern_options(CLI::App* c, PatternArgs& a, bool with_speed) {
-  c->add_option("--machine", a.machine, "machine file, for a pattern file (.thr, .svg, .dxf, .csv) given in place of a job");
+  c->add_option("--machine", a.machine, "machine file, for a pattern file (.thr, .svg, .dxf, .csv, .png, .pbm, .pgm) given in place of a job");
   if (with_speed)
     c->add_option("--speed", a.speed, "speed along the path, e.g. \"40 mm/s\" (a pattern needs it; overrides a job's)");
+  add_trace_options(c, a);
+}
+
+void add_trace_options(CLI::App* c, PatternArgs& a) {
+  c->add_option("--pixel-size", a.pixel_size, "an image's pixel size, e.g. \"0.1 mm\" (default: the image's own resolution)");
+  c->add_option("--threshold", a.threshold, "an image's ink: pixels darker than this gray level, 0..1 (default 0.5)");
+  c->add_flag("--invert", a.invert, "an image's ink is light on dark paper");
+  c->add_option("--despeckle", a.despeckle, "drop an image's spots of at most this many pixels (default 2)");
+}
+
+TraceOptions trace_options(const PatternArgs& a) {
+  TraceOptions t;
+  if (!a.pixel_size.empty()) t.pixel_size_m = option_quantity(a.pixel_size, dim::length, "--pixel-size");
+  t.threshold = a.threshold;
+  t.invert = a.invert;
+  t.despeckle = a.despeckle;
+  return t;
 }
 
 double option_quantity(const std::string& text, const Dim& d, const std::string& option) {
@@ -25,6 +42,7 @@ Job load_job_input(const std::string& path, const PatternArgs& a, double toleran
   o.machine_file = a.machine;
   o.tolerance = tolerance;
   if (!a.speed.empty()) o.speed = option_quantity(a.speed, dim::speed, "--speed");
+  o.trace = trace_options(a);
   return load_job_or_pattern(path, o);
 }
 

@@ -9,6 +9,7 @@
 
 #include "cam/dxf_import.hpp"
 #include "cam/error.hpp"
+#include "cam/image_trace.hpp"
 #include "cam/path.hpp"
 #include "cam/point_files.hpp"
 #include "cam/segments.hpp"
@@ -31,9 +32,31 @@ std::string extension(const std::string& path) {
   return ext;
 }
 
+// Several contours of a drawing as one theta-rho path, joined in order by the moves a sand table makes between
+// them; one contour keeps its exact curve.
+CurvePtr join_contours(const std::vector<CurvePtr>& curves, double tolerance, const std::string& path,
+                       const std::string& name, const std::string& what, json& prov) {
+  if (curves.size() == 1) return curves.front();
+  // several contours: one theta-rho path, joined by the moves a sand table makes between them
+  std::vector<ThetaRho> all;
+  for (size_t i = 0; i < curves.size(); ++i) {
+    std::vector<ThetaRho> v = in_file(path, [&] { return to_theta_rho(*curves[i], tolerance); });
+    if (!all.empty()) {
+      // the next contour on the arm's nearest turn: theta continues from where the last one ended
+      const double shift = 2.0 * std::numbers::pi * std::nearbyint((all.back().theta - v.front().theta) / (2.0 * std::numbers::pi));
+      for (ThetaRho& x : v) x.theta += shift;
+      if (v.front().theta == all.back().theta && v.front().rho == all.back().rho) v.erase(v.begin());
+    }
+    all.insert(all.end(), v.begin(), v.end());
+  }
+  prov["tolerance_m"] = tolerance;
+  prov["vertices"] = all.size();
+  return in_file(path, [&] { return make_theta_rho_path(std::move(all), what + " " + name); });
+}
+
 // The contour of a pattern file, in the machine's frame (the pattern's origin is the machine pole).
-CurvePtr pattern_contour(const std::string& path, const Machine& m, double tolerance, json& prov, std::string& kind,
-                         size_t& contours) {
+CurvePtr pattern_contour(const std::string& path, const Machine& m, double tolerance, const TraceOptions& trace, json& prov,
+                         std::string& kind, size_t& contours) {
   const std::string ext = extension(path);
   const std::string name = std::filesystem::path(path).filename().string();
   if (ext == ".thr") {
@@ -85,24 +108,28 @@ CurvePtr pattern_contour(const std::string& path, const Machine& m, double toler
     prov["scale"] = scale;
     prov["centre_m"] = {centre.x, centre.y};
     contours = curves.size();
-    if (curves.size() == 1) return curves.front();
-    // several contours: one theta-rho path, joined by the moves a sand table makes between them
-    std::vector<ThetaRho> all;
-    for (size_t i = 0; i < curves.size(); ++i) {
-      std::vector<ThetaRho> v = in_file(path, [&] { return to_theta_rho(*curves[i], tolerance); });
-      if (!all.empty()) {
-        // the next contour on the arm's nearest turn: theta continues from where the last one ended
-        const double shift = 2.0 * std::numbers::pi * std::nearbyint((all.back().theta - v.front().theta) / (2.0 * std::numbers::pi));
-        for (ThetaRho& x : v) x.theta += shift;
-        if (v.front().theta == all.back().theta && v.front().rho == all.back().rho) v.erase(v.begin());
-      }
-      all.insert(all.end(), v.begin(), v.end());
-    }
-    prov["tolerance_m"] = tolerance;
-    prov["vertices"] = all.size();
-    return in_file(path, [&] { return make_theta_rho_path(std::move(all), "svg " + name); });
+    return join_contours(curves, tolerance, path, name, "svg", prov);
   }
-  throw InputError("not a pattern file: give .thr, .svg, .dxf or .csv, or a job file", path);
+  if (is_image_file(path)) {
+    kind = "image";
+    const Tracing t = trace_image(read_image(path), trace, path);
+    std::vector<CurvePtr> curves;
+    for (const TracedContour& c : t.contours) curves.push_back(c.curve);
+    // a template keeps its size: the image's centre on the pole
+    const Vec2 centre{0.5 * t.width_m(), 0.5 * t.height_m()};
+    for (CurvePtr& c : curves) c = transform_curve(c, 1.0, -1.0 * centre);
+    prov["kind"] = "image";
+    prov["file"] = name;
+    prov["pixels"] = {t.width_px, t.height_px};
+    prov["pixel_size_m"] = t.pixel_size_m;
+    prov["threshold"] = trace.threshold;
+    prov["invert"] = trace.invert;
+    prov["despeckle_px"] = trace.despeckle;
+    prov["contours"] = curves.size();
+    contours = curves.size();
+    return join_contours(curves, tolerance, path, name, "image", prov);
+  }
+  throw InputError("not a pattern file: give .thr, .svg, .dxf, .csv or an image (.png, .pbm, .pgm), or a job file", path);
 }
 
 Job pattern_job(const std::string& path, const PatternOptions& o) {
@@ -116,7 +143,7 @@ Job pattern_job(const std::string& path, const PatternOptions& o) {
   prov["format"] = "polarcam-job/1";
   job.machine = load_machine(o.machine_file, &prov["machine"]);
   if (!(o.tolerance > 0.0)) throw InputError("must be a positive length", "--tolerance");
-  job.contour = pattern_contour(path, job.machine, o.tolerance, prov["contour"], job.contour_kind, job.contours);
+  job.contour = pattern_contour(path, job.machine, o.tolerance, o.trace, prov["contour"], job.contour_kind, job.contours);
   prov["placement"] = {{"C_m", 0.0}, {"beta_rad", 0.0}};
   job.tool.side = ToolSide::left;
   prov["tool"] = {{"radius_m", 0.0}, {"side", "left"}};
@@ -138,13 +165,13 @@ Job pattern_job(const std::string& path, const PatternOptions& o) {
 
 bool is_pattern_file(const std::string& path) {
   const std::string ext = extension(path);
-  return ext == ".thr" || ext == ".svg" || ext == ".dxf" || ext == ".csv";
+  return ext == ".thr" || ext == ".svg" || ext == ".dxf" || ext == ".csv" || is_image_file(path);
 }
 
 Job load_job_or_pattern(const std::string& path, const PatternOptions& o) {
   if (is_pattern_file(path)) return pattern_job(path, o);
   if (!o.machine_file.empty())
-    throw InputError("applies to pattern files (.thr, .svg, .dxf, .csv); a job file names its machine in [machine]", "--machine");
+    throw InputError("applies to pattern files (.thr, .svg, .dxf, .csv, images); a job file names its machine in [machine]", "--machine");
   Job job = load_job(path);
   if (o.speed) {
     if (!(*o.speed > 0.0)) throw InputError("must be a positive speed", "--speed");

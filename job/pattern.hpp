@@ -5,10 +5,12 @@
 // (docs/patterns.md). An SVG drawing is centred on the pole and scaled to fit the work area (the circle of the
 // machine's r_max, less 2 %); several contours (an SVG's subpaths) are joined in order into one theta-rho path,
 // each contour within `tolerance` of its curve and the connecting moves linear in theta and rho, as a sand table
-// draws them; a single contour keeps its exact curve.
+// draws them; a single contour keeps its exact curve. An image (a template: .png, .pbm, .pgm) is traced into its
+// outlines and holes (cam/image_trace.hpp), kept at its physical size with its centre on the pole, and joined so.
 #include <optional>
 #include <string>
 
+#include "cam/image_trace.hpp"
 #include "job/job.hpp"
 
 namespace polarcam {
@@ -17,9 +19,11 @@ struct PatternOptions {
   std::string machine_file;        // --machine: required for a pattern, refused for a job file
   std::optional<double> speed;     // --speed (m/s): required for a pattern; overrides a job's [motion] speed
   double tolerance = 1e-4;         // m: contours of a drawing joined into one theta-rho path stay this close
+  TraceOptions trace;              // an image: how it is traced (its pixel size, threshold, ...)
 };
 
-// True for the file types read as patterns (by extension, case-insensitive): .thr, .svg, .dxf, .csv.
+// True for the file types read as patterns (by extension, case-insensitive): .thr, .svg, .dxf, .csv, and the
+// images .png, .pbm, .pgm.
 bool is_pattern_file(const std::string& path);
 
 // A job file (TOML) read by load_job, or a pattern made into a job. Throws InputError naming the file or the
