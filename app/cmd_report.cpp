@@ -6,6 +6,7 @@
 
 #include "app/cli.hpp"
 #include "report/operator_report.hpp"
+#include "report/pattern_report.hpp"
 #include "io/output.hpp"
 #include "cam/error.hpp"
 
@@ -28,7 +29,9 @@ int run(const Opts& o) {
     if (!(o.safety_factor >= 1.0)) throw InputError("--safety-factor must be at least 1");
     job.safety_factor = o.safety_factor;
   }
-  const OperatorReport r = operator_report(job, study_job(job, o.report));
+  // a machine without dynamics, or a sand table's coupled arm: the report of what it will draw
+  const OperatorReport r = pattern_report_applies(job) ? pattern_report(job, study_pattern(job))
+                                                       : operator_report(job, study_job(job, o.report));
   write_file_atomic(o.output, r.html);
   std::cout << (r.go ? "GO" : "NO-GO") << ": report written to " << o.output << "\n";
   return r.go ? 0 : 1;
@@ -40,7 +43,7 @@ void register_report(CLI::App& app, Action& action) {
   auto o = std::make_shared<Opts>();
   CLI::App* c = app.add_subcommand("report", "The operator's report: one self-contained HTML page to read before "
                                              "running a job (verdict, accuracy, torques, capacity, placement)");
-  c->add_option("job", o->job, "job file (TOML) whose machine has dynamics")->required();
+  c->add_option("job", o->job, "job file (TOML) or pattern; a machine without dynamics or with a coupled arm gets the pattern report")->required();
   add_pattern_options(c, o->pattern);
   c->add_option("-o,--output", o->output, "the report (.html)")->required();
   c->add_option("--map-size", o->report.map_size, "poles per side of the pole survey (default 31)")

@@ -32,7 +32,7 @@ plot::Series line(const Polyline& p, const std::string& label, int color, double
 
 }  // namespace
 
-void save_preview(const Preview& pv, const std::string& path) {
+plot::Figure preview_figure(const Preview& pv) {
   plot::Figure f = plot::figure(1000, 1000);
   plot::Panel p = plot::panel(pv.title, "x (mm)", "y (mm)", true);
   if (pv.r_max_mm) p.series.push_back(circle(*pv.r_max_mm, "work area"));
@@ -48,7 +48,9 @@ void save_preview(const Preview& pv, const std::string& path) {
     p.xmin = -m, p.xmax = m, p.ymin = -m, p.ymax = m;
   }
   f.panels.push_back(std::move(p));
-  plot::save(f, path);
+  return f;
 }
+
+void save_preview(const Preview& pv, const std::string& path) { plot::save(preview_figure(pv), path); }
 
 }  // namespace polarcam::cli

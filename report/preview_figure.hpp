@@ -4,9 +4,12 @@
 #include <string>
 
 #include "pipeline/preview.hpp"
+#include "report/plot.hpp"
 
 namespace polarcam::cli {
 
+// The figure: one square panel.
+plot::Figure preview_figure(const Preview& pv);
 // Writes the figure to `path` (.png or .svg), all or nothing.
 void save_preview(const Preview& pv, const std::string& path);
 
