@@ -292,6 +292,13 @@ class Parser {
     return false;
   }
 
+  // a ')', else the refused operator that stands in its place, else `missing`
+  void close(const std::string& missing) {
+    if (eat(')')) return;
+    if (i_ < s_.size() && std::string("<>=!&|?:,").find(s_[i_]) != std::string::npos) unexpected();
+    fail(missing);
+  }
+
   static Node binary(int code, Node a, Node b) {
     Node n;
     n.code = code;
@@ -340,7 +347,7 @@ class Parser {
     if (ch == '(') {
       ++i_;
       Node n = sum();
-      if (!eat(')')) fail("a ')' is missing");
+      close("a ')' is missing");
       return n;
     }
     if (std::isdigit(static_cast<unsigned char>(ch)) || ch == '.') return number();
@@ -377,10 +384,6 @@ class Parser {
       n.konst = false;
     } else if (auto it = consts_.find(id); it != consts_.end()) {
       n.c = it->second;
-    } else if (id == "pi" || id == "_pi") {
-      n.c = std::numbers::pi;
-    } else if (id == "_e") {
-      n.c = std::numbers::e;
     } else {
       fail("unknown name '" + id + "'");
     }
@@ -401,7 +404,7 @@ class Parser {
     n.code = fn->code;
     do n.kids.push_back(sum());
     while (eat(','));
-    if (!eat(')')) fail("a ')' is missing after the arguments of " + id + "()");
+    close("a ')' is missing after the arguments of " + id + "()");
     if (fn->arity > 0 && static_cast<int>(n.kids.size()) != fn->arity)
       fail(id + "() takes " + std::to_string(fn->arity) + " argument");
     for (const Node& k : n.kids) n.konst = n.konst && k.konst;
@@ -451,7 +454,9 @@ int stack_depth(const std::vector<Expression::Op>& prog) {
 Expression::Expression(const std::string& text, const std::vector<std::string>& variables,
                        const std::map<std::string, double>& constants, const std::string& key)
     : text_(text), key_(key) {
-  // muparser checks the syntax first, with its messages, so that what it refuses is refused as before
+  // muparser checks the syntax first, with its messages, so that what it refuses is refused as before; its
+  // constants (ours, the job's and its own _pi and _e, with muparser's values) are the ones the text may name
+  std::map<std::string, double> names;
   try {
     mu::Parser p;
     double var = 0.0;
@@ -460,10 +465,11 @@ Expression::Expression(const std::string& text, const std::vector<std::string>& 
     for (const auto& v : variables) p.DefineVar(v, &var);
     p.SetExpr(text);
     p.Eval();
+    for (const auto& [k, v] : p.GetConst()) names[k] = v;
   } catch (mu::Parser::exception_type& e) {
     throw InputError("'" + text + "': " + e.GetMsg(), key);
   }
-  const Node root = Parser(text, variables, constants, key).parse();
+  const Node root = Parser(text, variables, names, key).parse();
   emit(root, program_);
   depth_ = stack_depth(program_);
 }

@@ -6,7 +6,8 @@
 // approximated: the derivatives carry only the rounding errors of their own arithmetic, like the value. The
 // evaluation order is the order of the text, so the same text gives the same bits on every run.
 //
-// Accepted: numbers, the variable (under one or more names), named constants, `pi`, `_pi`, `_e`, + - * / ^
+// Accepted: numbers, the variable (under one or more names), named constants, `pi`, muparser's own constants
+// (`_pi`, `_e`, with muparser's values), + - * / ^
 // (right-associative, above unary minus: -x^2 = -(x^2), as in muparser), parentheses and the smooth functions
 // sin cos tan asin acos atan sinh cosh tanh asinh acosh atanh exp log ln log2 log10 sqrt, and abs, min, max
 // (smooth but where their arguments meet: there the derivative is the one on the side of increasing variable),
