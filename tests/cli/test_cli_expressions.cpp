@@ -106,6 +106,33 @@ TEST(CliExpressions, LimaconFormulasStepAsTheNamedLimacon) {
   }
 }
 
+// The witch of Agnesi as a formula y(x) (refused before): the named witch's tape (examples/witch.toml's placement).
+TEST(CliExpressions, CartesianWitchStepsAsTheNamedWitch) {
+  Scratch sc;
+  const std::string head = "[machine]\nfile = \"machines/fahim1983.toml\"\n[contour]\n",
+                    tail = "[placement]\nC = \"15.46 cm\"\nbeta = \"1.236 rad\"\n[motion]\nspeed = \"1.52 cm/s\"\n";
+  const std::string named = sc.path("named.tape"), formula = sc.path("formula.tape");
+  cli_json("digitize " +
+           sc.write("named.toml", head + "kind = \"witch\"\na = \"21.59 cm\"\nx_from = \"-20.32 cm\"\n"
+                                         "x_to = \"20.32 cm\"\n" + tail) +
+           " -o " + named + " --json");
+  cli_json("digitize " +
+           sc.write("formula.toml", head + "kind = \"cartesian\"\ny = \"8*a^3/(x^2+4*a^2)\"\nunit = \"cm\"\n"
+                                           "x_from = \"-20.32 cm\"\nx_to = \"20.32 cm\"\n" + tail +
+                                           "[contour.constants]\na = 21.59\n") +
+           " -o " + formula + " --json");
+  const std::vector<Step> want = steps_of(named), got = steps_of(formula);
+  ASSERT_GT(want.size(), 6000u);
+  ASSERT_EQ(got.size(), want.size());
+  for (size_t i = 0; i < got.size(); ++i) {
+    ASSERT_EQ(got[i].axis, want[i].axis) << "step " << i;
+    ASSERT_EQ(got[i].dir, want[i].dir) << "step " << i;
+    ASSERT_EQ(got[i].n, want[i].n) << "step " << i;
+    ASSERT_EQ(got[i].m, want[i].m) << "step " << i;
+    ASSERT_LE(std::llabs(got[i].t_ns - want[i].t_ns), 1) << "step " << i;
+  }
+}
+
 // Several laps: lap k is the named limacon's lap, one revolution of the arm further (m + k 16000) and k lap
 // times later (within the nanosecond each time is rounded to).
 TEST(CliExpressions, ParametricLimaconLapsRepeatTheNamedLap) {
