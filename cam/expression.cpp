@@ -245,6 +245,72 @@ Jet run(const std::vector<Expression::Op>& prog, int depth, double x, int order)
   return r;
 }
 
+// The value and the size of the numbers it is computed from (T): the absolute rounding error of the value is a
+// few units in the last place of T. Constants and the variable are taken as exact; a sum carries the sizes of
+// both terms (T = |value| when nothing cancels), a product or quotient the relative sizes of its factors, a
+// function phi(g) the error of its argument, |phi'(g)| (T_g - |g|), above its own value.
+struct Sized {
+  double v, T;
+};
+Sized run_sized(const std::vector<Expression::Op>& prog, double x) {
+  std::vector<Sized> st;
+  st.reserve(prog.size());
+  for (const Expression::Op& op : prog) {
+    const size_t sp = st.size();
+    switch (op.code) {
+      case kConst: st.push_back({op.c, std::abs(op.c)}); break;
+      case kVar: st.push_back({x, std::abs(x)}); break;
+      case kAdd:
+      case kSub:
+      case kMul:
+      case kDiv: {
+        const Sized a = st[sp - 2], b = st[sp - 1];
+        st.pop_back();
+        Sized& r = st.back();
+        if (op.code == kAdd || op.code == kSub) r = {op.code == kAdd ? a.v + b.v : a.v - b.v, a.T + b.T};
+        else if (op.code == kMul) r = {a.v * b.v, a.T * b.T};
+        else r = {a.v / b.v, a.T * b.T / (b.v * b.v)};
+        break;
+      }
+      case kPow: {
+        // f^g = exp(g log f)
+        const Sized f = st[sp - 2], g = st[sp - 1];
+        st.pop_back();
+        const double lg = std::log(f.v), Tl = std::abs(lg) + (f.T - std::abs(f.v)) / std::abs(f.v);
+        const double p = g.v * lg, Tp = g.T * Tl, v = std::pow(f.v, g.v);
+        st.back() = {v, std::abs(v) * (1.0 + Tp - std::abs(p))};
+        break;
+      }
+      case kAbs: st.back().v = std::abs(st.back().v); break;
+      case kMin:
+      case kMax: {
+        const size_t first = sp - static_cast<size_t>(op.n);
+        size_t best = first;
+        for (size_t i = first + 1; i < sp; ++i)
+          if (op.code == kMin ? st[i].v < st[best].v : st[i].v > st[best].v) best = i;
+        st[first] = st[best];
+        st.resize(first + 1);
+        break;
+      }
+      case kSum:
+      case kAvg: {
+        const size_t first = sp - static_cast<size_t>(op.n);
+        for (size_t i = first + 1; i < sp; ++i) st[first].v += st[i].v, st[first].T += st[i].T;
+        if (op.code == kAvg) st[first].v /= op.n, st[first].T /= op.n;
+        st.resize(first + 1);
+        break;
+      }
+      default: {
+        double phi[4];
+        Sized& g = st.back();
+        unary(op.code, g.v, op.c, phi);
+        g = {phi[0], std::abs(phi[0]) + std::abs(phi[1]) * (g.T - std::abs(g.v))};
+      }
+    }
+  }
+  return st.empty() ? Sized{0.0, 0.0} : st.back();
+}
+
 // Recursive descent over muparser's grammar:
 //   sum     = product { ("+" | "-") product }
 //   product = unary { ("*" | "/") unary }
@@ -472,6 +538,12 @@ Expression::Expression(const std::string& text, const std::vector<std::string>& 
   const Node root = Parser(text, variables, names, key).parse();
   emit(root, program_);
   depth_ = stack_depth(program_);
+}
+
+double Expression::excess(double x) const {
+  const Sized r = run_sized(program_, x);
+  const double e = r.T - std::abs(r.v);
+  return e > 0.0 ? e : 0.0;
 }
 
 double Expression::operator()(double x) const { return run(program_, depth_, x, 0).d[0]; }

@@ -34,6 +34,10 @@ class Expression {
   // out[0] = f(x), out[k] = the k-th derivative at x for k <= order (0..3); out[k] = 0 above order.
   void derivatives(double x, int order, double out[4]) const;
 
+  // The size of the numbers f(x) is computed from beyond |f(x)| itself: 0 when nothing cancels, about 1e6 for
+  // 1e6 + x - 1e6. The value's rounding error is a few units in the last place of |f(x)| + excess(x).
+  double excess(double x) const;
+
   const std::string& text() const { return text_; }
   const std::string& key() const { return key_; }
 

@@ -175,6 +175,19 @@ TEST(Expression, ValuesAreMuparsersOnTheSameText) {
   }
 }
 
+// The size of the numbers a value comes from beyond the value: none where nothing cancels, the cancelled terms
+// where something does (carried through products and functions by hand here).
+TEST(Expression, ExcessMeasuresCancellation) {
+  EXPECT_EQ(Expression("2*x + 3", {"x"}, {}, "r").excess(1.0), 0.0);
+  EXPECT_EQ(Expression("(7.62 + 5.08*cos(x))*cos(x)", {"x"}, {}, "r").excess(0.0), 0.0);
+  // 1e6 + 20 cos x - 1e6: both 1e6 terms, and 20 |cos x| beyond |20 cos x| itself (none)
+  EXPECT_DOUBLE_EQ(Expression("1e6 + 20*cos(x) - 1e6", {"x"}, {}, "r").excess(0.5), 2e6);
+  // (b + a cos x) at cos x = -1/2: T = b + a/2 against |b - a/2|, an excess of a, scaled by the factor 3
+  EXPECT_NEAR(Expression("3*(7.62 + 5.08*cos(x))", {"x"}, {}, "r").excess(2 * kPi / 3), 3 * 5.08, 1e-12);
+  // sin of an argument with excess e: |cos| e on top of |sin|
+  EXPECT_DOUBLE_EQ(Expression("sin(1000 + x - 1000)", {"x"}, {}, "r").excess(0.25), std::cos(0.25) * 2000);
+}
+
 // Where abs, min and max turn a corner the derivatives are those just after the point (increasing variable).
 TEST(Expression, CornersTakeTheDerivativeOnTheRight) {
   double d[4];

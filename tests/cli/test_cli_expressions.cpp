@@ -81,6 +81,20 @@ TEST(CliExpressions, ParametricAndPolarCircleAboutThePoleTurnOnlyTheArm) {
   }
 }
 
+// A circle computed from numbers a million times its radius (1e6 + 20 cos u - 1e6): the track's tolerances are
+// those of the numbers the position comes from, so it is resolved, and steps as the circle does.
+TEST(CliExpressions, CancellingTermsSetTheTolerances) {
+  Scratch sc;
+  const json j = cli_json(
+      "digitize " +
+      sc.write("circle.toml", job("kind = \"parametric\"\nx = \"1e6 + 20*cos(u) - 1e6\"\ny = \"20*sin(u)\"\n"
+                                  "unit = \"mm\"\nt_from = 0\nt_to = 6.283185307179586\n",
+                                  "0 cm")) +
+      " --json");
+  EXPECT_EQ(j["steps_radial"], 0);
+  EXPECT_EQ(j["steps_angular"], kStepsPerRev);
+}
+
 // One lap, as a polar formula and as a parametric one: the named limacon's tape, step for step.
 TEST(CliExpressions, LimaconFormulasStepAsTheNamedLimacon) {
   Scratch sc;
