@@ -336,10 +336,15 @@ class Parser {
   }
   [[noreturn]] void unexpected() const {
     const char ch = s_[i_];
-    const std::string op(1, ch);
-    if (std::string("<>=!&|").find(ch) != std::string::npos)
-      fail("the operator '" + op + "' compares: a curve would jump where the comparison changes; the digitizer needs "
-           "a curve with derivatives (split the contour into pieces instead)");
+    std::string op(1, ch);
+    if (std::string("<>=!&|").find(ch) != std::string::npos) {
+      // the whole operator: <, <=, ==, !=, &&, ||
+      for (size_t j = i_ + 1; j < s_.size() && std::string("=&|").find(s_[j]) != std::string::npos; ++j) op += s_[j];
+      const bool logic = ch == '&' || ch == '|';
+      fail("the " + std::string(logic ? "logical" : "comparison") + " operator '" + op +
+           "': a curve would jump where it switches; the digitizer needs a curve with derivatives (split the contour "
+           "into pieces instead)");
+    }
     if (ch == '?' || ch == ':')
       fail("'?:' chooses between expressions: a curve would jump where the choice changes; the digitizer needs a "
            "curve with derivatives (split the contour into pieces instead)");

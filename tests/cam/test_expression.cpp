@@ -212,7 +212,7 @@ TEST(Expression, StepsAndChoicesAreRefusedNamingTheKeyAndTheFunction) {
     const char* mention;
   };
   for (const Bad& b : {Bad{"20*sign(cos(u))", "sign()"}, Bad{"rint(u)", "rint()"}, Bad{"u < 1", "'<'"},
-                       Bad{"u > 1 ? 1 : 2", "'>'"}, Bad{"u ? 1 : 2", "'?:'"}, Bad{"(u > 1) ? 1 : 2", "'>'"}, Bad{"u && 1", "'&'"},
+                       Bad{"u > 1 ? 1 : 2", "'>'"}, Bad{"u ? 1 : 2", "'?:'"}, Bad{"(u > 1) ? 1 : 2", "'>'"}, Bad{"u && 1", "logical operator '&&'"}, Bad{"u <= 1", "comparison operator '<='"},
                        Bad{"u, 1", "','"}, Bad{"q*u", "q"}, Bad{"cos(u", "parenthesis"}}) {
     try {
       Expression e(b.text, {"u"}, {}, "x");
