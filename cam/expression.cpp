@@ -379,7 +379,21 @@ class Parser {
     return n;
   }
 
+  // Nesting (parentheses, function calls, signs, exponents) is bounded, so that the recursion is; muparser bounds
+  // the length of the text, and so the height of the tree.
+  struct Nest {
+    Parser& p;
+    explicit Nest(Parser& q) : p(q) {
+      if (++p.nest_ > kMaxNesting)
+        p.fail("nested too deeply (parentheses, functions, signs and exponents within one another, about " +
+               std::to_string(kMaxNesting / 2) + " at most): write it more simply");
+    }
+    ~Nest() { --p.nest_; }
+  };
+  static constexpr int kMaxNesting = 256;
+
   Node sum() {
+    Nest guard(*this);
     Node a = product();
     for (;;) {
       if (eat('+')) a = binary(kAdd, std::move(a), product());
@@ -396,6 +410,7 @@ class Parser {
     }
   }
   Node unary_minus() {
+    Nest guard(*this);
     if (eat('-')) {
       Node n;
       n.code = kNeg;
@@ -487,6 +502,7 @@ class Parser {
   const std::map<std::string, double>& consts_;
   const std::string& key_;
   size_t i_ = 0;
+  int nest_ = 0;
 };
 
 // Flattens n into postfix; a part that does not depend on the variable becomes its value (computed as the

@@ -226,6 +226,19 @@ TEST(Expression, StepsAndChoicesAreRefusedNamingTheKeyAndTheFunction) {
   }
 }
 
+// Deep nesting is refused in one line (the parser's recursion is bounded), not a crash.
+TEST(Expression, DeepNestingIsRefused) {
+  const std::string deep = std::string(300, '(') + "x" + std::string(300, ')');
+  try {
+    Expression e(deep, {"x"}, {}, "r");
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.place(), "r");
+    EXPECT_NE(e.message().find("nested too deeply"), std::string::npos) << e.message();
+  }
+  EXPECT_EQ(Expression(std::string(100, '(') + "x" + std::string(100, ')'), {"x"}, {}, "r")(0.5), 0.5);
+}
+
 // The curves built on expressions: the parametric limacon's position and derivatives are the hand-differentiated
 // ones (and the named limacon's); the polar one the same curve.
 TEST(ExpressionCurves, LimaconDerivativesAreExact) {
