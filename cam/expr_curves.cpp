@@ -1,108 +1,34 @@
 #include "cam/expr_curves.hpp"
 
-#include <muParser.h>
-
-#include <atomic>
+#include <algorithm>
 #include <cmath>
 #include <memory>
-#include <numbers>
-#include <unordered_map>
+#include <sstream>
 
 #include "cam/curves.hpp"
 #include "cam/error.hpp"
+#include "cam/expression.hpp"
 
 namespace polarcam {
 namespace {
 
-// One scalar expression of one variable. muparser instances are not thread-safe, so each thread compiles its own
-// copy on first use (keyed by a unique id, never by address).
-class ExprFunction {
- public:
-  ExprFunction(std::string expr, std::vector<std::string> var_names, ExprConstants constants, std::string what)
-      : expr_(std::move(expr)), vars_(std::move(var_names)), consts_(std::move(constants)), what_(std::move(what)),
-        id_(next_id()) {
-    compile();  // reports syntax errors at construction
-  }
-
-  double operator()(double x) const {
-    Compiled& c = local();
-    c.var = x;
-    try {
-      return c.parser.Eval();
-    } catch (mu::Parser::exception_type& e) {
-      throw InputError(what_ + " '" + expr_ + "': " + e.GetMsg());
-    }
-  }
-
-  const std::string& text() const { return expr_; }
-
- private:
-  struct Compiled {
-    mu::Parser parser;
-    double var = 0.0;
-  };
-
-  static uint64_t next_id() {
-    static std::atomic<uint64_t> n{1};
-    return n++;
-  }
-
-  std::unique_ptr<Compiled> compile() const {
-    auto c = std::make_unique<Compiled>();
-    try {
-      c->parser.DefineConst("pi", std::numbers::pi);
-      for (const auto& [k, v] : consts_) c->parser.DefineConst(k, v);
-      for (const auto& v : vars_) c->parser.DefineVar(v, &c->var);
-      c->parser.SetExpr(expr_);
-      c->var = 0.0;
-      c->parser.Eval();  // forces parsing so unknown names are reported now
-    } catch (mu::Parser::exception_type& e) {
-      throw InputError(what_ + " '" + expr_ + "': " + e.GetMsg());
-    }
-    return c;
-  }
-
-  Compiled& local() const {
-    thread_local std::unordered_map<uint64_t, std::unique_ptr<Compiled>> cache;
-    auto it = cache.find(id_);
-    if (it == cache.end()) it = cache.emplace(id_, compile()).first;
-    return *it->second;
-  }
-
-  std::string expr_;
-  std::vector<std::string> vars_;
-  ExprConstants consts_;
-  std::string what_;
-  uint64_t id_;
-};
-
-// f and its first three derivatives by fourth-order central differences. `scale` is the parameter's natural
-// length; each order uses the step that balances truncation against rounding.
-void derivatives(const ExprFunction& f, double x, int order, double scale, double* out) {
-  out[0] = f(x);
-  out[1] = out[2] = out[3] = 0.0;
-  if (order >= 1) {
-    double h = 7.4e-4 * scale;  // eps^(1/5)
-    out[1] = (f(x - 2 * h) - 8 * f(x - h) + 8 * f(x + h) - f(x + 2 * h)) / (12 * h);
-  }
-  if (order >= 2) {
-    double h = 2.4e-3 * scale;  // eps^(1/6)
-    out[2] = (-f(x - 2 * h) + 16 * f(x - h) - 30 * out[0] + 16 * f(x + h) - f(x + 2 * h)) / (12 * h * h);
-  }
-  if (order >= 3) {
-    double h = 5.8e-3 * scale;  // eps^(1/7)
-    out[3] = (-f(x - 3 * h) + 8 * f(x - 2 * h) - 13 * f(x - h) + 13 * f(x + h) - 8 * f(x + 2 * h) + f(x + 3 * h)) /
-             (8 * h * h * h);
-  }
-}
-
-void check_finite_on(const ExprFunction& f, double a, double b, const std::string& what) {
-  for (int i = 0; i <= 64; ++i) {
-    double x = a + (b - a) * i / 64.0;
+// Checks that f is finite on [a, b] (at 257 points) and returns the largest excess there (Expression::excess):
+// the rounding scale of the numbers the curve's position is computed from, beyond the position.
+double scan(const Expression& f, double a, double b, const std::string& var) {
+  double most = 0.0;
+  for (int i = 0; i <= 256; ++i) {
+    double x = a + (b - a) * i / 256.0;
     double v = f(x);
-    if (!std::isfinite(v))
-      throw InputError(what + " '" + f.text() + "' is not finite at " + std::to_string(x));
+    if (!std::isfinite(v)) {
+      std::ostringstream os;
+      os.precision(6);
+      os << "'" << f.text() << "' is not finite at " << var << " = " << x;
+      throw InputError(os.str(), f.key());
+    }
+    const double e = f.excess(x);
+    if (std::isfinite(e)) most = std::max(most, e);
   }
+  return most;
 }
 
 void require_range(double a, double b) {
@@ -112,27 +38,29 @@ void require_range(double a, double b) {
 
 class PolarExpr final : public Curve {
  public:
-  PolarExpr(ExprFunction f, double t0, double t1, bool closed, double unit)
-      : Curve(t0, t1, closed, "polar r=" + f.text()), f_(std::move(f)), unit_(unit), scale_((t1 - t0) / (2 * std::numbers::pi)) {}
+  PolarExpr(Expression f, double t0, double t1, bool closed, double unit, double rounding)
+      : Curve(t0, t1, closed, "polar r=" + f.text()), f_(std::move(f)), unit_(unit), rounding_(rounding) {}
+  double rounding_scale() const override { return rounding_; }
   CurvePoint eval(double t, int order) const override {
     double r[4];
-    derivatives(f_, t, order, scale_, r);
+    f_.derivatives(t, order, r);
     return polar_point(t, unit_ * r[0], unit_ * r[1], unit_ * r[2], unit_ * r[3], order);
   }
 
  private:
-  ExprFunction f_;
-  double unit_, scale_;
+  Expression f_;
+  double unit_, rounding_;  // rounding_: metres
 };
 
 class CartesianExpr final : public Curve {
  public:
-  CartesianExpr(ExprFunction f, double x0, double x1, double unit)
-      : Curve(x0, x1, false, "cartesian y=" + f.text()), f_(std::move(f)), unit_(unit), scale_((x1 - x0) / (2 * std::numbers::pi)) {}
+  CartesianExpr(Expression f, double x0, double x1, double unit, double rounding)
+      : Curve(x0, x1, false, "cartesian y=" + f.text()), f_(std::move(f)), unit_(unit), rounding_(rounding) {}
+  double rounding_scale() const override { return rounding_; }
   // u is x in the user's unit
   CurvePoint eval(double x, int order) const override {
     double y[4];
-    derivatives(f_, x, order, scale_, y);
+    f_.derivatives(x, order, y);
     CurvePoint p;
     p.p = Vec2{x, y[0]} * unit_;
     if (order >= 1) p.d1 = Vec2{1.0, y[1]} * unit_;
@@ -142,19 +70,20 @@ class CartesianExpr final : public Curve {
   }
 
  private:
-  ExprFunction f_;
-  double unit_, scale_;
+  Expression f_;
+  double unit_, rounding_;  // rounding_: metres
 };
 
 class ParametricExpr final : public Curve {
  public:
-  ParametricExpr(ExprFunction fx, ExprFunction fy, double u0, double u1, bool closed, double unit)
+  ParametricExpr(Expression fx, Expression fy, double u0, double u1, bool closed, double unit, double rounding)
       : Curve(u0, u1, closed, "parametric x=" + fx.text() + " y=" + fy.text()), fx_(std::move(fx)), fy_(std::move(fy)),
-        unit_(unit), scale_((u1 - u0) / (2 * std::numbers::pi)) {}
+        unit_(unit), rounding_(rounding) {}
+  double rounding_scale() const override { return rounding_; }
   CurvePoint eval(double u, int order) const override {
     double x[4], y[4];
-    derivatives(fx_, u, order, scale_, x);
-    derivatives(fy_, u, order, scale_, y);
+    fx_.derivatives(u, order, x);
+    fy_.derivatives(u, order, y);
     CurvePoint p;
     p.p = Vec2{x[0], y[0]} * unit_;
     p.d1 = Vec2{x[1], y[1]} * unit_;
@@ -164,8 +93,8 @@ class ParametricExpr final : public Curve {
   }
 
  private:
-  ExprFunction fx_, fy_;
-  double unit_, scale_;
+  Expression fx_, fy_;
+  double unit_, rounding_;  // rounding_: metres
 };
 
 void require_unit(double unit_m) {
@@ -178,30 +107,29 @@ CurvePtr make_polar_expr(const std::string& r_expr, double t_from, double t_to, 
                          const ExprConstants& constants) {
   require_range(t_from, t_to);
   require_unit(unit_m);
-  ExprFunction f(r_expr, {"t", "theta"}, constants, "r(t)");
-  check_finite_on(f, t_from, t_to, "r(t)");
-  return std::make_shared<PolarExpr>(std::move(f), t_from, t_to, closed, unit_m);
+  Expression f(r_expr, {"t", "theta"}, constants, "r");
+  const double e = scan(f, t_from, t_to, "t");
+  return std::make_shared<PolarExpr>(std::move(f), t_from, t_to, closed, unit_m, e * unit_m);
 }
 
 CurvePtr make_cartesian_expr(const std::string& y_expr, double x_from_m, double x_to_m, double unit_m,
                              const ExprConstants& constants) {
   require_range(x_from_m, x_to_m);
   require_unit(unit_m);
-  ExprFunction f(y_expr, {"x"}, constants, "y(x)");
+  Expression f(y_expr, {"x"}, constants, "y");
   double a = x_from_m / unit_m, b = x_to_m / unit_m;
-  check_finite_on(f, a, b, "y(x)");
-  return std::make_shared<CartesianExpr>(std::move(f), a, b, unit_m);
+  const double e = scan(f, a, b, "x");
+  return std::make_shared<CartesianExpr>(std::move(f), a, b, unit_m, e * unit_m);
 }
 
 CurvePtr make_parametric_expr(const std::string& x_expr, const std::string& y_expr, double u_from, double u_to,
                               bool closed, double unit_m, const ExprConstants& constants) {
   require_range(u_from, u_to);
   require_unit(unit_m);
-  ExprFunction fx(x_expr, {"u", "t"}, constants, "x(u)");
-  ExprFunction fy(y_expr, {"u", "t"}, constants, "y(u)");
-  check_finite_on(fx, u_from, u_to, "x(u)");
-  check_finite_on(fy, u_from, u_to, "y(u)");
-  return std::make_shared<ParametricExpr>(std::move(fx), std::move(fy), u_from, u_to, closed, unit_m);
+  Expression fx(x_expr, {"u", "t"}, constants, "x");
+  Expression fy(y_expr, {"u", "t"}, constants, "y");
+  const double e = std::max(scan(fx, u_from, u_to, "u"), scan(fy, u_from, u_to, "u"));
+  return std::make_shared<ParametricExpr>(std::move(fx), std::move(fy), u_from, u_to, closed, unit_m, e * unit_m);
 }
 
 }  // namespace polarcam

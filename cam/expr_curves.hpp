@@ -1,8 +1,8 @@
 #pragma once
 // Curves typed by the user as expressions (muparser): polar r(t), explicit Cartesian y(x), parametric x(u), y(u).
 // Expressions are evaluated in the user's length unit (`unit_m` metres per unit) and may use named constants.
-// Derivatives are taken numerically (fourth-order central differences, steps scaled to the parameter range;
-// relative accuracy about 1e-12 for the first derivative, 1e-10 for the second, 1e-8 for the third).
+// Derivatives are exact to rounding (automatic differentiation, cam/expression.hpp). Errors in an expression are
+// InputErrors placed at its key (`r`, `y`, `x`), which the job reader turns into the job's key.
 #include <map>
 #include <string>
 

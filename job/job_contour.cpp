@@ -389,6 +389,9 @@ CurvePtr parse_contour(Section& s, const std::string& base_dir, nlohmann::ordere
     }
   } catch (const InputError& e) {
     if (e.names(s.file())) throw;
+    // an expression's error is placed at its key (r, x, y): the message names the key and its line
+    const bool expression = kind == "polar" || kind == "cartesian" || kind == "parametric";
+    if (expression && !e.place().empty() && s.has(e.place())) s.fail(e.place(), e.message());
     s.fail_section(e.what());
   }
   s.finish();
