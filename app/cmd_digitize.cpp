@@ -1,4 +1,5 @@
 // polarcam digitize JOB.toml [-o OUT.tape] [--json]
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -6,11 +7,46 @@
 #include <sstream>
 
 #include "app/cli.hpp"
+#include "digitizer/template_speed.hpp"
 #include "pipeline/job_tape.hpp"
 #include "io/output.hpp"
 
 namespace polarcam::cli {
 namespace {
+
+const char* side_name(ToolSide s) {
+  static const char* names[] = {"left", "right", "outside", "inside"};
+  return names[static_cast<int>(s)];
+}
+
+nlohmann::ordered_json template_point_json(const TemplatePoint& q) {
+  nlohmann::ordered_json j;
+  j["s_m"] = q.s;
+  j["x_m"] = q.p.x;
+  j["y_m"] = q.p.y;
+  j["radius_of_curvature_m"] = std::isinf(q.radius_m) ? nlohmann::ordered_json() : nlohmann::ordered_json(q.radius_m);
+  j["centre_of_curvature"] = q.c == 0.0 ? "none" : q.side == CurvatureSide::roller ? "roller_side" : "other_side";
+  j["v_star"] = q.v_star;
+  j["speed_mps"] = q.speed_mps;
+  return j;
+}
+
+// The template digitizer's speed along the path ([motion] speed_profile = "template"): its range and the point
+// where it departs most from V_t (x, y in the machine frame).
+nlohmann::ordered_json template_json(const Job& job, const TemplateSpeed& t) {
+  const TemplateSpeedRange& r = t.range();
+  nlohmann::ordered_json j;
+  j["set_speed_mps"] = t.set_speed();
+  j["thickness_m"] = job.motion.rollers->thickness;
+  j["roller_radius_m"] = job.motion.rollers->roller_radius;
+  j["side"] = side_name(job.motion.rollers->side);
+  j["speed_min_mps"] = r.slowest.speed_mps;
+  j["speed_max_mps"] = r.fastest.speed_mps;
+  j["v_star_min"] = r.slowest.v_star;
+  j["v_star_max"] = r.fastest.v_star;
+  j["worst"] = template_point_json(r.worst);
+  return j;
+}
 
 nlohmann::ordered_json summary_json(const Job& job, const DigitizedJob& d, const std::string& out) {
   const DigitizeResult& r = d.result;
@@ -45,6 +81,7 @@ nlohmann::ordered_json summary_json(const Job& job, const DigitizedJob& d, const
   j["r_max_path_m"] = d.track.r_max().value;
   j["theta_min_path_rad"] = d.track.theta_min().value + r.theta_shift;
   j["theta_max_path_rad"] = d.track.theta_max().value + r.theta_shift;
+  if (const auto* t = dynamic_cast<const TemplateSpeed*>(d.profile.get())) j["template_speed"] = template_json(job, *t);
   if (!out.empty()) j["tape"] = out;
   return j;
 }
@@ -69,6 +106,16 @@ std::string summary_text(const Job& job, const DigitizedJob& d, const std::strin
      << " / -" << thousands(r.angular.minus) << "), total " << thousands(r.radial.steps() + r.angular.steps()) << "\n";
   os << "  time       " << fmt(r.duration_s) << " s; max step rate radial " << fmt(r.radial.max_rate_hz, 5)
      << " Hz, angular " << fmt(r.angular.max_rate_hz, 5) << " Hz\n";
+  if (const auto* t = dynamic_cast<const TemplateSpeed*>(d.profile.get())) {
+    const TemplateSpeedRange& tr = t->range();
+    os << "  template   speed " << fmt(tr.slowest.speed_mps * 1e3) << " .. " << fmt(tr.fastest.speed_mps * 1e3)
+       << " mm/s (V_t " << fmt(t->set_speed() * 1e3) << " mm/s); furthest from V_t: " << fmt(100.0 * (tr.worst.v_star - 1.0), 4)
+       << " % at (" << fmt(tr.worst.p.x * 1e3) << ", " << fmt(tr.worst.p.y * 1e3) << ") mm";
+    if (!std::isinf(tr.worst.radius_m))
+      os << ", radius of curvature " << fmt(tr.worst.radius_m * 1e3) << " mm on the "
+         << (tr.worst.side == CurvatureSide::roller ? "driven roller's side" : "other side");
+    os << "\n";
+  }
   os << "  nodes      start [" << r.start_n << ", " << r.start_m << "], end [" << r.end_n << ", " << r.end_m << "]";
   if (r.closed) os << (r.returns_to_start ? " (returns to its start)" : " (does NOT return to its start node)");
   os << "\n";

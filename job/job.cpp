@@ -10,6 +10,7 @@
 #include "job/job_gcode.hpp"
 #include "job/toml_section.hpp"
 #include "cam/error.hpp"
+#include "digitizer/template_speed.hpp"
 
 namespace polarcam {
 namespace {
@@ -199,7 +200,16 @@ Job load_job(const std::string& path) {
   if (!mo.present()) throw InputError("the [motion] section is missing", path);
   json& pmo = prov["motion"];
   const toml::node* table = mo.node("speed_profile");
-  if (table) {
+  const bool templ = table && table->is_string();
+  if (templ) {
+    if (table->value<std::string>() != "template")
+      mo.fail("speed_profile", "must be \"template\" or a list of [\"arc length\", \"speed\"] pairs");
+    job.motion.speed = mo.require_quantity("speed", dim::speed);
+    if (!(job.motion.speed > 0.0)) mo.fail("speed", "must be positive");
+    pmo["speed_mps"] = job.motion.speed;
+    pmo["speed_profile"] = "template";
+    table = nullptr;
+  } else if (table) {
     const toml::array* arr = table->as_array();
     if (!arr || arr->empty()) mo.fail("speed_profile", "expected a list of [\"arc length\", \"speed\"] pairs");
     for (size_t i = 0; i < arr->size(); ++i) {
@@ -225,7 +235,7 @@ Job load_job(const std::string& path) {
   }
   if (auto a = mo.quantity("accel", dim::acceleration)) {
     if (!(*a > 0.0)) mo.fail("accel", "must be positive");
-    if (table) mo.fail("accel", "cannot be combined with 'speed_profile'");
+    if (table || templ) mo.fail("accel", "cannot be combined with 'speed_profile'");
     job.motion.accel = *a;
     pmo["accel_mps2"] = *a;
   }
@@ -248,6 +258,29 @@ Job load_job(const std::string& path) {
     pmo["start_parameter"] = *sp;
   }
   mo.finish();
+
+  // [template]: the template digitizer's rollers, for speed_profile = "template"
+  Section te = top.subsection("template");
+  if (te.present() && !templ)
+    te.fail_section("applies only with [motion] speed_profile = \"template\"; add it there or remove [template]");
+  if (templ) {
+    if (!te.present())
+      mo.fail("speed_profile", "\"template\" needs a [template] section with thickness and roller_radius");
+    TemplateRollers tr;
+    tr.thickness = te.require_quantity("thickness", dim::length);
+    if (!(tr.thickness > 0.0)) te.fail("thickness", "must be a positive length");
+    tr.roller_radius = te.require_quantity("roller_radius", dim::length);
+    if (!(tr.roller_radius > 0.0)) te.fail("roller_radius", "must be a positive length");
+    tr.side = job.tool.side;
+    if (auto side = te.string("side")) tr.side = parse_side(te, *side);
+    if (!job.contour->closed() && (tr.side == ToolSide::inside || tr.side == ToolSide::outside))
+      te.fail("side", "the contour is open: give left or right of the direction of travel");
+    te.finish();
+    job.motion.rollers = tr;
+    static const char* names[] = {"left", "right", "outside", "inside"};
+    prov["template"] = {{"thickness_m", tr.thickness}, {"roller_radius_m", tr.roller_radius},
+                        {"side", names[static_cast<int>(tr.side)]}};
+  }
 
   // [cartesian] (optional)
   Section ca = top.subsection("cartesian");
@@ -291,7 +324,20 @@ ToolPathPtr make_job_path(const Job& job) {
   return in_file(job.file, [&] { return make_tool_path(job.contour, job.placement, job.tool, job.motion.travel); });
 }
 
+SpeedProfilePtr make_job_profile(const Job& job, const ToolPath& path, double length) {
+  if (!job.motion.rollers) return make_job_profile(job, length);
+  const TemplateRollers& tr = *job.motion.rollers;
+  return in_file(job.file, [&]() -> SpeedProfilePtr {
+    const int sign = tool_side_sign(path.contour(), ToolSpec{tr.roller_radius, tr.side}, job.motion.travel);
+    return make_template_speed(path, path.offset(), job.motion.speed,
+                               TemplateSpec{tr.thickness, tr.roller_radius, sign}, length);
+  });
+}
+
 SpeedProfilePtr make_job_profile(const Job& job, double length) {
+  if (job.motion.rollers)
+    throw InputError("[motion] speed_profile = \"template\" is not available here: it follows the curvature of the "
+                     "tool path; give 'speed'", job.file);
   if (!job.motion.table.empty()) return make_table_speed(job.motion.table, length);
   if (job.motion.accel) return make_trapezoid_speed(job.motion.speed, *job.motion.accel, length);
   return make_constant_speed(job.motion.speed, length);

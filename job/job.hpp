@@ -19,10 +19,18 @@
 
 namespace polarcam {
 
+// [template]: the template digitizer's roller pair ([motion] speed_profile = "template"; docs/template-digitizer.md).
+struct TemplateRollers {
+  double thickness = 0.0;                // H, m: the template's thickness
+  double roller_radius = 0.0;            // R_r, m: both rollers
+  ToolSide side = ToolSide::outside;     // where the driven roller runs: inside/outside a closed outline, left/right
+};
+
 struct MotionSpec {
-  double speed = 0.0;                    // m/s, tangential speed of the tool centre
+  double speed = 0.0;                    // m/s, tangential speed of the tool centre (template: V_t, on straight parts)
   std::optional<double> accel;           // m/s^2: ramp from rest and back to rest
   std::vector<SpeedStation> table;       // V(s) stations (overrides speed when given)
+  std::optional<TemplateRollers> rollers;  // the template digitizer's speed, v = V_t v*(rho / H) (Eq. 3.3)
   StepRule rule = StepRule::nearest;
   TravelSpec travel;
 };
@@ -78,7 +86,9 @@ Machine load_machine(const std::string& path, nlohmann::ordered_json* prov = nul
 
 // The tool-centre path in the machine frame.
 ToolPathPtr make_job_path(const Job& job);
-// The speed profile along a path of the given length.
+// The speed profile along the job's tool path (its arc length as the caller's track measured it). The template
+// profile needs the path's curvature; the overload without a path refuses it.
+SpeedProfilePtr make_job_profile(const Job& job, const ToolPath& path, double length);
 SpeedProfilePtr make_job_profile(const Job& job, double length);
 
 }  // namespace polarcam

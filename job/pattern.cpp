@@ -178,6 +178,8 @@ Job load_job_or_pattern(const std::string& path, const PatternOptions& o) {
     job.motion.speed = *o.speed;
     job.motion.table.clear();
     job.motion.accel.reset();
+    job.motion.rollers.reset();
+    job.provenance.erase("template");
     job.provenance["motion"].erase("speed_profile");
     job.provenance["motion"].erase("accel_mps2");
     job.provenance["motion"]["speed_mps"] = *o.speed;

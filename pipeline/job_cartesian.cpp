@@ -83,10 +83,12 @@ CartesianRun run_cartesian_job(const Job& job, CartesianMethod m, double interru
   try {
     if (m == CartesianMethod::exact) {
       CartesianTrack track = CartesianTrack::build(*run.path);
-      SpeedProfilePtr profile = make_job_profile(job, track.length());
+      SpeedProfilePtr profile = make_job_profile(job, *run.path, track.length());
       run.result = step_exact(track, run.blu, *profile, sink);
     } else {
       if (job.motion.accel) throw InputError("[motion] accel: the DDA runs every block at a constant feed; remove it or use --method exact");
+      if (job.motion.rollers)
+        throw InputError("[motion] speed_profile = \"template\": the DDA runs every block at a constant feed; use --method exact");
       if (!job.motion.table.empty())
         throw InputError("[motion] speed_profile: the DDA runs every block at a constant feed; give 'speed' or use --method exact");
       ArcFitOptions fo;

@@ -82,7 +82,7 @@ ExportResult export_job(const Job& job, const ExportOptions& o) {
   } else {
     if (!job.machine.gcode)
       throw InputError("the machine has no [gcode] table: add one to its machine file (docs/gcode.md)", job.file);
-    if (!job.motion.table.empty())
+    if (!job.motion.table.empty() || job.motion.rollers)
       throw InputError("G-code export needs a constant speed: give [motion] speed (or --speed), not speed_profile", job.file);
     GcodeSpec spec = *job.machine.gcode;
     if (o.feed_mode) spec.feed_mode = *o.feed_mode;

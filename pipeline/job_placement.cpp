@@ -38,7 +38,7 @@ double job_area(const Job& job, const Placement& pl) {
   try {
     track = PolarTrack::build(*path);
     meter.reset(track, j.machine.grid);
-    auto prof = make_job_profile(j, track.length());
+    auto prof = make_job_profile(j, *path, track.length());
     const DigitizeResult d = digitize(track, j.machine.grid, j.motion.rule, *prof, &meter);
     return meter.finish(d.start_n, d.start_m).area_m2;
   } catch (const InputError& e) {

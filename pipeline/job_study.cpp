@@ -31,7 +31,7 @@ JobStudy study_job(const Job& job, const StudyOptions& o) {
   st.path = make_job_path(job);
   try {
     const PolarTrack track = job_polar_track(job, *st.path);
-    const SpeedProfilePtr prof = make_job_profile(job, track.length());
+    const SpeedProfilePtr prof = make_job_profile(job, *st.path, track.length());
     ErrorMeters meters;
     meters.reset(*st.path, track, job.machine.grid, job.optimize.segments);
     Tee tee(meters, st.staircase.steps);

@@ -72,7 +72,7 @@ DigitizedJob digitize_job(const Job& job, StepSink* sink) {
   d.path = make_job_path(job);
   d.track = job_polar_track(job, *d.path);
   try {
-    d.profile = make_job_profile(job, d.track.length());
+    d.profile = make_job_profile(job, *d.path, d.track.length());
     const double c = job.machine.coupling;
     if (c == 0.0) {
       d.result = digitize(d.track, job.machine.grid, job.motion.rule, *d.profile, sink);
