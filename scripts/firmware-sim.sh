@@ -79,7 +79,7 @@ run faulty "drop=0.01,corrupt=0.01,seed=${SEED:-7}" "$tolerance_faulty" || statu
   for name in clean faulty; do
     [ -f "$out/$name.txt" ] || { echo "$name: no comparison"; continue; }
     echo "$name: $(grep -E '^(steps_pins|mismatched|max_error_ticks|max_edge_error_ticks|max_edge_jitter_ns|result)' "$out/$name.txt" | tr '\n' ' ')"
-    echo "$name: play retransmissions $(field "$out/$name.json" retransmissions), underruns $(field "$out/$name.json" underruns), bytes sent $(field "$out/$name.json" bytes_sent), duration $(field "$out/$name.json" duration_s) s, wall $(field "$out/$name.json" wall_s) s"
+    echo "$name: play retransmissions $(field "$out/$name.json" retransmissions), NAKs $(field "$out/$name.json" naks), underruns $(field "$out/$name.json" underruns), bytes sent $(field "$out/$name.json" bytes_sent), duration $(field "$out/$name.json" duration_s) s, wall $(field "$out/$name.json" wall_s) s"
     grep -h '^fw_sim' "$out/$name.sim.log" | sed "s/^/$name: /"
   done
 } | tee "$out/summary.txt"
