@@ -556,7 +556,7 @@ __attribute__((noinline)) void handle_queue(const uint8_t* p, size_t n) {
     error = overflow ? ErrorCode::overflow : ErrorCode::bad_queue;
     state = State::fault;
     stop_timer_events();
-    send_error(error, overflow ? PSTR("queue overflow: the host sent more items than its credits") : PSTR("malformed queue item"), 0);
+    send_error(error, overflow ? PSTR("queue overflow: the host sent more than its credits (items or bytes)") : PSTR("malformed queue item"), 0);
     return;
   }
   uint16_t j = static_cast<uint16_t>(st_tail + st_used);

@@ -170,7 +170,7 @@ void Controller::handle_queue(const std::string& p) {
   if (items.size() > free_slots() || p.size() > free_bytes()) {
     error_ = ErrorCode::overflow;
     state_ = State::fault;
-    send_error(ErrorCode::overflow, "queue overflow: the host sent more items than its credits", 0);
+    send_error(ErrorCode::overflow, "queue overflow: the host sent more than its credits (items or bytes)", 0);
     return;
   }
   codec_ = trial;
