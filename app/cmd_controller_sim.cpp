@@ -1,5 +1,5 @@
 // polarcam controller-sim --pty [--tick NS] [--faults SPEC] --log FILE [--exit-after-idle SECONDS] [--baud N]
-//                         [--slots N] [--time-scale F] [--machine FILE]
+//                         [--slots N] [--queue-bytes N] [--drop-ahead] [--time-scale F] [--machine FILE]
 // The controller emulator: serves the controller protocol on a pseudo-terminal, executes the schedule on a
 // simulated clock, logs every executed step, and injects faults. Prints the pty path as its first line.
 #include <fcntl.h>
@@ -59,6 +59,8 @@ void register_controller_sim(CLI::App& app, Action& action) {
     double exit_after_idle = 0;
     unsigned baud = 115200;
     unsigned slots = 4096;
+    unsigned queue_bytes = 0;
+    bool drop_ahead = false;
     double time_scale = 1;
   };
   auto o = std::make_shared<Opts>();
@@ -70,6 +72,8 @@ void register_controller_sim(CLI::App& app, Action& action) {
   c->add_option("--exit-after-idle", o->exit_after_idle, "exit after this many seconds without input while no job runs");
   c->add_option("--baud", o->baud, "line rate it emulates, and expects the host to set (default 115200)");
   c->add_option("--slots", o->slots, "queue items it buffers (default 4096)");
+  c->add_option("--queue-bytes", o->queue_bytes, "and bytes of encoded items (default: no limit; the reference firmware: 384)");
+  c->add_flag("--drop-ahead", o->drop_ahead, "drop frames that arrive after a missing one, as the reference firmware");
   c->add_option("--time-scale", o->time_scale, "its clock runs this many times faster than the wall clock (default 1)");
   c->add_option("--machine", o->machine, "machine file: refuse jobs for another grid");
   c->callback([o, &action] {
@@ -78,11 +82,14 @@ void register_controller_sim(CLI::App& app, Action& action) {
       if (!(o->tick_ns >= 1 && o->tick_ns <= 1e9)) throw InputError("--tick must be between 1 ns and 1 s");
       if (!(o->time_scale > 0 && o->time_scale <= 1000)) throw InputError("--time-scale must be in (0, 1000]");
       if (o->slots < 16) throw InputError("--slots must be at least 16");
+      if (o->queue_bytes != 0 && o->queue_bytes < 64) throw InputError("--queue-bytes must be at least 64 (a frame's items)");
       if (!(o->exit_after_idle >= 0)) throw InputError("--exit-after-idle must not be negative");
       FaultSpec faults = o->faults.empty() ? FaultSpec{} : parse_faults(o->faults);
       ControllerSpec spec;
       spec.tick_ps = static_cast<uint64_t>(o->tick_ns * 1000 + 0.5);
       spec.slots = o->slots;
+      spec.queue_bytes = o->queue_bytes;
+      spec.keep_ahead = !o->drop_ahead;
       if (!o->machine.empty()) {
         const Grid g = load_machine(o->machine).grid;
         spec.dr = g.dr;

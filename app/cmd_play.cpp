@@ -216,6 +216,7 @@ void register_play(CLI::App& app, Action& action) {
       j["steps_sent"] = rep.steps_sent;
       j["steps_confirmed"] = rep.steps_confirmed;
       j["retransmissions"] = rep.retransmissions;
+      j["naks"] = rep.naks;
       j["underruns"] = rep.underruns;
       j["reconnects"] = rep.reconnects;
       j["frames_sent"] = rep.frames_sent;

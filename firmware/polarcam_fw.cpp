@@ -12,7 +12,9 @@
 //     latency is the same for every step.
 // Schedule tick s fires at timer tick s + offset; START sets the offset, RESUME after a hold or an underrun moves
 // it on by the time stopped. Holds and underrun stops are immediate (no ramp: CONFIGURE with ramp_ticks > 0 is
-// refused). Frames that arrive ahead of a missing one are not kept (RAM): the host retransmits them.
+// refused). The queued items are kept as the bytes they arrived in (about 11 a run instead of 36 decoded), decoded
+// again as each axis reaches them; the host's credits count those bytes (ACK's free_bytes). Frames that arrive
+// ahead of a missing one are not kept (RAM): NAK says so, and the host sends them again behind the missing one.
 #include <avr/interrupt.h>
 #include <avr/io.h>
 #include <avr/pgmspace.h>
@@ -28,7 +30,7 @@ namespace {
 // ---- the board ----------------------------------------------------------------------------------------------
 
 constexpr uint64_t kTickPs = 4000000;   // Timer1 at 16 MHz / 64: 4 us, 64 CPU cycles
-constexpr uint8_t kSlots = 12;          // queue items buffered (36 bytes each)
+constexpr uint16_t kStore = 384;        // bytes of queued items, as they arrived (a run is about 11)
 constexpr uint32_t kMaxStepRate = 6000;  // steps/s, both axes together, sustained (measured: docs/firmware.md)
 const char kName[] PROGMEM = "polarcam firmware, ATmega328P, CNC shield v3";
 
@@ -246,24 +248,23 @@ void account() {
   }
 }
 
-// ---- queued items: a pool of slots, one list per axis -----------------------------------------------------------
+// ---- queued items: their wire bytes in a ring, read by each axis in turn ----------------------------------------
+//
+// A QUEUE frame's payload is checked whole (every item decoded and validated with the producer's predictions),
+// then its bytes are appended to the ring as they came. Each axis reads the ring from its own position with its
+// own predictions (an item's prediction depends only on the earlier items of its axis), skipping the other axis's
+// items; the bytes behind both axes' positions are free again.
 
-struct Slot {
-  uint8_t tag;      // kind << 1 | dir + << 3
-  uint16_t count;   // run
-  int64_t v[4];     // run: offset, interval, add, add2; wait: v[0] ticks
-  uint8_t next;
-};
-constexpr uint8_t kNone = 0xff;
-Slot slots[kSlots];
-uint8_t free_head, free_count;
-uint8_t q_head[2], q_tail[2];
+uint8_t store[kStore];
+uint16_t st_tail, st_used;  // the oldest byte still needed; bytes held from there
+uint16_t rd[2];             // each axis's read position: bytes after st_tail
+ItemCodec reader;           // the predictions of the items read back
+uint8_t item_buf[kMaxItemBytes];
 
-void pool_reset() {
-  for (uint8_t i = 0; i < kSlots; ++i) slots[i].next = static_cast<uint8_t>(i + 1 < kSlots ? i + 1 : kNone);
-  free_head = 0;
-  free_count = kSlots;
-  q_head[0] = q_head[1] = q_tail[0] = q_tail[1] = kNone;
+void store_reset() {
+  st_tail = st_used = 0;
+  rd[0] = rd[1] = 0;
+  reader = ItemCodec{};
 }
 
 // ---- the controller ----------------------------------------------------------------------------------------------
@@ -284,6 +285,23 @@ int64_t start_node[2];
 uint16_t next_seq = 1;
 uint16_t last_nak;
 bool nak_sent;
+uint32_t nak_time;                             // timer tick of the last NAK
+constexpr uint32_t kNakRepeatTicks = 12500;    // 50 ms
+bool hole;                                     // a frame came ahead of next_seq since it was last received
+
+void send_nak() {
+  Nak k;
+  k.next_seq = next_seq;
+  k.kept = 0;
+  send(0, NAK, k.encode(payload_out(), kPayloadOut));
+  nak_sent = true;
+  last_nak = next_seq;
+  nak_time = timer_now();
+}
+
+void renak() {
+  if (hole && timer_now() - nak_time > kNakRepeatTicks) send_nak();
+}
 uint16_t last_req[10];  // last request id per out-of-band type (IDENTIFY .. STATUS)
 bool have_req[10];
 uint32_t session;
@@ -292,8 +310,9 @@ ItemCodec codec;
 Axis axes[2];
 bool end_emitted, stop_emitted;
 
-uint32_t free_slots() { return free_count; }
-uint32_t queued() { return kSlots - free_count; }
+// Credits: bytes (an item is one byte at least, so as many items)
+uint32_t free_slots() { return kStore - st_used; }
+uint32_t queued() { return st_used; }
 
 bool fresh_request(uint8_t type, uint16_t id) {
   const uint8_t k = type < 10 ? type : 0;
@@ -303,10 +322,14 @@ bool fresh_request(uint8_t type, uint16_t id) {
   return true;
 }
 
+uint16_t acked_free;  // free bytes in the last ACK sent
+
 void send_ack(uint16_t seq) {
   Ack a;
   a.next_seq = next_seq;
   a.free_slots = free_slots();
+  a.free_bytes = free_slots();
+  acked_free = static_cast<uint16_t>(a.free_bytes);
   a.state = static_cast<uint8_t>(state);
   send(seq, ACK, a.encode(payload_out(), kPayloadOut));
 }
@@ -334,11 +357,12 @@ void stop_timer_events() {
 
 void reset_job() {
   stop_timer_events();
-  pool_reset();
+  store_reset();
   for (Axis& a : axes) a = Axis{};
   codec = ItemCodec{};
   next_seq = 1;
   nak_sent = false;
+  hole = false;
   end_emitted = stop_emitted = false;
   done = false;
   stop_reason = 0;
@@ -350,7 +374,40 @@ void reset_job() {
   PORTB &= static_cast<uint8_t>(~kLed);
 }
 
-// The next step of an axis: takes items off its list as the emulator's controller does.
+// Frees the bytes behind both axes' read positions (an ended axis reads nothing more).
+void store_release() {
+  uint16_t m = st_used;
+  for (uint8_t ai = 0; ai < 2; ++ai)
+    if (!axes[ai].ended && rd[ai] < m) m = rd[ai];
+  if (m == 0) return;
+  st_tail = static_cast<uint16_t>(st_tail + m >= kStore ? st_tail + m - kStore : st_tail + m);
+  st_used = static_cast<uint16_t>(st_used - m);
+  for (uint8_t ai = 0; ai < 2; ++ai) rd[ai] = static_cast<uint16_t>(rd[ai] > m ? rd[ai] - m : 0);
+}
+
+// The next item of axis ai from the ring (false: none queued yet). The bytes were checked when they arrived.
+__attribute__((noinline)) bool next_item(uint8_t ai, QueueItem& it) {
+  for (;;) {
+    const uint16_t avail = static_cast<uint16_t>(st_used - rd[ai]);
+    if (rd[ai] >= st_used) return false;
+    const uint8_t m = static_cast<uint8_t>(avail < kMaxItemBytes ? avail : kMaxItemBytes);
+    uint16_t j = static_cast<uint16_t>(st_tail + rd[ai]);
+    if (j >= kStore) j = static_cast<uint16_t>(j - kStore);
+    for (uint8_t k = 0; k < m; ++k) {
+      item_buf[k] = store[j];
+      if (++j == kStore) j = 0;
+    }
+    size_t pos = 0;
+    if (!reader.parse(item_buf, m, pos, it)) return false;  // (cannot happen: checked on arrival)
+    rd[ai] = static_cast<uint16_t>(rd[ai] + pos);
+    if ((it.axis & 1) == ai) {
+      reader.take(it);
+      return true;
+    }
+  }
+}
+
+// The next step of an axis: takes its items as the emulator's controller does.
 bool prepare(uint8_t ai) {
   Axis& a = axes[ai];
   while (!a.has_next && !a.ended) {
@@ -359,29 +416,17 @@ bool prepare(uint8_t ai) {
       a.has_next = true;
       break;
     }
-    const uint8_t i = q_head[ai];
-    if (i == kNone) return false;
-    Slot& s = slots[i];
-    q_head[ai] = s.next;
-    if (q_head[ai] == kNone) q_tail[ai] = kNone;
-    const uint8_t kind = (s.tag >> 1) & 3;
-    if (kind == static_cast<uint8_t>(ItemKind::wait)) {
-      a.clk.base += static_cast<uint64_t>(s.v[0]);
-    } else if (kind == static_cast<uint8_t>(ItemKind::end)) {
+    QueueItem it;
+    if (!next_item(ai, it)) return false;
+    if (it.kind == ItemKind::wait) {
+      a.clk.base += it.wait;
+    } else if (it.kind == ItemKind::end) {
       a.ended = true;
     } else {
-      QueueItem it;
-      it.count = s.count;
-      it.offset = s.v[0];
-      it.interval = s.v[1];
-      it.add = s.v[2];
-      it.add2 = s.v[3];
       a.run.begin(it);
-      a.dir_plus = s.tag & 8;
+      a.dir_plus = it.dir > 0;
     }
-    s.next = free_head;
-    free_head = i;
-    ++free_count;
+    store_release();
   }
   return a.has_next;
 }
@@ -491,65 +536,44 @@ __attribute__((noinline)) bool valid_run(const QueueItem& it) { return run_is_va
 
 // A QUEUE payload: every item decoded and checked first (a frame with a bad item is refused whole), then taken.
 __attribute__((noinline)) void handle_queue(const uint8_t* p, size_t n) {
-  ItemCodec trial = codec;
-  size_t pos = 0;
-  uint8_t chain = kNone, chain_tail = kNone, count = 0;
-  bool ok = true, overflow = false;
-  while (pos < n) {
-    QueueItem it;
-    if (!parse_item(trial, p, n, pos, it) || !valid_run(it)) {
-      ok = false;
-      break;
+  bool ok = true;
+  const bool overflow = n > kStore - st_used;
+  if (!overflow) {
+    ItemCodec trial = codec;
+    size_t pos = 0;
+    while (pos < n) {
+      QueueItem it;
+      if (!parse_item(trial, p, n, pos, it) || !valid_run(it)) {
+        ok = false;
+        break;
+      }
+      trial.take(it);
+      produce();  // keep the event ring fed while a long frame is checked
     }
-    if (free_head == kNone) {
-      overflow = true;
-      break;
-    }
-    trial.take(it);
-    const uint8_t i = free_head;
-    free_head = slots[i].next;
-    --free_count;
-    Slot& s = slots[i];
-    s.tag = static_cast<uint8_t>(it.axis | (static_cast<uint8_t>(it.kind) << 1) | (it.dir > 0 ? 8 : 0));
-    s.count = static_cast<uint16_t>(it.count);
-    s.v[0] = it.kind == ItemKind::wait ? static_cast<int64_t>(it.wait) : it.offset;
-    s.v[1] = it.interval;
-    s.v[2] = it.add;
-    s.v[3] = it.add2;
-    s.next = kNone;
-    if (chain == kNone) chain = i;
-    else slots[chain_tail].next = i;
-    chain_tail = i;
-    ++count;
-    produce();  // keep the event ring fed while a long frame is decoded
+    if (ok) codec = trial;
   }
   if (!ok || overflow) {
-    if (chain != kNone) {  // give the slots back
-      slots[chain_tail].next = free_head;
-      free_head = chain;
-      free_count = static_cast<uint8_t>(free_count + count);
-    }
     error = overflow ? ErrorCode::overflow : ErrorCode::bad_queue;
     state = State::fault;
     stop_timer_events();
-    send_error(error, overflow ? PSTR("queue overflow: the host sent more items than its credits") : PSTR("malformed queue item"), 0);
+    send_error(error, overflow ? PSTR("queue overflow: the host sent more than its credits (items or bytes)") : PSTR("malformed queue item"), 0);
     return;
   }
-  codec = trial;
-  for (uint8_t i = chain; i != kNone;) {
-    const uint8_t nx = slots[i].next, ai = slots[i].tag & 1;
-    slots[i].next = kNone;
-    if (q_tail[ai] == kNone) q_head[ai] = i;
-    else slots[q_tail[ai]].next = i;
-    q_tail[ai] = i;
-    i = nx;
+  uint16_t j = static_cast<uint16_t>(st_tail + st_used);
+  if (j >= kStore) j = static_cast<uint16_t>(j - kStore);
+  for (size_t i = 0; i < n; ++i) {
+    store[j] = p[i];
+    if (++j == kStore) j = 0;
   }
+  st_used = static_cast<uint16_t>(st_used + n);
 }
 
 void start_job() {
   const uint8_t s = SREG;
   cli();
-  const uint32_t t = timer_now() + 16;  // schedule tick 0: 64 us from now
+  // schedule tick 0 2 ms from now: the first events are computed before it (each axis's first item decoded from
+  // its bytes, the other axis's items skipped: up to 0.9 ms measured; at 64 us the first step came late)
+  const uint32_t t = timer_now() + 500;
   offset = t;
   start_time = t;
   running = true;
@@ -594,6 +618,7 @@ void fill_status(Status& st) {
   st.now_ticks = state == State::done ? last - start : started ? now - start : 0;
   st.schedule_ticks = started && state != State::done ? sched : 0;
   st.free_slots = free_slots();
+  st.free_bytes = free_slots();
   st.queued = queued();
   st.next_seq = next_seq;
   st.session = session;
@@ -638,7 +663,7 @@ __attribute__((noinline)) void configure(uint16_t seq, const uint8_t* p, size_t 
 __attribute__((noinline)) void reply_ident(uint16_t seq) {
   Ident id;
   id.tick_ps = kTickPs;
-  id.slots = kSlots;
+  id.slots = kStore;
   id.session = session;
   id.max_step_rate = kMaxStepRate;
   char name[sizeof kName];
@@ -718,15 +743,12 @@ __attribute__((noinline)) void handle(const uint8_t* f) {
         send_ack(0);
         return;
       }
-      if (d > 0) {  // ahead of a missing frame: not kept; ask for the missing one once
-        if (!nak_sent || last_nak != next_seq) {
-          Put(payload_out(), kPayloadOut).u16(next_seq);
-          send(0, NAK, 2);
-          nak_sent = true;
-          last_nak = next_seq;
-        }
+      if (d > 0) {  // ahead of a missing frame: not kept (NAK says so: the host sends them again after it)
+        hole = true;  // asked for once here, and every 50 ms until it comes (renak(): the NAK or the frame lost)
+        if (!nak_sent || last_nak != next_seq) send_nak();
         return;
       }
+      hole = false;
       if (state != State::fault && state != State::aborted) {
         if (type == QUEUE) handle_queue(p, n);
         else if (state == State::ready) {
@@ -799,7 +821,7 @@ int main() {
   TCCR1A = 0;
   TCCR1B = _BV(CS11) | _BV(CS10);
   TIMSK1 = _BV(OCIE1A) | _BV(TOIE1);
-  pool_reset();
+  store_reset();
   session = 1;
   set_sleep_mode(SLEEP_MODE_IDLE);
   sei();
@@ -809,6 +831,9 @@ int main() {
     receive();
     produce();
     update_state();
+    // a window update: the host learns of the room the schedule freed without asking
+    if (configured && free_slots() >= acked_free + kWindowUpdate) send_ack(0);
+    renak();
     // sleep until the next interrupt when there is nothing to do (the simulator then skips the idle cycles)
     cli();
     if (rx_tail == rx_head) {

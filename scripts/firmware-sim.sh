@@ -8,8 +8,10 @@
 # speed scale 1), clean.vcd and faulty.vcd (the pins), clean.json and faulty.json (what play reported),
 # clean.txt and faulty.txt (the comparison) and summary.txt. SPEED=K plays at speed scale K (default 1);
 # TOLERANCE=T accepts step times within T controller ticks (default 1); TOLERANCE_FAULTY=T for the faulty link
-# (default TOLERANCE; "inf" checks only that every step is there, in order, in its direction). Needs avr-gcc, avr-libc, simavr's library
-# (Debian: gcc-avr avr-libc binutils-avr libsimavr-dev libelf-dev). Exit status 0 when both runs pass.
+# (default TOLERANCE; "inf" checks only that every step is there, in order, in its direction); SEED=N seeds the
+# faulty link's errors (default 7); UNDERRUNS=N fails a run whose controller stopped for want of items more than N
+# times (default: any number). Needs avr-gcc, avr-libc, simavr's library (Debian: gcc-avr avr-libc binutils-avr
+# libsimavr-dev libelf-dev). Exit status 0 when both runs pass.
 set -euo pipefail
 
 job=${1:?usage: scripts/firmware-sim.sh JOB [POLARCAM] [OUTDIR]}
@@ -18,6 +20,7 @@ out=${3:-./firmware-sim}
 speed=${SPEED:-1}
 tolerance=${TOLERANCE:-1}
 tolerance_faulty=${TOLERANCE_FAULTY:-$tolerance}
+max_underruns=${UNDERRUNS:-}
 root=$(cd "$(dirname "$0")/.." && pwd)
 polarcam=$(cd "$(dirname "$polarcam")" && pwd)/$(basename "$polarcam")
 mkdir -p "$out"
@@ -55,6 +58,12 @@ run() {  # NAME FAULTS TOLERANCE
     return 1
   fi
   "$fw/vcd_compare" "$out/$name.vcd" "$out/job.csv" "$speed" "$(tick_ns "$out/$name.json")" "$tol" >"$out/$name.txt" || status=$?
+  local underruns
+  underruns=$(field "$out/$name.json" underruns)
+  if [ -n "$max_underruns" ] && [ "${underruns:-0}" -gt "$max_underruns" ]; then
+    echo "firmware-sim: $name: $underruns underruns (at most $max_underruns accepted)" >&2
+    status=1
+  fi
   return "$status"
 }
 
@@ -63,14 +72,14 @@ field() { sed -n "s/^ *\"$2\": \([^,]*\),*$/\1/p" "$1"; }
 
 status=0
 run clean "" "$tolerance" || status=1
-run faulty "drop=0.01,corrupt=0.01,seed=7" "$tolerance_faulty" || status=1
+run faulty "drop=0.01,corrupt=0.01,seed=${SEED:-7}" "$tolerance_faulty" || status=1
 
 {
   echo "job $job, speed scale $speed, tolerance $tolerance tick(s) clean, $tolerance_faulty faulty"
   for name in clean faulty; do
     [ -f "$out/$name.txt" ] || { echo "$name: no comparison"; continue; }
     echo "$name: $(grep -E '^(steps_pins|mismatched|max_error_ticks|max_edge_error_ticks|max_edge_jitter_ns|result)' "$out/$name.txt" | tr '\n' ' ')"
-    echo "$name: play retransmissions $(field "$out/$name.json" retransmissions), underruns $(field "$out/$name.json" underruns), bytes sent $(field "$out/$name.json" bytes_sent), duration $(field "$out/$name.json" duration_s) s, wall $(field "$out/$name.json" wall_s) s"
+    echo "$name: play retransmissions $(field "$out/$name.json" retransmissions), NAKs $(field "$out/$name.json" naks), underruns $(field "$out/$name.json" underruns), bytes sent $(field "$out/$name.json" bytes_sent), duration $(field "$out/$name.json" duration_s) s, wall $(field "$out/$name.json" wall_s) s"
     grep -h '^fw_sim' "$out/$name.sim.log" | sed "s/^/$name: /"
   done
 } | tee "$out/summary.txt"

@@ -24,6 +24,8 @@ void Controller::send_ack() {
   a.next_seq = next_seq_;
   a.free_slots = free_slots();
   a.state = static_cast<uint8_t>(state_);
+  a.free_bytes = free_bytes();
+  acked_free_bytes_ = a.free_bytes;
   send(ACK, 0, a.encode());
 }
 
@@ -35,6 +37,10 @@ void Controller::send_error(ErrorCode code, const std::string& text, uint16_t se
 }
 
 uint32_t Controller::free_slots() const { return queued_items_ >= spec_.slots ? 0 : spec_.slots - queued_items_; }
+uint32_t Controller::free_bytes() const {
+  if (spec_.queue_bytes == 0) return kUnlimited;
+  return queued_bytes_ >= spec_.queue_bytes ? 0 : spec_.queue_bytes - queued_bytes_;
+}
 
 void Controller::reboot(uint64_t now) {
   ControllerSpec s = spec_;
@@ -73,9 +79,11 @@ bool Controller::configure(const Configure& c, std::string* why) {
   }
   codec_ = ItemCodec{};
   queued_items_ = 0;
+  queued_bytes_ = 0;
   next_seq_ = 1;
   pending_.clear();
   nak_sent_ = false;
+  hole_ = false;
   underruns_ = 0;
   error_ = ErrorCode::none;
   started_ = false;
@@ -84,12 +92,15 @@ bool Controller::configure(const Configure& c, std::string* why) {
   return true;
 }
 
-bool Controller::push(const QueueItem& it) {
+bool Controller::push(const QueueItem& it, uint32_t bytes) {
   if (queued_items_ >= spec_.slots || !run_is_valid(it)) return false;
+  if (spec_.queue_bytes != 0 && bytes > free_bytes()) return false;
   Axis& a = ax_[it.axis & 1];
   if (a.ended_queued) return false;
   a.q.push_back(it);
+  a.q_bytes.push_back(bytes);
   ++queued_items_;
+  queued_bytes_ += bytes;
   // tail clock: exact end of the item (closed form of the run)
   if (it.kind == ItemKind::wait) {
     a.tail.base += it.wait;
@@ -142,9 +153,11 @@ void Controller::handle_queue(const std::string& p) {
   const auto* d = reinterpret_cast<const uint8_t*>(p.data());
   size_t pos = 0;
   std::vector<QueueItem> items;
+  std::vector<uint32_t> sizes;
   ItemCodec trial = codec_;
   while (pos < p.size()) {
     QueueItem it;
+    const size_t from = pos;
     if (!trial.decode(d, p.size(), pos, it)) {
       error_ = ErrorCode::bad_queue;
       state_ = State::fault;
@@ -152,15 +165,16 @@ void Controller::handle_queue(const std::string& p) {
       return;
     }
     items.push_back(it);
+    sizes.push_back(static_cast<uint32_t>(pos - from));
   }
-  if (items.size() > free_slots()) {
+  if (items.size() > free_slots() || p.size() > free_bytes()) {
     error_ = ErrorCode::overflow;
     state_ = State::fault;
-    send_error(ErrorCode::overflow, "queue overflow: the host sent more items than its credits", 0);
+    send_error(ErrorCode::overflow, "queue overflow: the host sent more than its credits (items or bytes)", 0);
     return;
   }
   codec_ = trial;
-  for (const QueueItem& it : items) push(it);
+  for (size_t i = 0; i < items.size(); ++i) push(items[i], sizes[i]);
   if (started_) {
     prepare_next(ax_[0]);
     prepare_next(ax_[1]);
@@ -193,7 +207,7 @@ void Controller::handle(const Frame& f, uint64_t now) {
         return;
       }
       if (!fresh_request(f.type, f.seq)) {  // a repeat of the last one: answer again
-        send(ACK, f.seq, Ack{next_seq_, free_slots(), static_cast<uint8_t>(state_)}.encode());
+        send(ACK, f.seq, Ack{next_seq_, free_slots(), static_cast<uint8_t>(state_), free_bytes()}.encode());
         return;
       }
       std::string why;
@@ -201,7 +215,7 @@ void Controller::handle(const Frame& f, uint64_t now) {
         send_error(why.rfind("grid", 0) == 0 ? ErrorCode::grid_mismatch : why.rfind("busy", 0) == 0 ? ErrorCode::busy : ErrorCode::bad_config, why, f.seq);
         return;
       }
-      send(ACK, f.seq, Ack{next_seq_, free_slots(), static_cast<uint8_t>(state_)}.encode());
+      send(ACK, f.seq, Ack{next_seq_, free_slots(), static_cast<uint8_t>(state_), free_bytes()}.encode());
       return;
     }
     case HOLD:
@@ -213,15 +227,17 @@ void Controller::handle(const Frame& f, uint64_t now) {
         if (f.type == ABORT) {
           for (Axis& a : ax_) {
             a.q.clear();
+            a.q_bytes.clear();
             a.has_next = false;
             a.run.left = 0;
           }
           queued_items_ = 0;
+          queued_bytes_ = 0;
           started_ = false;
           state_ = State::aborted;
         }
       }
-      send(ACK, f.seq, Ack{next_seq_, free_slots(), static_cast<uint8_t>(state_)}.encode());
+      send(ACK, f.seq, Ack{next_seq_, free_slots(), static_cast<uint8_t>(state_), free_bytes()}.encode());
       return;
     case QUEUE:
     case START: {
@@ -235,15 +251,15 @@ void Controller::handle(const Frame& f, uint64_t now) {
         return;
       }
       if (d > 0) {
-        if (d < 64 && pending_.size() < 64) pending_.emplace(f.seq, f);
-        if (!nak_sent_ || last_nak_ != next_seq_) {
-          send(NAK, 0, Writer().u16(next_seq_).s);
-          nak_sent_ = true;
-          last_nak_ = next_seq_;
-        }
+        if (spec_.keep_ahead && d < 64 && pending_.size() < 64) pending_.emplace(f.seq, f);
+        // once per missing frame (a controller that drops the frames ahead asks again every 50 ms until it
+        // comes: renak())
+        hole_ = true;
+        if (!nak_sent_ || last_nak_ != next_seq_) send_nak();
         return;
       }
       Frame cur = f;
+      hole_ = false;
       for (;;) {
         if (state_ == State::fault || state_ == State::aborted) break;
         if (cur.type == QUEUE) handle_queue(cur.payload);
@@ -270,9 +286,26 @@ void Controller::receive(const uint8_t* data, size_t n, uint64_t now) {
   std::vector<Frame> frames;
   dec_.feed(data, n, frames);
   for (const Frame& f : frames) handle(f, now_);
+  renak();
 }
 
-void Controller::advance(uint64_t now) { run_to(now); }
+void Controller::advance(uint64_t now) {
+  run_to(now);
+  renak();
+}
+
+void Controller::send_nak() {
+  send(NAK, 0, Writer().u16(next_seq_).u8(spec_.keep_ahead ? 1 : 0).s);
+  nak_sent_ = true;
+  last_nak_ = next_seq_;
+  nak_time_ = now_;
+}
+
+// A controller that drops the frames ahead of a missing one names it again every 50 ms until it comes (its NAK,
+// or the frame sent again, may be lost too), as the reference firmware does.
+void Controller::renak() {
+  if (!spec_.keep_ahead && hole_ && (now_ - nak_time_) * spec_.tick_ps >= 50000000000ull) send_nak();
+}
 
 bool Controller::prepare_next(Axis& a) {
   while (!a.has_next && !a.ended) {
@@ -285,6 +318,10 @@ bool Controller::prepare_next(Axis& a) {
     QueueItem it = a.q.front();
     a.q.pop_front();
     --queued_items_;
+    queued_bytes_ -= a.q_bytes.front();
+    a.q_bytes.pop_front();
+    // a window update: the host learns of the room without asking (its STATUS requests may be lost)
+    if (spec_.queue_bytes != 0 && free_bytes() >= acked_free_bytes_ + wire::kWindowUpdate) send_ack();
     if (it.kind == ItemKind::wait) {
       a.clk.base += it.wait;
     } else if (it.kind == ItemKind::end) {
@@ -394,6 +431,7 @@ Status Controller::status() const {
   s.now_ticks = state_ == State::done ? last_step_ : started_ ? now_ - start_ : 0;
   s.schedule_ticks = static_cast<uint64_t>(tau_ >> 16);
   s.free_slots = free_slots();
+  s.free_bytes = free_bytes();
   s.queued = queued_items_;
   for (int a = 0; a < 2; ++a) {
     s.executed[a] = ax_[a].executed;

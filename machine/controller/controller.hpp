@@ -18,6 +18,8 @@ namespace polarcam {
 struct ControllerSpec {
   uint64_t tick_ps = 1000000;   // timer tick (1 us)
   uint32_t slots = 4096;        // queue items it can buffer
+  uint32_t queue_bytes = 0;     // and bytes of encoded items (0: no limit); the reference firmware's is 384
+  bool keep_ahead = true;       // keeps frames that arrive after a missing one (the reference firmware does not)
   uint32_t max_step_rate = 0;   // steps per second it reports (IDENT); 0: one step per axis per tick
   std::string name = "polarcam controller emulator";
   double dr = 0, dtheta = 0;    // its machine grid, when it knows one (0: accepts any)
@@ -41,7 +43,7 @@ class Controller {
 
   // In-process use without the link (the simulated machine): configure, queue items and start directly.
   bool configure(const proto::Configure& c, std::string* why);
-  bool push(const QueueItem& it);
+  bool push(const QueueItem& it, uint32_t bytes = 0);  // bytes: its encoded size, for queue_bytes
   void start(uint64_t now);
   void hold();
   void resume();
@@ -49,11 +51,13 @@ class Controller {
   proto::Status status() const;
   proto::State state() const { return state_; }
   uint32_t free_slots() const;
+  uint32_t free_bytes() const;  // kUnlimited without a queue_bytes limit
   const ControllerSpec& spec() const { return spec_; }
 
  private:
   struct Axis {
     std::deque<QueueItem> q;
+    std::deque<uint32_t> q_bytes;  // their encoded sizes
     AxisClock clk;           // execution clock
     AxisClock tail;          // clock at the end of the queued items (for the horizon)
     bool ended_queued = false, ended = false;
@@ -71,6 +75,8 @@ class Controller {
   void send_error(proto::ErrorCode code, const std::string& text, uint16_t seq);
   bool fresh_request(uint8_t type, uint16_t id);
   bool prepare_next(Axis& a);
+  void send_nak();
+  void renak();
   uint64_t horizon(const Axis& a) const;
   void run_to(uint64_t now);
   void fire_due();
@@ -91,8 +97,12 @@ class Controller {
   std::map<uint8_t, uint16_t> last_req_;      // last request id per out-of-band type
   uint16_t last_nak_ = 0;
   bool nak_sent_ = false;
+  bool hole_ = false;            // a frame came ahead of next_seq_ since it was last received
   uint32_t underruns_ = 0;
   uint32_t queued_items_ = 0;
+  uint32_t queued_bytes_ = 0;
+  uint32_t acked_free_bytes_ = 0;  // free_bytes in the last ACK sent
+  uint64_t nak_time_ = 0;        // boot tick of the last NAK
   // clocks
   uint64_t now_ = 0;             // ticks since boot
   uint64_t start_ = 0;           // boot tick of START

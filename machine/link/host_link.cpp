@@ -36,13 +36,16 @@ void HostLink::on_frame(const Frame& f) {
       got_ack_ = true;
       return;
     }
-    case NAK:
-      if (f.payload.size() == 2) {
-        nak_seq_ = static_cast<uint16_t>(static_cast<uint8_t>(f.payload[0]) | (static_cast<uint8_t>(f.payload[1]) << 8));
+    case NAK: {
+      wire::Nak n;
+      if (n.decode(reinterpret_cast<const uint8_t*>(f.payload.data()), f.payload.size())) {
+        nak_seq_ = n.next_seq;
+        nak_kept_ = n.kept != 0;
         got_nak_ = true;
         ++rep_.naks;
       }
       return;
+    }
     case IDENT:
       // a controller of another protocol version is named at identify(), not taken for silence
       if (Ident::decode(f.payload, ident_) || (!f.payload.empty() && ident_.version != kVersion)) {
@@ -56,6 +59,7 @@ void HostLink::on_frame(const Frame& f) {
         if (got_ack_ && seq_diff(status_.next_seq, ack_.next_seq) >= 0) {  // fresher credits than the last ACK
           ack_.next_seq = status_.next_seq;
           ack_.free_slots = status_.free_slots;
+          ack_.free_bytes = status_.free_bytes;
         }
         if (have_session_ && status_.session != session_) {
           rebooted_ = true;
@@ -180,6 +184,29 @@ PlayReport HostLink::play(const PlayPlan& plan, const Schedule& sc) {
     for (const Out& o : inflight) s += o.slots;
     return s;
   };
+  // credits in bytes of encoded items, when the controller counts them (a small controller stores items as their
+  // bytes); items in unacknowledged frames are spent
+  auto byte_credits = [&]() -> int64_t {
+    if (ack_.free_bytes == kUnlimited) return INT64_MAX;
+    int64_t s = 0;
+    for (const Out& o : inflight) s += static_cast<int64_t>(o.item_bytes);
+    return static_cast<int64_t>(ack_.free_bytes) - s;
+  };
+  // the next item's encoded size (its bytes depend on the prediction, so on what was sent before it)
+  auto next_item_bytes = [&]() -> int64_t {
+    if (k >= sc.items.size()) return 0;
+    std::string one;
+    ItemCodec trial = codec;
+    trial.encode(sc.items[k], one);
+    return static_cast<int64_t>(one.size());
+  };
+  uint16_t start_seq = 0;
+  uint16_t gbn_seq = 0;   // the last NAK answered by going back (a controller that drops frames ahead)
+  double gbn_time = -1e9;
+  // a STATUS request unanswered for this long is sent again: the RTO, or four times the reply's time on a slow
+  // line (a reply is lost whole to one bad byte in about a hundred)
+  const double status_timeout =
+      std::max(o_.rto_s, o_.baud > 0 ? 4.0 * static_cast<double>(kOverhead + wire::Status::kSize) * 10.0 / o_.baud : 0.0);
   auto confirm_report = [&] {
     rep_.steps_confirmed = status_.executed[0] + status_.executed[1];
     rep_.end_node[0] = status_.node[0];
@@ -229,21 +256,28 @@ PlayReport HostLink::play(const PlayPlan& plan, const Schedule& sc) {
     if (resume_request && resume_request->exchange(false)) send_raw(encode_frame(next_req(), RESUME, ""));
     // new frames, within the window and the credits
     while (!stopping && inflight.size() < o_.window && line_free_at_ <= t_.now() + o_.pace_s) {
-      // START once the buffer holds the prefill, is full, or holds the whole job
+      // START once the buffer holds the prefill, is full, or holds the whole job, and every frame before it has
+      // been acknowledged (the controller has taken them: it fills its step pipeline at START without frames
+      // arriving behind it); no QUEUE frame follows START before START is acknowledged
       const int64_t credits0 = static_cast<int64_t>(ack_.free_slots) - static_cast<int64_t>(inflight_slots());
-      const bool prefilled = k == sc.items.size() || credits0 <= 0 ||
+      const bool full = credits0 <= 0 || byte_credits() < next_item_bytes();
+      const bool prefilled = k == sc.items.size() || full ||
                              (k > 0 && static_cast<double>(sc.horizon[k - 1] == UINT64_MAX ? 0 : sc.horizon[k - 1]) >= prefill_ticks);
       if (!start_sent && prefilled) {
+        if (!inflight.empty()) break;
         const uint16_t seq = next_seq++;
-        Out o{seq, encode_frame(seq, START, ""), 0, 0, now};
+        start_seq = seq;
+        Out o{seq, encode_frame(seq, START, ""), 0, 0, 0, now};
         send_raw(o.bytes);
         o.sent = line_free_at_;
         inflight.push_back(std::move(o));
         start_sent = true;
         continue;
       }
+      if (start_sent && seq_diff(start_seq, ack_.next_seq) >= 0) break;  // START not acknowledged yet
       const int64_t credits = static_cast<int64_t>(ack_.free_slots) - static_cast<int64_t>(inflight_slots());
-      if (k < sc.items.size() && credits > 0) {
+      const int64_t room = byte_credits();
+      if (k < sc.items.size() && credits > 0 && room >= next_item_bytes()) {
         std::string payload;
         uint32_t n = 0;
         uint64_t steps = 0;
@@ -252,6 +286,7 @@ PlayReport HostLink::play(const PlayPlan& plan, const Schedule& sc) {
           ItemCodec trial = codec;
           trial.encode(sc.items[k], one);
           if (!payload.empty() && payload.size() + one.size() > payload_limit) break;
+          if (static_cast<int64_t>(payload.size() + one.size()) > room) break;
           codec = trial;
           payload += one;
           const QueueItem& it = sc.items[k];
@@ -260,7 +295,7 @@ PlayReport HostLink::play(const PlayPlan& plan, const Schedule& sc) {
           ++k;
         }
         const uint16_t seq = next_seq++;
-        Out o{seq, encode_frame(seq, QUEUE, payload), n, steps, now};
+        Out o{seq, encode_frame(seq, QUEUE, payload), n, payload.size(), steps, now};
         send_raw(o.bytes);
         o.sent = line_free_at_;
         steps_sent += steps;
@@ -270,11 +305,23 @@ PlayReport HostLink::play(const PlayPlan& plan, const Schedule& sc) {
       break;
     }
     rep_.steps_sent = steps_sent;
-    // retransmissions: the frame the controller asks for, and any frame unacknowledged for rto_s
+    // retransmissions: the frame the controller asks for (and the frames after it, when the controller dropped
+    // them: go-back-N), and any frame unacknowledged for rto_s
     if (got_nak_) {
       got_nak_ = false;
+      // a NAK answered already (the frame it names went again less than a quarter RTO ago) is ignored; else the
+      // frame goes again, and when the controller dropped the frames after it, they follow it (go-back-N). Such a
+      // controller names each missing frame once as it reaches it (again only if frames still come 50 ms later):
+      // a NAK of another frame than the last one answered is news, whenever that frame went
+      const bool news = !nak_kept_ && (nak_seq_ != gbn_seq || now - gbn_time > o_.rto_s / 4);
+      bool missing_resent = false;
       for (Out& o : inflight)
-        if (o.seq == nak_seq_ && now - o.sent > o_.rto_s / 4) {
+        if ((o.seq == nak_seq_ && (news || now - o.sent > o_.rto_s / 4)) || (missing_resent && !nak_kept_)) {
+          if (!nak_kept_ && !missing_resent) {
+            gbn_seq = nak_seq_;
+            gbn_time = now;
+          }
+          missing_resent = true;
           send_raw(o.bytes);
           o.sent = line_free_at_;
           ++rep_.retransmissions;
@@ -291,7 +338,7 @@ PlayReport HostLink::play(const PlayPlan& plan, const Schedule& sc) {
     // status
     // one status request at a time (a slow line must not pile up stale replies)
     if ((!status_outstanding && now - last_status >= o_.status_period_s) ||
-        (status_outstanding && now - last_status > std::max(1.0, 4 * o_.rto_s))) {
+        (status_outstanding && now - last_status > status_timeout)) {
       send_raw(encode_frame(next_req(), STATUS, ""));
       last_status = now;
       status_outstanding = true;
@@ -323,7 +370,7 @@ PlayReport HostLink::play(const PlayPlan& plan, const Schedule& sc) {
       }
       // after an underrun stop, resume once the buffer is refilled
       if (resume_pending && status_.state == State::underrun && inflight.empty() &&
-          (k == sc.items.size() || ack_.free_slots == 0 ||
+          (k == sc.items.size() || ack_.free_slots == 0 || byte_credits() < next_item_bytes() ||
            static_cast<double>(sc.horizon[k - 1]) - static_cast<double>(status_.schedule_ticks) >= prefill_ticks)) {
         // sent again while the controller still reports the stop (a RESUME can be lost like any frame)
         if (now - resume_sent > o_.rto_s) {

@@ -103,6 +103,7 @@ class HostLink {
     uint16_t seq;
     std::string bytes;
     uint32_t slots;
+    size_t item_bytes;  // the payload: encoded items
     uint64_t steps;
     double sent;
   };
@@ -130,7 +131,7 @@ class HostLink {
   bool got_error_ = false, rebooted_ = false;
   uint32_t boot_session_ = 0;
   uint16_t nak_seq_ = 0;
-  bool got_nak_ = false;
+  bool got_nak_ = false, nak_kept_ = true;
   double last_rx_ = 0;
   PlayReport rep_;
 };

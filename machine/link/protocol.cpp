@@ -185,6 +185,7 @@ std::string Ack::encode() const {
   w.next_seq = next_seq;
   w.free_slots = free_slots;
   w.state = state;
+  w.free_bytes = free_bytes;
   uint8_t b[wire::Ack::kSize];
   return as_string(b, w.encode(b, sizeof b));
 }
@@ -194,6 +195,7 @@ bool Ack::decode(const std::string& p, Ack& o) {
   o.next_seq = w.next_seq;
   o.free_slots = w.free_slots;
   o.state = w.state;
+  o.free_bytes = w.free_bytes;
   return true;
 }
 

@@ -18,7 +18,8 @@ namespace polarcam::proto {
 using wire::kMaxPayload;
 using wire::kOverhead;
 using wire::kSync;
-using wire::kVersion;  // 3: IDENT carries the largest step rate; 2: cubic runs with an offset
+using wire::kVersion;  // 4: ACK and STATUS carry free bytes; 3: IDENT the largest step rate; 2: cubic runs
+using wire::kUnlimited;
 
 using wire::Type;
 using wire::IDENTIFY, wire::CONFIGURE, wire::QUEUE, wire::START, wire::HOLD, wire::RESUME, wire::ABORT, wire::RESET,
@@ -110,6 +111,7 @@ struct Ack {
   uint16_t next_seq = 0;   // every sequenced frame before this one has been received
   uint32_t free_slots = 0;
   uint8_t state = 0;
+  uint32_t free_bytes = kUnlimited;  // room for this many bytes of encoded items (kUnlimited: items only)
   std::string encode() const;
   static bool decode(const std::string& p, Ack& out);
 };

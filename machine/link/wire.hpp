@@ -14,8 +14,14 @@ namespace wire {
 
 // ---- constants -------------------------------------------------------------------------------------------
 
-// 3: IDENT carries the controller's largest sustained step rate; 2: cubic runs with an offset.
-static constexpr uint8_t kVersion = 3;
+// 4: ACK and STATUS_REPLY carry the queue's free bytes (credits in bytes as well as items), NAK whether the frames
+// after the missing one were kept; 3: IDENT carries the controller's largest sustained step rate; 2: cubic runs
+// with an offset.
+static constexpr uint8_t kVersion = 4;
+static constexpr uint32_t kUnlimited = 0xffffffffu;  // free_bytes of a controller whose queue counts items only
+// A controller that counts bytes sends an ACK unasked when its free bytes have grown by this much since its last
+// ACK (a window update): a host with no room left learns of the new room without a STATUS round trip.
+static constexpr uint32_t kWindowUpdate = 32;
 static constexpr uint8_t kSync = 0x7E;
 static constexpr size_t kMaxPayload = 240;
 static constexpr size_t kHeader = 6;                 // sync, LEN, ~LEN, SEQ lo, SEQ hi, TYPE
@@ -231,15 +237,17 @@ struct Configure {
   }
 };
 
-// ACK: next_seq u16 (every sequenced frame before it received), free_slots u32, state u8.
+// ACK: next_seq u16 (every sequenced frame before it received), free_slots u32, state u8, free_bytes u32 (room
+// for this many more bytes of encoded items; kUnlimited: items are the only limit).
 struct Ack {
   uint16_t next_seq = 0;
   uint32_t free_slots = 0;
   uint8_t state = 0;
-  static constexpr size_t kSize = 7;
+  uint32_t free_bytes = kUnlimited;
+  static constexpr size_t kSize = 11;
   size_t encode(uint8_t* out, size_t cap) const {
     Put w(out, cap);
-    w.u16(next_seq).u32(free_slots).u8(state);
+    w.u16(next_seq).u32(free_slots).u8(state).u32(free_bytes);
     return w.ok ? w.n : 0;
   }
   bool decode(const uint8_t* p, size_t n) {
@@ -247,12 +255,13 @@ struct Ack {
     next_seq = r.u16();
     free_slots = r.u32();
     state = r.u8();
+    free_bytes = r.u32();
     return r.done();
   }
 };
 
 // STATUS_REPLY: state u8, error u8, underruns u32, now_ticks u64, schedule_ticks u64, free_slots u32, queued u32,
-// executed r u64, theta u64, node r i64, theta i64, next_seq u16, session u32, bad_frames u32.
+// executed r u64, theta u64, node r i64, theta i64, next_seq u16, session u32, bad_frames u32, free_bytes u32.
 struct Status {
   State state = State::idle;
   ErrorCode error = ErrorCode::none;
@@ -265,12 +274,13 @@ struct Status {
   uint16_t next_seq = 0;
   uint32_t session = 0;
   uint32_t bad_frames = 0;
-  static constexpr size_t kSize = 1 + 1 + 4 + 8 + 8 + 4 + 4 + 8 + 8 + 8 + 8 + 2 + 4 + 4;
+  uint32_t free_bytes = kUnlimited;  // as ACK's
+  static constexpr size_t kSize = 1 + 1 + 4 + 8 + 8 + 4 + 4 + 8 + 8 + 8 + 8 + 2 + 4 + 4 + 4;
   size_t encode(uint8_t* out, size_t cap) const {
     Put w(out, cap);
     w.u8(static_cast<uint8_t>(state)).u8(static_cast<uint8_t>(error)).u32(underruns).u64(now_ticks)
         .u64(schedule_ticks).u32(free_slots).u32(queued).u64(executed[0]).u64(executed[1]).i64(node[0])
-        .i64(node[1]).u16(next_seq).u32(session).u32(bad_frames);
+        .i64(node[1]).u16(next_seq).u32(session).u32(bad_frames).u32(free_bytes);
     return w.ok ? w.n : 0;
   }
   bool decode(const uint8_t* p, size_t n) {
@@ -291,11 +301,31 @@ struct Status {
     next_seq = r.u16();
     session = r.u32();
     bad_frames = r.u32();
+    free_bytes = r.u32();
     return r.done();
   }
 };
 
-// ERROR: code u8, text (u8 length + bytes). NAK: next_seq u16. BOOT: session u32.
+// NAK: next_seq u16 (the sequenced frame the controller is missing), kept u8 (1: it keeps the frames that arrive
+// after the missing one; 0: it drops them, and the host sends them again with the missing one).
+struct Nak {
+  uint16_t next_seq = 0;
+  uint8_t kept = 1;
+  static constexpr size_t kSize = 3;
+  size_t encode(uint8_t* out, size_t cap) const {
+    Put w(out, cap);
+    w.u16(next_seq).u8(kept);
+    return w.ok ? w.n : 0;
+  }
+  bool decode(const uint8_t* p, size_t n) {
+    Get r(p, n);
+    next_seq = r.u16();
+    kept = r.u8();
+    return r.done() && kept <= 1;
+  }
+};
+
+// ERROR: code u8, text (u8 length + bytes). BOOT: session u32.
 inline size_t encode_error(uint8_t* out, size_t cap, ErrorCode code, const char* text, size_t len) {
   Put w(out, cap);
   w.u8(static_cast<uint8_t>(code)).str(text, len);

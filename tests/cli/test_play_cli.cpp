@@ -103,9 +103,21 @@ TEST(PlayCli, LimaconAtTenTimesSpeedOverAPtyWithDroppedBytes) {
   EXPECT_EQ(j["steps_sent"], 22000);
   EXPECT_EQ(j["underruns"], 0);
   for (const char* k : {"retransmissions", "duration_s"}) EXPECT_TRUE(j.contains(k)) << k;
-  // the limits the emulator reports at IDENTIFY (protocol version 3): 4096 items; one step per axis per 1 us tick
+  // the limits the emulator reports at IDENTIFY (protocol version 4): 4096 items; one step per axis per 1 us tick
   EXPECT_EQ(j["controller_slots"], 4096);
   EXPECT_EQ(j["controller_max_step_rate"], 2 * 1000000);
+}
+
+// An emulator as small as the reference firmware (384 bytes of queue, no frame kept after a missing one): the
+// credits in bytes keep the host within its queue (it faults with "queue overflow" otherwise) and nothing is sent
+// twice on a clean line.
+TEST(PlayCli, LimaconToAControllerOf384BytesThatDropsFramesAhead) {
+  nlohmann::json j;
+  play_at_ten_times_speed("limacon", "--queue-bytes 384 --drop-ahead", j);
+  EXPECT_EQ(j["steps_confirmed"], 22000);
+  EXPECT_EQ(j["underruns"], 0);
+  EXPECT_EQ(j["retransmissions"], 0);
+  EXPECT_EQ(j["naks"], 0);
 }
 
 TEST(PlayCli, SerpentineAtTenTimesSpeedWithCorruptedBytes) {

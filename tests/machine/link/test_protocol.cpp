@@ -76,8 +76,8 @@ TEST(Protocol, FrameLayoutByHand) {
   EXPECT_EQ(out[0].payload, "\xaa\xbb");
 }
 
-// IDENT of version 3 carries the largest step rate; an IDENT of another version still names its version.
-TEST(Protocol, IdentVersion3AndOtherVersionsNamed) {
+// IDENT (version 4) carries the largest step rate; an IDENT of another version still names its version.
+TEST(Protocol, IdentVersion4AndOtherVersionsNamed) {
   proto::Ident id;
   id.tick_ps = 4000000;
   id.slots = 24;
@@ -86,7 +86,7 @@ TEST(Protocol, IdentVersion3AndOtherVersionsNamed) {
   id.name = "board";
   const std::string p = id.encode();
   ASSERT_EQ(p.size(), 1u + 8 + 4 + 4 + 4 + 1 + 5);
-  EXPECT_EQ(static_cast<uint8_t>(p[0]), 3);
+  EXPECT_EQ(static_cast<uint8_t>(p[0]), 4);
   EXPECT_EQ(static_cast<uint8_t>(p[17]) | static_cast<uint8_t>(p[18]) << 8, 20000 & 0xffff);  // after the session
   proto::Ident back;
   ASSERT_TRUE(proto::Ident::decode(p, back));
@@ -100,6 +100,40 @@ TEST(Protocol, IdentVersion3AndOtherVersionsNamed) {
   proto::Ident old;
   EXPECT_FALSE(proto::Ident::decode(v2, old));
   EXPECT_EQ(old.version, 2);
+}
+
+// Version 4: ACK and STATUS_REPLY end with the queue's free bytes (all ones: not limited), NAK with whether the
+// frames after the missing one were kept.
+TEST(Protocol, AckStatusAndNakOfVersion4) {
+  proto::Ack a;
+  a.next_seq = 0x0102;
+  a.free_slots = 0x03040506;
+  a.state = 2;
+  EXPECT_EQ(a.encode(), std::string("\x02\x01\x06\x05\x04\x03\x02\xff\xff\xff\xff", 11));
+  a.free_bytes = 384;
+  const std::string p = a.encode();
+  ASSERT_EQ(p.size(), 11u);
+  EXPECT_EQ(static_cast<uint8_t>(p[7]) | static_cast<uint8_t>(p[8]) << 8, 384);
+  proto::Ack back;
+  ASSERT_TRUE(proto::Ack::decode(p, back));
+  EXPECT_EQ(back.free_bytes, 384u);
+  EXPECT_FALSE(proto::Ack::decode(p.substr(0, 7), back));  // a version 3 ACK
+  proto::Status st;
+  st.free_bytes = 0x0a0b0c0d;
+  const std::string s = st.encode();
+  ASSERT_EQ(s.size(), 76u);  // 72 bytes of version 3, then free_bytes
+  EXPECT_EQ(s.substr(72), std::string("\x0d\x0c\x0b\x0a", 4));
+  proto::Status sb;
+  ASSERT_TRUE(proto::Status::decode(s, sb));
+  EXPECT_EQ(sb.free_bytes, 0x0a0b0c0du);
+  wire::Nak n;
+  const uint8_t dropped[3] = {0x34, 0x12, 0};
+  ASSERT_TRUE(n.decode(dropped, 3));
+  EXPECT_EQ(n.next_seq, 0x1234);
+  EXPECT_EQ(n.kept, 0);
+  const uint8_t bad[3] = {0x34, 0x12, 2};
+  EXPECT_FALSE(n.decode(bad, 3));
+  EXPECT_FALSE(n.decode(dropped, 2));  // a version 3 NAK
 }
 
 // The wire's 128-bit stand-in (the firmware has no __int128) against the compiler's.
