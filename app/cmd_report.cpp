@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "app/cli.hpp"
+#include "io/progress.hpp"
 #include "report/operator_report.hpp"
 #include "io/output.hpp"
 #include "cam/error.hpp"
@@ -17,6 +18,7 @@ struct Opts {
   PatternArgs pattern;
   StudyOptions report;
   double safety_factor = 0.0;
+  bool quiet = false;
 };
 
 int run(const Opts& o) {
@@ -28,7 +30,10 @@ int run(const Opts& o) {
     if (!(o.safety_factor >= 1.0)) throw InputError("--safety-factor must be at least 1");
     job.safety_factor = o.safety_factor;
   }
-  const OperatorReport r = operator_report(job, study_job(job, o.report));
+  const OperatorReport r = [&] {
+    TerminalBar bar("report", o.quiet);  // erased before the output
+    return operator_report(job, study_job(job, o.report, bar.callback()));
+  }();
   write_file_atomic(o.output, r.html);
   std::cout << (r.go ? "GO" : "NO-GO") << ": report written to " << o.output << "\n";
   return r.go ? 0 : 1;
@@ -51,6 +56,7 @@ void register_report(CLI::App& app, Action& action) {
   c->add_option("--threads", o->report.threads, "threads (default: all cores; the report does not depend on it)")
       ->check(CLI::Range(0, 1024));
   c->add_option("--safety-factor", o->safety_factor, "safety factor instead of the job's [limits] (>= 1)");
+  c->add_flag("--quiet", o->quiet, "no progress bar (shown on a terminal only)");
   c->callback([o, &action] { action = [o] { return run(*o); }; });
 }
 
