@@ -37,7 +37,9 @@ struct Recorder {
     for (size_t i = 0; i < f.size(); ++i) {
       EXPECT_GE(f[i], 0.0) << what << " call " << i;
       EXPECT_LE(f[i], 1.0) << what << " call " << i;
-      if (i > 0) EXPECT_GE(f[i], f[i - 1]) << what << " call " << i;
+      if (i > 0) {
+        EXPECT_GE(f[i], f[i - 1]) << what << " call " << i;
+      }
     }
     EXPECT_EQ(f.back(), 1.0) << what;
   }
@@ -97,7 +99,7 @@ TEST(Progress, PlacementAndParetoSearchesSpendTheirBudget) {
   const Job job = example("ch6/circle_inertial.toml");
   PlacementOptions po = job.optimize;
   po.objective = PoleObjective::area;
-  po.max_evaluations = 40;
+  po.max_evaluations = 20;
   po.threads = 2;
   const PoleProblem prob = job_pole_problem(job, po, true);
   Recorder a;
@@ -116,6 +118,7 @@ TEST(Progress, StudyJobGoesThroughEveryPart) {
   StudyOptions o;
   o.map_size = 4;
   o.max_evaluations = 20;
+  o.curve_points = 2;
   o.threads = 2;
   Recorder r;
   study_job(example("ch6/circle_inertial.toml"), o, r.fn());
