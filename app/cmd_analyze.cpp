@@ -6,6 +6,7 @@
 
 #include "report/analysis_report.hpp"
 #include "app/cli.hpp"
+#include "io/progress.hpp"
 #include "io/output.hpp"
 #include "cam/error.hpp"
 #include "cam/units.hpp"
@@ -16,7 +17,7 @@ namespace {
 struct Opts {
   std::string job, csv, plot, spacing;
   PatternArgs pattern;
-  bool json = false;
+  bool json = false, quiet = false;
   std::vector<std::string> speeds, masses, depths;
   double safety_factor = 0.0;
 };
@@ -80,8 +81,16 @@ int run(const Opts& o) {
   std::vector<CaseResult> cases;
   const bool keep = !o.csv.empty() || !o.plot.empty();
   opt.keep_series = keep;
-  for (const auto& v : vs)
-    for (const auto& l : loads) cases.push_back(analyze_case(job, prep, DynamicsCase{v, l}, opt));
+  {
+    TerminalBar bar("analyze", o.quiet);  // erased before the output
+    const Progress progress = bar.callback();
+    const double n = static_cast<double>(vs.size() * loads.size());
+    for (const auto& v : vs)
+      for (const auto& l : loads) {
+        const double k = static_cast<double>(cases.size());
+        cases.push_back(analyze_case(job, prep, DynamicsCase{v, l}, opt, true, progress_part(progress, k / n, (k + 1) / n)));
+      }
+  }
 
   std::vector<std::pair<std::string, std::string>> files;
   if (!o.csv.empty()) files.emplace_back(o.csv, series_csv(job, cases));
@@ -131,6 +140,7 @@ void register_analyze(CLI::App& app, Action& action) {
   c->add_option("job", o->job, "job file (TOML) whose machine has dynamics")->required();
   add_pattern_options(c, o->pattern, false);
   c->add_flag("--json", o->json, "print the result as one JSON object");
+  c->add_flag("--quiet", o->quiet, "no progress bar (shown on a terminal only)");
   c->add_option("--csv", o->csv, "write the series along the path to this CSV file");
   c->add_option("--plot", o->plot, "draw the torque-ratio plots (Figures 5.8-5.25) to this .png or .svg file");
   c->add_option("--speed", o->speeds, "analyse at this speed instead of the job's (repeatable), e.g. \"0.51 cm/s\"");

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "app/cli.hpp"
+#include "io/progress.hpp"
 #include "pipeline/compare.hpp"
 #include "report/compare_report.hpp"
 #include "io/output.hpp"
@@ -57,7 +58,7 @@ void register_compare(CLI::App& app, Action& action) {
   struct Opts {
     std::string job, report, method = "dda", rate, speed_scale = "2", size_scale = "1/2";
     PatternArgs pattern;
-    bool json = false;
+    bool json = false, quiet = false;
   };
   auto o = std::make_shared<Opts>();
   CLI::App* c = app.add_subcommand(
@@ -65,6 +66,7 @@ void register_compare(CLI::App& app, Action& action) {
   c->add_option("job", o->job, "job file (TOML)")->required();
   add_pattern_options(c, o->pattern);
   c->add_flag("--json", o->json, "print the comparison as one JSON object");
+  c->add_flag("--quiet", o->quiet, "no progress bar (shown on a terminal only)");
   c->add_option("--report", o->report, "write a self-contained HTML report with figures");
   c->add_option("--method", o->method, "the Cartesian machine: dda (lines and arcs, DDAs; default) or exact")
       ->check(CLI::IsMember({"dda", "exact"}));
@@ -84,7 +86,10 @@ void register_compare(CLI::App& app, Action& action) {
       opt.size_scale = parse_ratio(o->size_scale, "--size-scale");
       opt.figures = !o->report.empty();
       const Job job = load_job_input(o->job, o->pattern);
-      const Comparison cmp = compare_job(job, opt);
+      const Comparison cmp = [&] {
+        TerminalBar bar("compare", o->quiet);  // erased before the output
+        return compare_job(job, opt, bar.callback());
+      }();
       if (!o->report.empty()) write_compare_report(cmp, o->report);
       if (o->json)
         std::cout << to_json(cmp).dump(2) << "\n";

@@ -8,6 +8,7 @@
 
 #include "app/cli.hpp"
 #include "digitizer/template_speed.hpp"
+#include "io/progress.hpp"
 #include "pipeline/job_tape.hpp"
 #include "io/output.hpp"
 
@@ -133,7 +134,7 @@ void register_digitize(CLI::App& app, Action& action) {
   struct Opts {
     std::string job, out;
     PatternArgs pattern;
-    bool json = false;
+    bool json = false, quiet = false;
   };
   auto o = std::make_shared<Opts>();
   CLI::App* c = app.add_subcommand("digitize", "Digitize a job into a step tape and print its summary");
@@ -141,18 +142,22 @@ void register_digitize(CLI::App& app, Action& action) {
   add_pattern_options(c, o->pattern);
   c->add_option("-o,--output", o->out, "write the step tape to this file");
   c->add_flag("--json", o->json, "print the summary as one JSON object");
+  c->add_flag("--quiet", o->quiet, "no progress bar (shown on a terminal only)");
   c->callback([o, &action] {
     action = [o] {
       Job job = load_job_input(o->job, o->pattern);
       DigitizedJob d;
-      if (!o->out.empty()) {
-        TapeHeader h = tape_header_for(job);
-        TapeWriter w(o->out, h);
-        d = digitize_job(job, &w);
-        complete_header(h, d.result);
-        w.finish(h);
-      } else {
-        d = digitize_job(job, nullptr);
+      {
+        TerminalBar bar("digitize", o->quiet);  // erased before the output
+        if (!o->out.empty()) {
+          TapeHeader h = tape_header_for(job);
+          TapeWriter w(o->out, h);
+          d = digitize_job(job, &w, bar.callback());
+          complete_header(h, d.result);
+          w.finish(h);
+        } else {
+          d = digitize_job(job, nullptr, bar.callback());
+        }
       }
       // the tape is still written (a faster controller or a slower replay may run it): a warning, not an error
       for (const StepRateExcess& e : step_rate_excess(job, d.result))

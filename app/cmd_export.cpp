@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "app/cli.hpp"
+#include "io/progress.hpp"
 #include "cam/error.hpp"
 #include "cam/units.hpp"
 #include "io/output.hpp"
@@ -16,7 +17,7 @@ namespace {
 struct Opts {
   std::string input, out, format, tolerance = "0.1 mm", feed_mode;
   PatternArgs pattern;
-  bool json = false;
+  bool json = false, quiet = false;
 };
 
 nlohmann::ordered_json summary_json(const Job& job, const ExportOptions& eo, const ExportResult& r,
@@ -93,7 +94,10 @@ int run(const Opts& o) {
   }
   check_output_path(o.out);
   const Job job = load_job_input(o.input, o.pattern, eo.tolerance);
-  const ExportResult r = export_job(job, eo);
+  const ExportResult r = [&] {
+    TerminalBar bar("export", o.quiet);  // erased before the output
+    return export_job(job, eo, bar.callback());
+  }();
   write_file_atomic(o.out, r.content);
   if (o.json)
     std::cout << summary_json(job, eo, r, o.out).dump(2) << "\n";
@@ -114,6 +118,7 @@ void register_export(CLI::App& app, Action& action) {
   c->add_option("--feed-mode", o->feed_mode, "G-code: inverse-time (constant ball speed) or axis (constant axis feed)");
   add_pattern_options(c, o->pattern);
   c->add_flag("--json", o->json, "print the summary as one JSON object");
+  c->add_flag("--quiet", o->quiet, "no progress bar (shown on a terminal only)");
   c->callback([o, &action] { action = [o] { return run(*o); }; });
 }
 

@@ -5,6 +5,7 @@
 // least error within the torque limit, and the trade-off front between the two (docs/optimum-loading.md).
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -15,6 +16,7 @@
 #include "pipeline/job_placement.hpp"
 #include "job/job_write.hpp"
 #include "io/output.hpp"
+#include "io/progress.hpp"
 #include "report/pole_map.hpp"
 #include "cam/error.hpp"
 #include "metrics/f1.hpp"
@@ -32,7 +34,7 @@ json num(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 struct Opts {
   std::string job, objective, method, hold, map, map_image, write_job;
   PatternArgs pattern;
-  bool json = false, pole_outside = false, torque_limit = false;
+  bool json = false, pole_outside = false, torque_limit = false, quiet = false;
   int segments = 0, max_evaluations = 0, threads = -1, map_size = 41, levels = 6, survey = 25;
   double safety_factor = 0.0;
 };
@@ -65,7 +67,10 @@ int run_pareto(const Job& job, PlacementOptions opt, const Opts& o) {
   po.survey = o.survey;
   po.threads = opt.threads;
   const auto t0 = std::chrono::steady_clock::now();
-  const ParetoResult r = in_file(job.file, [&] { return pareto_front(problem, job.placement, opt, po); });
+  const ParetoResult r = in_file(job.file, [&] {
+    TerminalBar bar("optimize", o.quiet);  // erased before the output
+    return pareto_front(problem, job.placement, opt, po, bar.callback());
+  });
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double limit = 1.0 / job.safety_factor;
   // the least area error within the limit, among the front's points
@@ -158,7 +163,13 @@ int run(const Opts& o) {
 
   const PoleProblem problem = job_pole_problem(job, opt, dynamics);
   const auto t0 = std::chrono::steady_clock::now();
-  const PlacementResult r = in_file(job.file, [&] { return optimize_placement(problem, job.placement, opt); });
+  // one bar for the search and the map (the search half of it when a map is drawn), erased before the output
+  std::optional<TerminalBar> bar(std::in_place, "optimize", o.quiet);
+  const bool mapped = !o.map.empty() || !o.map_image.empty();
+  const Progress progress = bar->callback();
+  const PlacementResult r = in_file(job.file, [&] {
+    return optimize_placement(problem, job.placement, opt, progress_part(progress, 0.0, mapped ? 0.5 : 1.0));
+  });
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double area = job_area(job, r.placement);
   const double start_area = r.start.feasible() ? job_area(job, job.placement) : -1.0;
@@ -188,8 +199,8 @@ int run(const Opts& o) {
   }();
   if (!o.map.empty() || !o.map_image.empty()) {
     const int threads = opt.threads > 0 ? opt.threads : default_threads();
-    const SearchBox box = feasible_box(problem, search_box(problem), 65, threads);
-    const ObjectiveMap m = objective_map(problem, box, o.map_size, o.map_size, threads);
+    const SearchBox box = feasible_box(problem, search_box(problem), 65, threads, progress_part(progress, 0.5, 0.55));
+    const ObjectiveMap m = objective_map(problem, box, o.map_size, o.map_size, threads, progress_part(progress, 0.55, 1.0));
     if (!o.map.empty()) csv = map_csv(m, opt.objective);
     if (!o.map_image.empty()) {
       const std::string what = opt.objective == PoleObjective::area  ? "exact area error"
@@ -199,6 +210,7 @@ int run(const Opts& o) {
                        job.contour_kind + ": " + what + " over machine-pole positions");
     }
   }
+  bar.reset();
   std::vector<std::pair<std::string, std::string>> files;
   if (!o.map.empty()) files.emplace_back(o.map, csv);
   if (!o.map_image.empty()) files.emplace_back(o.map_image, plot::render(fig, plot::plot_format(o.map_image)));
@@ -301,6 +313,7 @@ void register_optimize(CLI::App& app, Action& action) {
   c->add_option("--threads", o->threads, "threads (default: all cores; the result does not depend on it)")
       ->check(CLI::Range(0, 1024));
   c->add_flag("--json", o->json, "print the result as one JSON object");
+  c->add_flag("--quiet", o->quiet, "no progress bar (shown on a terminal only)");
   c->add_option("--map", o->map, "write the objective over pole positions as CSV");
   c->add_option("--map-image", o->map_image, "draw the map (.png or .svg)");
   c->add_option("--map-size", o->map_size, "points per side of the map (default 41)")->check(CLI::Range(2, 2001));

@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "app/cli.hpp"
+#include "io/progress.hpp"
 #include "report/operator_report.hpp"
 #include "report/pattern_report.hpp"
 #include "io/output.hpp"
@@ -18,6 +19,7 @@ struct Opts {
   PatternArgs pattern;
   StudyOptions report;
   double safety_factor = 0.0;
+  bool quiet = false;
 };
 
 int run(const Opts& o) {
@@ -30,8 +32,11 @@ int run(const Opts& o) {
     job.safety_factor = o.safety_factor;
   }
   // a machine without dynamics, or a sand table's coupled arm: the report of what it will draw
-  const OperatorReport r = pattern_report_applies(job) ? pattern_report(job, study_pattern(job))
-                                                       : operator_report(job, study_job(job, o.report));
+  const OperatorReport r = [&] {
+    TerminalBar bar("report", o.quiet);  // erased before the output
+    if (pattern_report_applies(job)) return pattern_report(job, study_pattern(job));
+    return operator_report(job, study_job(job, o.report, bar.callback()));
+  }();
   write_file_atomic(o.output, r.html);
   std::cout << (r.go ? "GO" : "NO-GO") << ": report written to " << o.output << "\n";
   return r.go ? 0 : 1;
@@ -54,6 +59,7 @@ void register_report(CLI::App& app, Action& action) {
   c->add_option("--threads", o->report.threads, "threads (default: all cores; the report does not depend on it)")
       ->check(CLI::Range(0, 1024));
   c->add_option("--safety-factor", o->safety_factor, "safety factor instead of the job's [limits] (>= 1)");
+  c->add_flag("--quiet", o->quiet, "no progress bar (shown on a terminal only)");
   c->callback([o, &action] { action = [o] { return run(*o); }; });
 }
 

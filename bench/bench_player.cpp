@@ -8,6 +8,10 @@
 //    line (virtual clock; framing, acknowledgements, status polling included): machine steps per second of
 //    controller time, underruns, and all link bytes per step (frames, retransmissions, polls) with a 128-item
 //    controller buffer; 11520 bytes/s divided by that is the sustained rate the line can carry;
+//  - BM_PlanSlow/<1/K>/<tick ns>: preparing a million steps (a 62.5-turn spiral, bench/jobs/spiral_1e6.toml) for the
+//    controller, plan and schedule, at speed scale 1/K on a controller tick of 1 us or 100 ns: the time must grow
+//    with the steps only, not with the ticks between them (steps/s of host CPU, runs, steps the run search
+//    proposed per step);
 //  - BM_LinkSustained/<tape>/<K>: a long job (the tape played forward and back five times) at a speed scale K where
 //    the machine steps 50 000 times a second or more, through the same link with a 128-item controller buffer:
 //    the machine's average step rate, underruns (0: the line kept up the whole time), link bytes per step and
@@ -95,6 +99,39 @@ void BM_CompressShape(benchmark::State& st) {
   st.counters["bytes/run"] = static_cast<double>(bytes.size()) / static_cast<double>(s.runs);
 }
 
+const std::string& spiral_tape() {
+  static const std::string path = [] {
+    const std::string p = "/tmp/polarcam-bench-spiral_1e6.tape";
+    Job job = load_job(std::string(POLARCAM_SOURCE_DIR) + "/bench/jobs/spiral_1e6.toml");
+    TapeHeader h = tape_header_for(job);
+    TapeWriter w(p, h);
+    DigitizedJob d = digitize_job(job, &w);
+    complete_header(h, d.result);
+    w.finish(h);
+    return p;
+  }();
+  return path;
+}
+
+void BM_PlanSlow(benchmark::State& st) {
+  PlayScaling sc;
+  sc.speed = Ratio{1, st.range(0)};
+  const uint64_t tick_ps = static_cast<uint64_t>(st.range(1)) * 1000;
+  const std::string& tape = spiral_tape();
+  Schedule s;
+  size_t steps = 0;
+  for (auto _ : st) {
+    const PlayPlan plan = plan_playback(tape, sc, std::nullopt);
+    s = compress_schedule(plan, tick_ps);
+    steps = plan.steps.size();
+    benchmark::DoNotOptimize(s.items.data());
+  }
+  st.SetLabel("spiral 1e6 steps x1/" + std::to_string(st.range(0)) + " tick " + std::to_string(st.range(1)) + " ns");
+  st.counters["steps/s"] = benchmark::Counter(static_cast<double>(steps), benchmark::Counter::kIsIterationInvariantRate);
+  st.counters["runs"] = static_cast<double>(s.runs);
+  st.counters["searched/step"] = static_cast<double>(s.searched_steps) / static_cast<double>(steps);
+}
+
 void BM_Link115200(benchmark::State& st) {
   const PlayPlan plan = plan_of(st);
   PlayReport rep;
@@ -169,6 +206,7 @@ void BM_LinkSustained(benchmark::State& st) {
 
 BENCHMARK(BM_Compress)->ArgsProduct({{0, 1, 2, 3}, {1, 10, 50}})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CompressShape)->ArgsProduct({{0, 1, 2, 3}, {1, 50}, {0, 1, 2, 3}})->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_PlanSlow)->ArgsProduct({{1, 15, 150}, {1000, 100}})->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_Link115200)->ArgsProduct({{0, 1, 2, 3}, {1, 10, 50, 100, 200}})->Unit(benchmark::kMillisecond)->Iterations(1);
 // speed scales at which each tape's machine averages 50 000 steps/s or more (limacon 627, witch 231, serpentine
 // 956, circle 503 steps/s at 1x)

@@ -17,6 +17,12 @@ inline void report_progress(const Progress& p, double fraction) {
   if (p) p(fraction);
 }
 
+// A stage of long work that covers [from, to] of the whole: its own 0..1 mapped there (empty when `p` is).
+inline Progress progress_part(const Progress& p, double from, double to) {
+  if (!p) return {};
+  return [p, from, to](double f) { p(from + (to - from) * f); };
+}
+
 }  // namespace polarcam
 
 namespace polarcam::cli {

@@ -37,7 +37,7 @@ std::vector<ParetoPoint> non_dominated(std::vector<ParetoPoint> pts) {
 }
 
 ParetoResult pareto_front(const PoleProblem& p0, const Placement& start, const PlacementOptions& o,
-                          const ParetoOptions& po) {
+                          const ParetoOptions& po, const Progress& progress) {
   if (!p0.torque) throw InputError("the Pareto front needs the machine's dynamics and the job's load");
   const int threads = po.threads > 0 ? po.threads : (o.threads > 0 ? o.threads : default_threads());
   PoleProblem p = p0;
@@ -48,7 +48,9 @@ ParetoResult pareto_front(const PoleProblem& p0, const Placement& start, const P
 
   // the survey: both objectives over the feasible box
   const SearchBox box = feasible_box(p, search_box(p), 41, threads);
-  res.survey = survey_poles(p, box, std::max(2, po.survey), std::max(2, po.survey), threads);
+  // progress: the survey 0-30 %, the two ends to 50 %, the levels to 95 %, the last evaluation to 100 %
+  res.survey = survey_poles(p, box, std::max(2, po.survey), std::max(2, po.survey), threads,
+                            progress_part(progress, 0.0, 0.3));
   res.evaluations += static_cast<int>(res.survey.cells.size());
   for (int iy = 0; iy < res.survey.ny; ++iy)
     for (int ix = 0; ix < res.survey.nx; ++ix) {
@@ -63,13 +65,13 @@ ParetoResult pareto_front(const PoleProblem& p0, const Placement& start, const P
   oa.objective = PoleObjective::area;
   oa.method = PoleMethod::nlopt;
   oa.threads = threads;
-  const PlacementResult ra = optimize_placement(p, start, oa);
+  const PlacementResult ra = optimize_placement(p, start, oa, progress_part(progress, 0.3, 0.4));
   PoleProblem pt = p;
   pt.objective = PoleObjective::torque;
   PlacementOptions ot = oa;
   ot.objective = PoleObjective::torque;
   ot.max_evaluations = o.max_evaluations;  // 0: the torque objective's own default
-  const PlacementResult rt = optimize_placement(pt, start, ot);
+  const PlacementResult rt = optimize_placement(pt, start, ot, progress_part(progress, 0.4, 0.5));
   res.evaluations += ra.evaluations + rt.evaluations;
   std::vector<Vec2> poles = {ra.pole, rt.pole, start.pole()};
   std::vector<std::string> sources = {"least area", "least torque", "job"};
@@ -91,7 +93,8 @@ ParetoResult pareto_front(const PoleProblem& p0, const Placement& start, const P
       PoleProblem pl = p;
       pl.torque_limit = lo + (hi - lo) * k / (po.levels + 1);
       try {
-        const PlacementResult r = optimize_placement(pl, start, ol);
+        const PlacementResult r = optimize_placement(
+            pl, start, ol, progress_part(progress, 0.5 + 0.45 * (k - 1) / po.levels, 0.5 + 0.45 * k / po.levels));
         res.evaluations += r.evaluations;
         poles.push_back(r.pole);
         sources.push_back("level " + std::to_string(k));
@@ -100,7 +103,7 @@ ParetoResult pareto_front(const PoleProblem& p0, const Placement& start, const P
       }
     }
   }
-  const std::vector<PoleValue> vals = evaluate_poles(p, poles, threads);
+  const std::vector<PoleValue> vals = evaluate_poles(p, poles, threads, progress_part(progress, 0.95, 1.0));
   for (size_t i = 0; i < poles.size(); ++i) pts.push_back({poles[i], placement_of(poles[i]), vals[i], sources[i]});
   res.front = non_dominated(std::move(pts));
   return res;

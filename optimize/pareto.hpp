@@ -39,8 +39,9 @@ struct ParetoResult {
 
 // `p` must have dynamics (p.torque); its objective and torque limit are ignored. `o` gives hold, threads and the
 // end searches' budget.
+// `progress`: the share done (the survey, the two ends, the levels, in that order).
 ParetoResult pareto_front(const PoleProblem& p, const Placement& start, const PlacementOptions& o,
-                          const ParetoOptions& po = {});
+                          const ParetoOptions& po = {}, const Progress& progress = {});
 
 // The non-dominated subset of points with both objectives computed (smaller is better in both), sorted by the worst
 // torque ratio.

@@ -62,18 +62,28 @@ class Workers {
   Workers(const PoleProblem& p, int threads) : n_(std::max(1, threads)) {
     for (int t = 0; t < n_; ++t) ev_.push_back(std::make_unique<PoleEvaluator>(p));
   }
+  // `progress`: the share of the items done, after each one (an item is a pole: far more work than a call), in
+  // increasing order whichever thread finishes.
   template <class Fn>
-  void run(size_t count, Fn fn) {
+  void run(size_t count, Fn fn, const Progress& progress = {}) {
     const size_t T = std::min(static_cast<size_t>(n_), count);
+    std::mutex pm;
+    size_t done = 0;
+    auto one = [&](size_t i, PoleEvaluator& ev) {
+      fn(i, ev);
+      if (!progress) return;
+      std::lock_guard<std::mutex> lk(pm);
+      progress(static_cast<double>(++done) / static_cast<double>(count));
+    };
     if (T <= 1) {
-      for (size_t i = 0; i < count; ++i) fn(i, *ev_[0]);
+      for (size_t i = 0; i < count; ++i) one(i, *ev_[0]);
       return;
     }
     std::exception_ptr err;
     std::mutex m;
     auto part = [&](size_t t) {
       try {
-        for (size_t i = t; i < count; i += T) fn(i, *ev_[t]);
+        for (size_t i = t; i < count; i += T) one(i, *ev_[t]);
       } catch (...) {
         std::lock_guard<std::mutex> lk(m);
         if (!err) err = std::current_exception();
@@ -163,8 +173,15 @@ class Search {
     workers_.run(ts.size(), [&](size_t i, PoleEvaluator& ev) { out[i] = ev.evaluate(q_.pole(ts[i])); });
     for (size_t i = 0; i < ts.size(); ++i) offer({ts[i], q_.pole(ts[i]), out[i]});
     evaluations_ += static_cast<int>(ts.size());
+    if (progress_ && budget_ > 0) {  // the share of the budget, short of 1 until the search ends
+      const double f = std::min(0.99, static_cast<double>(evaluations_) / budget_);
+      if (f > reported_) progress_(reported_ = f);
+    }
     return out;
   }
+  // Progress reported as the share of `budget` evaluations spent (a stage may stop early or overrun a little).
+  void set_progress(const Progress& p) { progress_ = p; }
+  void set_budget(int budget) { budget_ = std::max(budget_, static_cast<double>(budget)); }
 
   // objective in search units: area in mm^2 or F1; margin in mm
   static double scaled(const PoleProblem& p, const PoleValue& v) {
@@ -245,6 +262,8 @@ class Search {
   bool have_ = false, have_any_ = false;
   PoleValue tightest_;
   int evaluations_ = 0;
+  Progress progress_;
+  double budget_ = 0.0, reported_ = 0.0;
   double ref_sum_ = 0.0;
   int ref_n_ = 0;
   bool keep_seen_ = false;
@@ -363,6 +382,7 @@ void torque_search(Search& s, const Param& q, const PoleProblem& p, const std::v
                    const PlacementOptions& o, PlacementResult& res) {
   const size_t dim = static_cast<size_t>(q.dim());
   const int E = o.max_evaluations > 0 ? o.max_evaluations : (dim == 2 ? 2000 : 400);
+  s.set_budget(E);
   // 1. lattice, a third of the budget
   const int n = dim == 2 ? std::max(4, static_cast<int>(std::floor(std::sqrt(E / 3.0))))
                          : std::max(8, E / 3);
@@ -472,7 +492,8 @@ void torque_search(Search& s, const Param& q, const PoleProblem& p, const std::v
 
 }  // namespace
 
-PlacementResult optimize_placement(const PoleProblem& p, const Placement& start, const PlacementOptions& o) {
+PlacementResult optimize_placement(const PoleProblem& p, const Placement& start, const PlacementOptions& o,
+                                   const Progress& progress) {
   PlacementResult res;
   res.method = o.method != PoleMethod::automatic
                    ? o.method
@@ -485,6 +506,7 @@ PlacementResult optimize_placement(const PoleProblem& p, const Placement& start,
   const int threads = o.threads > 0 ? o.threads : default_threads();
   const Param q = make_param(p, start, o.hold, threads);
   Search s(p, q, threads);
+  s.set_progress(progress);
   s.keep_seen(torque);
   const double dr = p.grid.dr;
 
@@ -495,6 +517,7 @@ PlacementResult optimize_placement(const PoleProblem& p, const Placement& start,
 
   if (res.method == PoleMethod::hooke_jeeves) {
     const int budget = o.max_evaluations > 0 ? o.max_evaluations : 400;
+    s.set_budget(budget);
     std::vector<double> x0 = t0;
     if (!res.start.feasible()) {
       // a feasible start: the best point of a 7 x 7 (or 49-point) lattice over the search range
@@ -533,6 +556,7 @@ PlacementResult optimize_placement(const PoleProblem& p, const Placement& start,
       if (area && res.start.computed && res.start.steps > 0)
         E = static_cast<int>(std::clamp(1.2e7 / static_cast<double>(res.start.steps), 200.0, 4000.0));
     }
+    s.set_budget(E);
     const int k = area ? kStencil : 1;
     const int n1 = std::max(10, static_cast<int>(std::lround((area ? 0.30 : 0.6) * E / k)));
     const int n2 = std::max(5, static_cast<int>(std::lround((area ? 0.15 : 0.4) * E / k)));
@@ -655,10 +679,11 @@ PlacementResult optimize_placement(const PoleProblem& p, const Placement& start,
     res.at.steps = a.steps;
   }
   res.f1 = f1_chords(p.f1_points, res.pole, p.grid.dr, p.grid.dtheta).F1;
+  report_progress(progress, 1.0);
   return res;
 }
 
-SearchBox feasible_box(const PoleProblem& p, const SearchBox& box, int n, int threads) {
+SearchBox feasible_box(const PoleProblem& p, const SearchBox& box, int n, int threads, const Progress& progress) {
   n = std::max(n, 2);
   std::vector<char> ok(static_cast<size_t>(n) * static_cast<size_t>(n), 0);
   Workers w(p, threads > 0 ? threads : default_threads());
@@ -668,7 +693,7 @@ SearchBox feasible_box(const PoleProblem& p, const SearchBox& box, int n, int th
   w.run(ok.size(), [&](size_t i, PoleEvaluator& ev) {
     const int ix = static_cast<int>(i % static_cast<size_t>(n)), iy = static_cast<int>(i / static_cast<size_t>(n));
     ok[i] = ev.margin(at(ix, iy)).feasible() ? 1 : 0;
-  });
+  }, progress);
   int x0 = n, x1 = -1, y0 = n, y1 = -1;
   for (int iy = 0; iy < n; ++iy)
     for (int ix = 0; ix < n; ++ix)
@@ -680,7 +705,8 @@ SearchBox feasible_box(const PoleProblem& p, const SearchBox& box, int n, int th
   return {a.x, b.x, a.y, b.y};
 }
 
-ObjectiveMap objective_map(const PoleProblem& p, const SearchBox& box, int nx, int ny, int threads) {
+ObjectiveMap objective_map(const PoleProblem& p, const SearchBox& box, int nx, int ny, int threads,
+                           const Progress& progress) {
   if (nx < 2 || ny < 2) throw InputError("a map needs at least 2 x 2 points");
   ObjectiveMap m;
   m.box = box;
@@ -699,7 +725,7 @@ ObjectiveMap objective_map(const PoleProblem& p, const SearchBox& box, int nx, i
     m.margin[i] = v.margin;
     if (v.area_m2 >= 0.0) m.area[i] = v.area_m2;
     if (v.feasible()) m.value[i] = v.value;
-  });
+  }, progress);
   return m;
 }
 
@@ -707,7 +733,8 @@ Vec2 PoleSurvey::pole(int ix, int iy) const {
   return {box.x0 + (box.x1 - box.x0) * ix / std::max(1, nx - 1), box.y0 + (box.y1 - box.y0) * iy / std::max(1, ny - 1)};
 }
 
-PoleSurvey survey_poles(const PoleProblem& p, const SearchBox& box, int nx, int ny, int threads) {
+PoleSurvey survey_poles(const PoleProblem& p, const SearchBox& box, int nx, int ny, int threads,
+                        const Progress& progress) {
   if (nx < 2 || ny < 2) throw InputError("a survey needs at least 2 x 2 points");
   PoleSurvey sv;
   sv.box = box;
@@ -721,14 +748,15 @@ PoleSurvey survey_poles(const PoleProblem& p, const SearchBox& box, int nx, int 
     PoleValue m = ev.margin(pole);
     if (m.computed && m.geometry_margin >= 0.0) m = ev.full(pole);
     sv.cells[i] = m;
-  });
+  }, progress);
   return sv;
 }
 
-std::vector<PoleValue> evaluate_poles(const PoleProblem& p, const std::vector<Vec2>& poles, int threads) {
+std::vector<PoleValue> evaluate_poles(const PoleProblem& p, const std::vector<Vec2>& poles, int threads,
+                                      const Progress& progress) {
   std::vector<PoleValue> out(poles.size());
   Workers w(p, threads > 0 ? threads : default_threads());
-  w.run(poles.size(), [&](size_t i, PoleEvaluator& ev) { out[i] = ev.full(poles[i]); });
+  w.run(poles.size(), [&](size_t i, PoleEvaluator& ev) { out[i] = ev.full(poles[i]); }, progress);
   return out;
 }
 

@@ -20,6 +20,8 @@
 #include <string>
 #include <vector>
 
+#include "io/progress.hpp"
+
 #include "cam/toolpath.hpp"
 #include "optimize/pole_objective.hpp"
 
@@ -86,9 +88,11 @@ SearchBox search_box(const PoleProblem& p);
 
 // The part of `box` where the constraints can be met, from the margins on an n x n lattice (no digitizing),
 // widened by one lattice step and clipped to `box`; `box` itself when no lattice point is feasible.
-SearchBox feasible_box(const PoleProblem& p, const SearchBox& box, int n, int threads);
+SearchBox feasible_box(const PoleProblem& p, const SearchBox& box, int n, int threads, const Progress& progress = {});
 
-PlacementResult optimize_placement(const PoleProblem& p, const Placement& start, const PlacementOptions& o);
+// `progress`: the share of the search's evaluation budget spent (1 at the end).
+PlacementResult optimize_placement(const PoleProblem& p, const Placement& start, const PlacementOptions& o,
+                                   const Progress& progress = {});
 
 struct ObjectiveMap {
   SearchBox box;
@@ -99,7 +103,9 @@ struct ObjectiveMap {
 };
 
 // The objective on a regular grid of pole positions (corners included), computed on `threads` threads.
-ObjectiveMap objective_map(const PoleProblem& p, const SearchBox& box, int nx, int ny, int threads);
+// `progress`: the share of the poles evaluated (the grids below too).
+ObjectiveMap objective_map(const PoleProblem& p, const SearchBox& box, int nx, int ny, int threads,
+                           const Progress& progress = {});
 
 // Everything at each pole of a regular grid (corners included): the margin everywhere, and where the work area
 // (and pole-outside) constraints are met the exact area error and, when the problem has dynamics, the torques
@@ -110,10 +116,12 @@ struct PoleSurvey {
   std::vector<PoleValue> cells;  // [iy * nx + ix]
   Vec2 pole(int ix, int iy) const;
 };
-PoleSurvey survey_poles(const PoleProblem& p, const SearchBox& box, int nx, int ny, int threads);
+PoleSurvey survey_poles(const PoleProblem& p, const SearchBox& box, int nx, int ny, int threads,
+                        const Progress& progress = {});
 
 // PoleEvaluator::full at each pole, in parallel, results in input order.
-std::vector<PoleValue> evaluate_poles(const PoleProblem& p, const std::vector<Vec2>& poles, int threads);
+std::vector<PoleValue> evaluate_poles(const PoleProblem& p, const std::vector<Vec2>& poles, int threads,
+                                      const Progress& progress = {});
 
 int default_threads();
 

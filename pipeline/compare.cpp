@@ -153,7 +153,7 @@ std::vector<std::vector<Vec2>> curve_in_window(const Curve& c, double length, co
 
 // ------------------------------------------------------------------------------------------- the polar machine
 
-void polar_side(const Job& job, const CompareOptions& opt, Comparison& c, const TempTape& tape) {
+void polar_side(const Job& job, const CompareOptions& opt, Comparison& c, const TempTape& tape, const Progress& progress) {
   MachineSide& s = c.polar;
   s.name = "polar";
   s.method = to_string(job.motion.rule);
@@ -170,7 +170,7 @@ void polar_side(const Job& job, const CompareOptions& opt, Comparison& c, const 
   {
     TapeHeader h = tape_header_for(job);
     TapeWriter w(tape.path(), h);
-    d = digitize_job(job, &w);
+    d = digitize_job(job, &w, progress_part(progress, 0.0, 0.3));
     complete_header(h, d.result);
     w.finish(h);
   }
@@ -180,7 +180,7 @@ void polar_side(const Job& job, const CompareOptions& opt, Comparison& c, const 
   s.path_length_m = d.result.path_length_m;
   s.tape_bytes = std::filesystem::file_size(tape.path());
 
-  const PolarTapeMetrics pm = polar_tape_metrics(job, tape.path(), 0);
+  const PolarTapeMetrics pm = polar_tape_metrics(job, tape.path(), 0, progress_part(progress, 0.3, 0.8));
   s.area_m2 = pm.m.area.area_m2;
   s.deviation_m = pm.m.deviation_max_m;
   s.deviation_at = pm.m.deviation_at + pole;
@@ -244,7 +244,7 @@ void polar_side(const Job& job, const CompareOptions& opt, Comparison& c, const 
 // --------------------------------------------------------------------------------------- the Cartesian machine
 
 void cartesian_side(const Job& job, const CompareOptions& opt, Comparison& c, const CartesianTrack& track,
-                    const TempTape& tape) {
+                    const TempTape& tape, const Progress& progress) {
   MachineSide& s = c.cartesian;
   s.name = "cartesian";
   s.method = to_string(opt.method);
@@ -273,7 +273,8 @@ void cartesian_side(const Job& job, const CompareOptions& opt, Comparison& c, co
   s.path_length_m = r.path_length_m;
   s.tape_bytes = std::filesystem::file_size(tape.path());
 
-  const CartesianTapeMetrics cm = cartesian_tape_metrics(job, tape.path());
+  report_progress(progress, 0.3);
+  const CartesianTapeMetrics cm = cartesian_tape_metrics(job, tape.path(), progress_part(progress, 0.3, 0.8));
   s.area_m2 = cm.m.area.area_m2;
   s.deviation_m = cm.m.deviation_max_m;
   s.deviation_at = cm.m.deviation_at;
@@ -561,7 +562,7 @@ void add_verdicts(Comparison& c) {
 
 }  // namespace
 
-Comparison compare_job(const Job& job, const CompareOptions& opt) {
+Comparison compare_job(const Job& job, const CompareOptions& opt, const Progress& progress) {
   if (opt.speed_scale.num <= 0 || opt.speed_scale.den <= 0 || opt.size_scale.num <= 0 || opt.size_scale.den <= 0)
     throw InputError("the scale factors must be above zero");
   if (job.machine.coupling != 0.0)  // the polar tape's radial axis would be the geared motor, not the radius
@@ -576,10 +577,14 @@ Comparison compare_job(const Job& job, const CompareOptions& opt) {
   c.closed = cpath->closed();
   c.path_length_m = track.length();
   const TempTape polar_tape("polar"), cart_tape("cartesian");
-  polar_side(job, opt, c, polar_tape);
-  cartesian_side(job, opt, c, track, cart_tape);
+  // progress: each machine's side (its tape, its meters, its scaling facts) is 45 %, the figures the rest
+  polar_side(job, opt, c, polar_tape, progress_part(progress, 0.0, 0.45));
+  report_progress(progress, 0.45);
+  cartesian_side(job, opt, c, track, cart_tape, progress_part(progress, 0.45, 0.9));
+  report_progress(progress, 0.9);
   if (opt.figures) figure_data(job, c, *cpath, track.length(), polar_tape, cart_tape);
   add_verdicts(c);
+  report_progress(progress, 1.0);
   return c;
 }
 

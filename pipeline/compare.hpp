@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "io/progress.hpp"
 #include "job/job.hpp"
 #include "pipeline/job_cartesian.hpp"
 #include "metrics/pulse_speed.hpp"
@@ -98,7 +99,8 @@ struct Comparison {
 };
 
 // Runs both machines and all measurements. Throws InputError naming the job (or the option) for bad input.
-Comparison compare_job(const Job& job, const CompareOptions& opt);
+// `progress`: the share done (the polar side, the Cartesian side, the figures).
+Comparison compare_job(const Job& job, const CompareOptions& opt, const Progress& progress = {});
 
 nlohmann::ordered_json to_json(const Comparison& c);
 

@@ -55,7 +55,8 @@ DynamicsSetup dynamics_setup(const Job& job, const DynamicsCase& c) {
 }
 
 CaseResult analyze_case(const Job& job, const PreparedDynamics& prep, const DynamicsCase& c, const AnalysisOptions& opt,
-                        bool search_speed) {
+                        bool search_speed, const Progress& progress) {
+  report_progress(progress, 0.0);
   CaseResult r;
   r.spec = c;
   const DynamicsSetup setup = dynamics_setup(job, c);
@@ -69,6 +70,7 @@ CaseResult analyze_case(const Job& job, const PreparedDynamics& prep, const Dyna
   } catch (const InputError& e) {
     throw e.in_file(job.file);
   }
+  report_progress(progress, 1.0);
   return r;
 }
 

@@ -4,6 +4,7 @@
 // the fastest speed at which the job passes (machine/dynamics_case, the model optimize/ calls too).
 #include <optional>
 
+#include "io/progress.hpp"
 #include "job/job.hpp"
 #include "machine/dynamics/dynamics_case.hpp"
 
@@ -42,7 +43,8 @@ DynamicsSetup dynamics_setup(const Job& job, const DynamicsCase& c);
 PlacedPath placed_path(const PreparedDynamics& prep);
 
 // Throws InputError (with the job file) for a bad override or a step rate outside a motor's pull-out curve.
+// `progress`: 0 when the case starts, 1 when it is done (a command analysing several cases gives each its part).
 CaseResult analyze_case(const Job& job, const PreparedDynamics& prep, const DynamicsCase& c, const AnalysisOptions& opt,
-                        bool search_speed = true);
+                        bool search_speed = true, const Progress& progress = {});
 
 }  // namespace polarcam

@@ -44,11 +44,13 @@ const char* to_string(ExportFormat f) {
   return "?";
 }
 
-ExportResult export_job(const Job& job, const ExportOptions& o) {
+ExportResult export_job(const Job& job, const ExportOptions& o, const Progress& progress) {
   if (!(o.tolerance > 0.0) || !std::isfinite(o.tolerance)) throw InputError("must be a positive length", "--tolerance");
+  report_progress(progress, 0.0);
   const ToolPathPtr path = make_job_path(job);
   ExportResult r;
   r.path_length_m = arc_length(*path, path->u_begin(), path->u_end());
+  report_progress(progress, 0.2);
   std::ostringstream out;
   if (o.format == ExportFormat::svg) {
     const std::vector<Vec2> pts = sample_curve(*path, 0.25 * o.tolerance);
@@ -58,7 +60,9 @@ ExportResult export_job(const Job& job, const ExportOptions& o) {
     so.work_radius_min = job.machine.grid.r_min;
     so.title = job.contour->name();
     r.points = pts.size();
+    report_progress(progress, 0.7);
     r.content = svg_document({{pts, true}}, so);
+    report_progress(progress, 1.0);
     return r;
   }
   // a theta-rho pattern drawn as it is (about the machine pole, forward, no tool offset) keeps its own vertices
@@ -69,6 +73,7 @@ ExportResult export_job(const Job& job, const ExportOptions& o) {
       as_is ? pattern->vertices() : in_file(job.file, [&] { return to_theta_rho(*path, o.tolerance); });
   r.vertices = v.size();
   r.rho_max_m = rho_max(v);
+  report_progress(progress, 0.6);
   if (o.format == ExportFormat::thr) {
     if (!job.machine.grid.r_max)
       throw InputError("a .thr file gives rho as a fraction of the table radius: the machine needs r_max", job.file);
@@ -92,6 +97,7 @@ ExportResult export_job(const Job& job, const ExportOptions& o) {
     r.gcode = in_file(job.file, [&] { return write_gcode(out, v, spec, job.motion.speed, source_lines(job, o)); });
   }
   r.content = out.str();
+  report_progress(progress, 1.0);
   return r;
 }
 

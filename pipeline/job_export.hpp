@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 
+#include "io/progress.hpp"
 #include "job/job.hpp"
 #include "machine/gcode/gcode.hpp"
 
@@ -30,7 +31,8 @@ struct ExportResult {
 // Exports the job's tool path. InputError (naming the job file) for a machine without r_max (thr), without a
 // [gcode] table (gcode), a path that leaves r_max or the table radius, a speed profile (gcode: a constant speed
 // is needed), or a bad tolerance.
-ExportResult export_job(const Job& job, const ExportOptions& o);
+// `progress`: the stages done (the path, its vertices or points, the file), 0 to 1.
+ExportResult export_job(const Job& job, const ExportOptions& o, const Progress& progress = {});
 
 // "thr", "gcode", "svg"
 const char* to_string(ExportFormat f);

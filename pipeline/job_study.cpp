@@ -23,7 +23,7 @@ class Tee final : public StepSink {
 
 }  // namespace
 
-JobStudy study_job(const Job& job, const StudyOptions& o) {
+JobStudy study_job(const Job& job, const StudyOptions& o, const Progress& progress) {
   JobStudy st;
   const int threads = o.threads > 0 ? o.threads : default_threads();
 
@@ -35,7 +35,9 @@ JobStudy study_job(const Job& job, const StudyOptions& o) {
     ErrorMeters meters;
     meters.reset(*st.path, track, job.machine.grid, job.optimize.segments);
     Tee tee(meters, st.staircase.steps);
-    st.dig = digitize(track, job.machine.grid, job.motion.rule, *prof, &tee);
+    const Progress tape_part = progress_part(progress, 0.0, 0.1);
+    ProgressSink counted(&tee, tape_part, prof->total_time());
+    st.dig = digitize(track, job.machine.grid, job.motion.rule, *prof, progress ? static_cast<StepSink*>(&counted) : &tee);
     st.staircase.n0 = st.dig.start_n;
     st.staircase.m0 = st.dig.start_m;
     st.err = meters.finish(st.dig.start_n, st.dig.start_m);
@@ -51,6 +53,7 @@ JobStudy study_job(const Job& job, const StudyOptions& o) {
   st.cap = job_capacity(job, prep, std::nullopt,
                         load_measure(job.load) == LoadMeasure::none ? 0 : o.curve_points);
   st.limit = st.dyn.verdict.limit;
+  report_progress(progress, 0.2);
 
   // --- the pole study: survey, balanced optimum, least area within the torque limit
   PlacementOptions po = job.optimize;
@@ -61,21 +64,22 @@ JobStudy study_job(const Job& job, const StudyOptions& o) {
   if (o.max_evaluations > 0) po.max_evaluations = o.max_evaluations;
   const PoleProblem prob = job_pole_problem(job, po, true);
   try {
-    st.survey = survey_poles(prob, feasible_box(prob, search_box(prob), 41, threads), o.map_size, o.map_size, threads);
+    st.survey = survey_poles(prob, feasible_box(prob, search_box(prob), 41, threads), o.map_size, o.map_size, threads,
+                             progress_part(progress, 0.2, 0.6));
     st.cands.push_back({"this job", job.placement, job_area(job, job.placement), st.dyn});
     {
       PoleProblem pb = prob;
       pb.objective = PoleObjective::balanced;
       PlacementOptions ob = po;
       ob.objective = PoleObjective::balanced;
-      const PlacementResult r = optimize_placement(pb, job.placement, ob);
+      const PlacementResult r = optimize_placement(pb, job.placement, ob, progress_part(progress, 0.6, 0.78));
       st.cands.push_back({"balanced torque", r.placement, job_area(job, r.placement), job_dynamics_at(job, r.placement)});
     }
     {
       PoleProblem pl = prob;
       pl.torque_limit = st.limit;
       try {
-        const PlacementResult r = optimize_placement(pl, job.placement, po);
+        const PlacementResult r = optimize_placement(pl, job.placement, po, progress_part(progress, 0.78, 0.96));
         st.limited = r.placement;
         st.cands.push_back({"least area error within the torque limit", r.placement, job_area(job, r.placement),
                             job_dynamics_at(job, r.placement)});
@@ -93,7 +97,7 @@ JobStudy study_job(const Job& job, const StudyOptions& o) {
       pts.push_back({st.survey.pole(ix, iy), {}, st.survey.cells[static_cast<size_t>(iy) * st.survey.nx + ix], "survey"});
   std::vector<Vec2> cpoles;
   for (const Candidate& c : st.cands) cpoles.push_back(c.placement.pole());
-  const std::vector<PoleValue> cvals = evaluate_poles(prob, cpoles, threads);
+  const std::vector<PoleValue> cvals = evaluate_poles(prob, cpoles, threads, progress_part(progress, 0.96, 1.0));
   for (size_t i = 0; i < st.cands.size(); ++i) {
     st.cpts.push_back({cpoles[i], st.cands[i].placement, cvals[i], st.cands[i].name});
     pts.push_back(st.cpts.back());

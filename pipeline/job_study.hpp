@@ -3,6 +3,7 @@
 // with the error meters and a log of its steps), the dynamics and the verdict at the job's placement, the capacity,
 // and the pole study (survey, balanced-torque optimum, least area error within the torque limit, the Pareto
 // front). report/operator_report renders it; nothing here formats text.
+#include "io/progress.hpp"
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -57,6 +58,7 @@ struct JobStudy {
 };
 
 // Throws InputError naming the job file.
-JobStudy study_job(const Job& job, const StudyOptions& o);
+// `progress`: the share done (the tape, the dynamics and capacity, the survey, the two searches, in that order).
+JobStudy study_job(const Job& job, const StudyOptions& o, const Progress& progress = {});
 
 }  // namespace polarcam

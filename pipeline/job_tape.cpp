@@ -67,12 +67,14 @@ PolarTrack job_polar_track(const Job& job, const Curve& path) {
   });
 }
 
-DigitizedJob digitize_job(const Job& job, StepSink* sink) {
+DigitizedJob digitize_job(const Job& job, StepSink* sink, const Progress& progress) {
   DigitizedJob d;
   d.path = make_job_path(job);
   d.track = job_polar_track(job, *d.path);
   try {
     d.profile = make_job_profile(job, *d.path, d.track.length());
+    ProgressSink counted(sink, progress, d.profile->total_time());
+    if (progress) sink = &counted;
     const double c = job.machine.coupling;
     if (c == 0.0) {
       d.result = digitize(d.track, job.machine.grid, job.motion.rule, *d.profile, sink);
@@ -85,6 +87,7 @@ DigitizedJob digitize_job(const Job& job, StepSink* sink) {
   } catch (const InputError& e) {
     throw e.in_file(job.file);
   }
+  report_progress(progress, 1.0);
   return d;
 }
 

@@ -1,5 +1,7 @@
 #pragma once
 // Job -> tape glue: the header a job's tape starts with, and digitizing a job end to end.
+#include <algorithm>
+#include "io/progress.hpp"
 #include <string>
 #include <vector>
 
@@ -32,7 +34,30 @@ struct DigitizedJob {
 };
 
 // Builds the tool path and its track, and digitizes it into `sink` (may be null). Errors name the job file.
-DigitizedJob digitize_job(const Job& job, StepSink* sink);
+// `progress`: the share of the path's time digitized.
+DigitizedJob digitize_job(const Job& job, StepSink* sink, const Progress& progress = {});
+
+// A sink that passes every step on to `inner` (may be null) and reports the share of `total_s` (the path's time)
+// the steps have reached, every 4096 steps.
+class ProgressSink final : public StepSink {
+ public:
+  ProgressSink(StepSink* inner, const Progress& progress, double total_s)
+      : inner_(inner), progress_(progress), total_ns_(total_s * 1e9) {}
+  void step(int axis, int dir, int64_t t_ns) override {
+    if (inner_) inner_->step(axis, dir, t_ns);
+    if ((++count_ & 0xfff) == 0 && total_ns_ > 0.0) {
+      const double f = std::min(1.0, static_cast<double>(t_ns) / total_ns_);
+      if (f > reported_) progress_(reported_ = f);
+    }
+  }
+
+ private:
+  StepSink* inner_;
+  Progress progress_;
+  double total_ns_;
+  uint64_t count_ = 0;
+  double reported_ = 0.0;
+};
 
 // A tape axis whose steps come faster than its motor can step ([machine.motor] max_step_rate, in motor steps/s).
 // A tape step is not a motor step: the drive train turns one into `motor_steps_per_tape_step` motor steps

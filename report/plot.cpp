@@ -41,8 +41,84 @@ struct Extent {
   }
 };
 
-// cmap0 indices: 0 background (white), 1 foreground (black), 2 grey, 3.. the series colour being drawn
-void draw_panel(plstream& pls, const Panel& p) {
+// cmap0 indices: 0 background (white), 1 foreground (black), 2 grey, 3..15 isolines, 16.. one per series (so
+// that the legend, drawn last, finds every series' own colour)
+constexpr int kIsolineColor = 3, kSeriesColor = 16, kColors = 256;
+
+// The current viewport in millimetres on the page and its world coordinates: markers and legend swatches are
+// sized in millimetres, whatever the axes' units.
+struct Frame {
+  double vx0 = 0, vx1 = 1, vy0 = 0, vy1 = 1;  // viewport, mm
+  double wx0 = 0, wx1 = 1, wy0 = 0, wy1 = 1;  // world
+  double ch = 3;                              // character height, mm
+  static Frame of(plstream& pls, int cols, int rows) {
+    Frame f;
+    PLFLT sx0, sx1, sy0, sy1, dx0, dx1, dy0, dy1, def, ht;
+    pls.gspa(sx0, sx1, sy0, sy1);  // the subpage, mm
+    pls.gvpd(dx0, dx1, dy0, dy1);  // the viewport, normalised device coordinates of the page
+    const double W = (sx1 - sx0) * std::max(1, cols), H = (sy1 - sy0) * std::max(1, rows);
+    f.vx0 = dx0 * W, f.vx1 = dx1 * W, f.vy0 = dy0 * H, f.vy1 = dy1 * H;
+    pls.gvpw(f.wx0, f.wx1, f.wy0, f.wy1);
+    pls.gchr(def, ht);
+    f.ch = ht;
+    return f;
+  }
+  double per_mm_x() const { return (wx1 - wx0) / (vx1 - vx0); }
+  double per_mm_y() const { return (wy1 - wy0) / (vy1 - vy0); }
+  // world coordinates of a point given as fractions of the viewport
+  double x_at(double fx) const { return wx0 + fx * (wx1 - wx0); }
+  double y_at(double fy) const { return wy0 + fy * (wy1 - wy0); }
+};
+
+// A marker drawn as polygons and strokes (never a font glyph), centred on (x, y), in the current colour.
+// Symbol codes as PLplot's: 2 plus, 3 asterisk, 4 circle, 5 cross, 17 dot; any other a filled square.
+void draw_marker(plstream& pls, const Frame& fr, int code, double scale, double x, double y) {
+  const double ax = fr.per_mm_x(), ay = fr.per_mm_y();
+  const double r = (code == 17 ? 0.45 : 1.5) * scale;  // mm
+  auto stroke = [&](double x0, double y0, double x1, double y1) {
+    PLFLT xs[2] = {x + x0 * ax, x + x1 * ax}, ys[2] = {y + y0 * ay, y + y1 * ay};
+    pls.line(2, xs, ys);
+  };
+  pls.width(std::max(1.0, 0.9 * scale));
+  pls.lsty(1);
+  switch (code) {
+    case 2:
+      stroke(-r, 0, r, 0), stroke(0, -r, 0, r);
+      break;
+    case 3:
+      stroke(-r, 0, r, 0), stroke(0, -r, 0, r);
+      stroke(-0.7 * r, -0.7 * r, 0.7 * r, 0.7 * r), stroke(-0.7 * r, 0.7 * r, 0.7 * r, -0.7 * r);
+      break;
+    case 5:
+      stroke(-0.8 * r, -0.8 * r, 0.8 * r, 0.8 * r), stroke(-0.8 * r, 0.8 * r, 0.8 * r, -0.8 * r);
+      break;
+    case 4:
+    case 17: {
+      constexpr int n = 24;
+      PLFLT xs[n + 1], ys[n + 1];
+      for (int i = 0; i <= n; ++i) {
+        const double a = 2 * 3.14159265358979323846 * i / n;
+        xs[i] = x + r * std::cos(a) * ax;
+        ys[i] = y + r * std::sin(a) * ay;
+      }
+      if (code == 4) {
+        pls.line(n + 1, xs, ys);
+      } else {
+        pls.psty(0);
+        pls.fill(n, xs, ys);
+      }
+      break;
+    }
+    default: {
+      PLFLT xs[4] = {x - 0.7 * r * ax, x + 0.7 * r * ax, x + 0.7 * r * ax, x - 0.7 * r * ax};
+      PLFLT ys[4] = {y - 0.7 * r * ay, y - 0.7 * r * ay, y + 0.7 * r * ay, y + 0.7 * r * ay};
+      pls.psty(0);
+      pls.fill(4, xs, ys);
+    }
+  }
+}
+
+void draw_panel(plstream& pls, const Panel& p, int page_cols, int page_rows) {
   Extent e;
   if (p.map) {
     e.add(p.map->x0, p.map->y0);
@@ -135,8 +211,9 @@ void draw_panel(plstream& pls, const Panel& p) {
     for (int i = 0; i < f.ny; ++i) yg[static_cast<size_t>(i)] = f.y0 + (f.y1 - f.y0) * i / (f.ny - 1);
     PLcGrid cg{xg.data(), yg.data(), nullptr, f.nx, f.ny, 0};
     PLFLT lev[1] = {iso.level};
-    pls.scol0(15, iso.color.r, iso.color.g, iso.color.b);
-    pls.col0(15);
+    const int ci = kIsolineColor + static_cast<int>(&iso - p.isolines.data()) % (kSeriesColor - kIsolineColor);
+    pls.scol0(ci, iso.color.r, iso.color.g, iso.color.b);
+    pls.col0(ci);
     pls.width(iso.width);
     pls.cont(rows.data(), f.nx, f.ny, 1, f.nx, 1, f.ny, lev, 1, plcallback::tr1, &cg);
   }
@@ -147,7 +224,22 @@ void draw_panel(plstream& pls, const Panel& p) {
   pls.box("bcnst", 0.0, 0, "bcnstv", 0.0, 0);
   std::string title = p.title;
   if (!band_note.empty()) title += "  " + band_note;
-  pls.lab(p.xlabel.c_str(), "", title.c_str());
+  pls.lab(p.xlabel.c_str(), "", "");
+  const Frame fr = Frame::of(pls, page_cols, page_rows);
+  {
+    // The title, centred over the plot, must stay on its subpage: a title wider than the room there (about 0.75
+    // character heights a character in the sans-serif font) is drawn smaller, not clipped.
+    PLFLT sx0, sx1, sy0, sy1;
+    pls.gspa(sx0, sx1, sy0, sy1);
+    const double sub_w = sx1 - sx0;
+    const double left = std::fmod(fr.vx0, sub_w), right = sub_w - std::fmod(fr.vx1, sub_w);
+    const double room = (fr.vx1 - fr.vx0) + 2.0 * std::max(0.0, std::min(left, right));
+    const double wide = 0.75 * fr.ch * static_cast<double>(title.size());
+    const double k = std::min(1.0, 0.95 * room / std::max(wide, 1e-9));
+    pls.schr(0.0, 0.85 * k);
+    pls.mtex("t", 1.6, 0.5, 0.5, title.c_str());
+    pls.schr(0.0, 0.85);
+  }
   // clear of tick labels up to seven characters long; an equal-aspect panel (maps, contours: short tick labels)
   // may have little room left of its viewport, so its label sits closer
   pls.mtex("l", p.equal_aspect ? 5.0 : 7.0, 0.5, 0.5, p.ylabel.c_str());
@@ -159,10 +251,10 @@ void draw_panel(plstream& pls, const Panel& p) {
     pls.lsty(1);
   }
   std::vector<std::string> texts;
-  std::vector<PLINT> opts, lcol, lsty, scol, snum;
-  std::vector<PLFLT> lw, sscale;
-  std::vector<std::string> syms;
-  int color_index = 3;
+  std::vector<PLINT> opts, lcol, lsty;
+  std::vector<PLFLT> lw;
+  int color_index = kSeriesColor;
+  std::vector<const Series*> marked;  // legend entries with a marker, drawn after the legend's box
   for (const auto& s : p.series) {
     size_t n = std::min(s.x.size(), s.y.size());
     pls.scol0(color_index, s.color.r, s.color.g, s.color.b);
@@ -174,27 +266,26 @@ void draw_panel(plstream& pls, const Panel& p) {
       pls.lsty(1);
     }
     if (s.marker != 0 && n > 0) {
-      pls.ssym(0.0, s.marker_scale);
-      pls.poin(static_cast<PLINT>(n), s.x.data(), s.y.data(), s.marker);
+      for (size_t i = 0; i < n; ++i)
+        if (std::isfinite(s.x[i]) && std::isfinite(s.y[i]) && s.x[i] >= std::min(fr.wx0, fr.wx1) &&
+            s.x[i] <= std::max(fr.wx0, fr.wx1) && s.y[i] >= std::min(fr.wy0, fr.wy1) && s.y[i] <= std::max(fr.wy0, fr.wy1))
+          draw_marker(pls, fr, s.marker, s.marker_scale, s.x[i], s.y[i]);
+      pls.width(1.0);
     }
     if (!s.label.empty()) {
       texts.push_back(s.label);
-      opts.push_back((s.width > 0 ? PL_LEGEND_LINE : 0) | (s.marker != 0 ? PL_LEGEND_SYMBOL : 0));
+      marked.push_back(s.marker != 0 ? &s : nullptr);
+      opts.push_back(s.width > 0 ? PL_LEGEND_LINE : PL_LEGEND_NONE);
       lcol.push_back(color_index);
       lsty.push_back(s.dashed ? 2 : 1);
       lw.push_back(s.width);
-      scol.push_back(color_index);
-      sscale.push_back(s.marker_scale);
-      snum.push_back(1);
-      syms.push_back(s.marker == 4 ? "o" : (s.marker == 2 ? "+" : (s.marker == 5 ? "x" : "*")));
     }
-    // PLplot legends refer to cmap0 indices; keep each series' colour in its own index (up to 15)
-    color_index = std::min(color_index + 1, 15);
+    // PLplot legends refer to cmap0 indices; each series keeps its colour in its own index
+    color_index = std::min(color_index + 1, kColors - 1);
   }
   if (!texts.empty()) {
-    std::vector<const char*> tp, sp;
+    std::vector<const char*> tp;
     for (auto& t : texts) tp.push_back(t.c_str());
-    for (auto& s : syms) sp.push_back(s.c_str());
     std::vector<PLINT> tcol(texts.size(), 1);
     PLFLT lwid, lhei;
     PLINT pos = PL_POSITION_INSIDE;
@@ -204,9 +295,23 @@ void draw_panel(plstream& pls, const Panel& p) {
       case Panel::Legend::bottom_right: pos |= PL_POSITION_BOTTOM | PL_POSITION_RIGHT; break;
       case Panel::Legend::bottom_left: pos |= PL_POSITION_BOTTOM | PL_POSITION_LEFT; break;
     }
-    pls.legend(&lwid, &lhei, PL_LEGEND_BACKGROUND | PL_LEGEND_BOUNDING_BOX, pos, 0.02, 0.02, 0.08, 0, 1, 1, 0, 0, static_cast<PLINT>(texts.size()), opts.data(),
-               1.0, 0.8, 2.0, 0.0, tcol.data(), tp.data(), nullptr, nullptr, nullptr, nullptr, lcol.data(),
-               lsty.data(), lw.data(), scol.data(), sscale.data(), snum.data(), sp.data());
+    constexpr double kX = 0.02, kY = 0.02, kSwatch = 0.08;  // offsets and swatch width, fractions of the viewport
+    pls.legend(&lwid, &lhei, PL_LEGEND_BACKGROUND | PL_LEGEND_BOUNDING_BOX, pos, kX, kY, kSwatch, 0, 1, 1, 0, 0,
+               static_cast<PLINT>(texts.size()), opts.data(), 1.0, 0.8, 2.0, 0.0, tcol.data(), tp.data(), nullptr,
+               nullptr, nullptr, nullptr, lcol.data(), lsty.data(), lw.data(), nullptr, nullptr, nullptr, nullptr);
+    // The markers, as in the plot, at the centre of each entry's swatch: PLplot lays the legend out from its top
+    // left corner, rows of equal height, the swatch after a border of 0.4 character heights.
+    const bool right = p.legend == Panel::Legend::top_right || p.legend == Panel::Legend::bottom_right;
+    const bool top = p.legend == Panel::Legend::top_right || p.legend == Panel::Legend::top_left;
+    const double left_f = right ? 1.0 - kX - lwid : kX, top_f = top ? 1.0 - kY : kY + lhei;
+    const double border_f = 0.4 * fr.ch / (fr.vx1 - fr.vx0);
+    const double xm = fr.x_at(left_f + border_f + 0.5 * kSwatch);
+    for (size_t i = 0; i < marked.size(); ++i) {
+      if (!marked[i]) continue;
+      const double ym = fr.y_at(top_f - (static_cast<double>(i) + 0.5) * lhei / static_cast<double>(marked.size()));
+      pls.col0(lcol[i]);
+      draw_marker(pls, fr, marked[i]->marker, std::min(marked[i]->marker_scale, 2.0), xm, ym);
+    }
   }
   pls.width(1.0);
 }
@@ -223,13 +328,14 @@ std::string render(const Figure& f, const std::string& format) {
     pls.sdev(format == "png" ? "pngcairo" : "svgcairo");
     pls.sfnam(tmp.c_str());
     pls.spage(0, 0, f.width, f.height, 0, 0);
+    pls.scmap0n(kColors);
     pls.scol0(0, 255, 255, 255);
     pls.scol0(1, 0, 0, 0);
     pls.scol0(2, 140, 140, 140);
     pls.ssub(std::max(1, f.cols), std::max(1, f.rows));
     pls.init();
     pls.schr(0.0, 0.85);
-    for (const auto& p : f.panels) draw_panel(pls, p);
+    for (const auto& p : f.panels) draw_panel(pls, p, f.cols, f.rows);
   }  // the stream's destructor finishes the file
   std::ifstream in(tmp, std::ios::binary);
   std::string bytes((std::istreambuf_iterator<char>(in)), {});

@@ -34,19 +34,16 @@ struct Fit {
   double viol = 0;                           // max over steps of the distance outside the band (<= 0: inside)
 };
 
+// The bands of the steps after the clock, computed when asked for: the search touches only the steps of the run
+// it finds (and one more), never the whole limit, so a proposal costs time in proportion to its length.
 class Bands {
  public:
-  Bands(const StepWindow* w, uint32_t limit, i128 clock) : L_(limit), U_(limit) {
-    const int64_t base = static_cast<int64_t>(clock >> kFracBits);
-    const double frac = static_cast<double>(static_cast<uint32_t>(clock & 0xffffffffu)) / kTwo32;
-    for (uint32_t k = 0; k < limit; ++k) {
-      // step k+1 fires at tick floor(clock + P): lo <= clock + P < hi + 1
-      L_[k] = static_cast<double>(w[k].lo - base) - frac + kMargin;
-      U_[k] = static_cast<double>(w[k].hi + 1 - base) - frac - kMargin;
-    }
-  }
-  double L(uint32_t k) const { return L_[k - 1]; }
-  double U(uint32_t k) const { return U_[k - 1]; }
+  Bands(const StepWindow* w, i128 clock)
+      : w_(w), base_(static_cast<int64_t>(clock >> kFracBits)),
+        frac_(static_cast<double>(static_cast<uint32_t>(clock & 0xffffffffu)) / kTwo32) {}
+  // step k fires at tick floor(clock + P): lo <= clock + P < hi + 1
+  double L(uint32_t k) const { return static_cast<double>(w_[k - 1].lo - base_) - frac_ + kMargin; }
+  double U(uint32_t k) const { return static_cast<double>(w_[k - 1].hi + 1 - base_) - frac_ - kMargin; }
 
   static double eval(const Fit& f, uint32_t k) {
     double p = 0;
@@ -144,7 +141,9 @@ class Bands {
   }
 
  private:
-  std::vector<double> L_, U_;
+  const StepWindow* w_;
+  int64_t base_;
+  double frac_;
 
   double fixed_part(const Fit& f, uint32_t k) const {
     double p = 0;
@@ -231,7 +230,7 @@ int64_t candidate(double centre_ticks, int64_t predicted, int shift) {
 RunProposal propose_run(const StepWindow* w, uint32_t limit, i128 clock, const RunRef& ref, const RunShape& shape) {
   RunProposal out;
   if (limit == 0) return out;
-  const Bands bands(w, limit, clock);
+  const Bands bands(w, clock);
   // grow the run while a cubic still fits every band
   Fit cur;
   cur.free[0] = shape.offset;

@@ -87,6 +87,18 @@ void compress_axis(const PlayPlan& plan, uint64_t tick_ps, const RunShape& shape
                    AxisItems& out, Schedule& sc) {
   AxisClock clk;
   RunRef ref;
+  // where each step's stretch of one direction ends (a run never turns), found once: the search for a run's
+  // limit must not walk the steps ahead, or a run that ends early would cost the whole stretch
+  std::vector<size_t> turn(w.size());
+  for (size_t k = w.size(); k-- > 0;) turn[k] = k + 1 < w.size() && dir[k + 1] == dir[k] ? turn[k + 1] : k + 1;
+  // The longest run the search may propose. The search fits in double precision and the run is then executed
+  // exactly; where the rounding of the run's parameters to the wire's 2^-32 ticks spoils a long run (slow steps
+  // far apart in ticks make the cubic term's rounding large), only a short prefix lands in its windows. Rather
+  // than keeping that prefix and searching the same long stretch again for every step (time growing with the
+  // product of steps and run length), the cap is halved and the search repeated; it doubles again after every
+  // run that reached it. Each search costs time in proportion to the run it proposes, so the compression is
+  // linear in the steps, whatever the ticks between them.
+  uint32_t cap = kMaxRunCount;
   size_t pos = 0;
   while (pos < w.size()) {
     // long gap: wait until just under the span limit before the window
@@ -100,10 +112,14 @@ void compress_axis(const PlayPlan& plan, uint64_t tick_ps, const RunShape& shape
       ++sc.waits;
       continue;
     }
-    uint32_t limit = 1;
-    while (limit < kMaxRunCount && pos + limit < w.size() && dir[pos + limit] == dir[pos] &&
-           w[pos + limit].hi - static_cast<int64_t>(clk.base) < kMaxSpanTicks)
-      ++limit;
+    // steps of one direction, every one within the span limit of the clock (the windows' upper ends increase
+    // strictly along an axis, so the first one beyond it is found by bisection)
+    const auto within_span = [&](const StepWindow& x) { return x.hi - static_cast<int64_t>(clk.base) < kMaxSpanTicks; };
+    const size_t span_end = static_cast<size_t>(
+        std::partition_point(w.begin() + static_cast<std::ptrdiff_t>(pos) + 1,
+                             w.begin() + static_cast<std::ptrdiff_t>(turn[pos]), within_span) - w.begin());
+    const uint32_t limit = static_cast<uint32_t>(std::min<size_t>(std::min<size_t>(span_end - pos, kMaxRunCount), cap));
+    ++sc.searches;
     const i128 C = (static_cast<i128>(clk.base) << kFracBits) + clk.frac;
     const RunProposal p = propose_run(&w[pos], limit, C, ref, shape);
     QueueItem it;
@@ -119,10 +135,16 @@ void compress_axis(const PlayPlan& plan, uint64_t tick_ps, const RunShape& shape
     // prefix of a valid run is a valid run with the same parameters).
     uint32_t ok = 0;
     AxisClock after = clk;
+    sc.searched_steps += p.count;
     if (run_is_valid(it)) {
       ok = execute_checked(it, &w[pos], after);
       it.count = ok;
     }
+    if (ok < p.count / 2) {  // rounding spoiled the run: search again for one half as long
+      cap = p.count / 2;
+      continue;
+    }
+    if (ok == limit && limit == cap) cap = static_cast<uint32_t>(std::min<uint64_t>(2 * uint64_t{cap}, kMaxRunCount));
     if (ok == 0) {
       // one step, on the first tick of its window that the clock can reach
       it.count = 1;

@@ -55,6 +55,8 @@ struct Schedule {
   uint64_t steps[2] = {0, 0};
   uint64_t last_tick = 0;               // tick of the last step
   uint64_t runs = 0, waits = 0;
+  uint64_t searches = 0;                // run searches (a search whose run the wire's rounding spoils is repeated shorter)
+  uint64_t searched_steps = 0;          // steps in the runs the searches proposed: the compressor's work
 };
 
 // Windows for every step of the plan at speed scale plan.scaling.speed on a controller of tick `tick_ps`.

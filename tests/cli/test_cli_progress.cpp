@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "tests/cli_runner.hpp"
 
@@ -52,4 +53,43 @@ TEST(Progress, ErrorDrawsABarOnATerminalOnly) {
   EXPECT_EQ(piped.err, "");
 
   EXPECT_EQ(on_a_terminal(args + " --quiet", sc), "");
+}
+
+TEST(Progress, DigitizeDrawsABarOnATerminalOnly) {
+  if (std::system("command -v script > /dev/null 2>&1") != 0) GTEST_SKIP() << "script(1) is not installed";
+  Scratch sc;
+  const std::string job = fine_job(sc), tape = sc.path("fine.tape");
+  const std::string args = "digitize " + job + " -o " + tape;
+  // the bar is drawn at the first report (4096 steps in), so even a fast run shows it on a terminal
+  const std::string tty = on_a_terminal(args, sc);
+  EXPECT_NE(tty.find("digitize ["), std::string::npos) << tty;
+  EXPECT_NE(tty.find('%'), std::string::npos) << tty;
+  EXPECT_NE(tty.find("\r\033[K"), std::string::npos) << "the bar is erased at the end: " << tty;
+  EXPECT_NE(read_file(sc.path("stdout.txt")).find("steps"), std::string::npos);  // the summary, on stdout
+  const std::string quiet = on_a_terminal(args + " --quiet", sc);
+  EXPECT_EQ(quiet.find('%'), std::string::npos) << quiet;
+}
+
+// Every command that may run for seconds prints nothing on stderr when stderr is not a terminal (its result on
+// stdout, its files written), with and without --quiet.
+TEST(Progress, LongCommandsAreSilentWhenPiped) {
+  Scratch sc;
+  const std::string ex = std::string(POLARCAM_SOURCE_DIR) + "/examples/";
+  const std::string table = ex + "machines/sand-table.toml";
+  const std::vector<std::string> commands = {
+      "digitize " + ex + "limacon.toml -o " + sc.path("l.tape"),
+      "optimize " + ex + "limacon.toml --max-evaluations 30 --map " + sc.path("m.csv") + " --map-size 5 --json",
+      "optimize " + ex + "ch6/circle_inertial.toml --objective pareto --survey 4 --levels 1 --max-evaluations 20 --json",
+      "report " + ex + "ch6/circle_inertial.toml -o " + sc.path("r.html") + " --map-size 4 --max-evaluations 20",
+      "export " + ex + "patterns/star.thr --machine " + table + " --speed \"40 mm/s\" --format thr -o " + sc.path("s.thr"),
+      "analyze " + ex + "ch5/circle.toml --json",
+      "compare " + ex + "testpiece_diamond.toml --json",
+  };
+  for (const std::string& c : commands)
+    for (const char* extra : {"", " --quiet"}) {
+      const CliResult r = run_cli(c + extra);
+      EXPECT_TRUE(r.code == 0 || r.code == 1) << c << extra << ": " << r.err;  // 1: a NO-GO verdict
+      EXPECT_EQ(r.err, "") << c << extra;
+      EXPECT_FALSE(r.out.empty()) << c << extra;
+    }
 }

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 
 #include "cam/error.hpp"
@@ -378,6 +379,38 @@ TEST(StepCompression, ControllerFaultsOnAnInvalidRunAndIgnoresDamagedFrames) {
   EXPECT_EQ(out.front().type, proto::ERROR);
   // and an invalid run cannot be pushed in-process either
   EXPECT_FALSE(c.push(run(21, 0, 11 * kTick, -2 * kTick, kTick / 5)));
+}
+
+// The angular steps of a 10-turn Archimedean spiral from r = 5 mm (pitch 0.3 mm, 16000 steps a turn) at a
+// constant speed v: t(theta) = s(theta) / v with the spiral's arc length in closed form,
+// s = (r sqrt(r^2 + b^2) + b^2 asinh(r / b)) / (2b), r = a + b theta.
+std::vector<Synth> spiral_steps(long double v, uint64_t n) {
+  const long double pi = 3.14159265358979323846L;
+  const long double a = 5e-3L, b = 0.3e-3L / (2 * pi), dth = 2 * pi / 16000;
+  auto arc = [&](long double th) {
+    const long double r = a + b * th;
+    return (r * std::sqrt(r * r + b * b) + b * b * std::asinh(r / b)) / (2 * b);
+  };
+  std::vector<Synth> s;
+  for (uint64_t k = 1; k <= n; ++k)
+    s.push_back({1, 1, static_cast<uint64_t>(std::llround((arc(dth * static_cast<long double>(k)) - arc(0)) / v * 1e9L))});
+  return s;
+}
+
+TEST(StepCompression, SlowStepsCostTheSameSearchAsFastOnes) {
+  // At 1.52 cm/s the steps are 0.13 ms apart; at 1 mm/s 2 ms and at 0.1 mm/s 20 ms. The wire's rounding of a
+  // long run's parameters spoils the slow runs; the compressor once kept one step of each spoiled run and searched
+  // the whole stretch again (runs as many as the steps, minutes of work). The same steps must cost the same
+  // search, a few times the steps, and stay a few runs, whatever the time between them.
+  const uint64_t n = 160000;
+  for (long double v : {1.52e-2L, 1e-3L, 1e-4L}) {
+    const PlayPlan p = synthetic_plan(spiral_steps(v, n));
+    const Schedule sc = compress_schedule(p, 1000000);
+    expect_exact(p, sc);
+    EXPECT_LE(sc.runs, 16u) << "v = " << static_cast<double>(v);
+    EXPECT_LE(sc.searched_steps, 4 * n) << "v = " << static_cast<double>(v);
+    EXPECT_GE(sc.searched_steps, n);  // every step was searched at least once
+  }
 }
 
 }  // namespace
