@@ -350,7 +350,10 @@ CaptureResult capture_to_tape(const std::string& file, CaptureFormat format, con
     h.speed_mps = r.speed.mean_mps;
     h.path_length_m = r.path_length_m;
     h.closed = false;
-    h.returns_to_start = r.end[0] == r.start[0] && r.end[1] == r.start[1];
+    // the same place: the same radius, and the arm turned by whole turns (as the digitizer's tapes say it)
+    const int64_t turn = o.grid.steps_per_rev;
+    h.returns_to_start = r.end[0] == r.start[0] &&
+                         (turn > 0 ? (r.end[1] - r.start[1]) % turn == 0 : r.end[1] == r.start[1]);
     writer->finish(h);
   }
   return r;
