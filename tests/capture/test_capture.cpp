@@ -468,3 +468,34 @@ TEST(RoundTrip, JitteredEdgesSampledAt1MHzGiveTheStepsWithinTheResolution) {
 
 }  // namespace
 }  // namespace polarcam
+
+namespace polarcam {
+namespace {
+
+// The fuzzing entry point on damaged input: every prefix of a good recording, and the good one with bytes
+// overwritten, either decodes or is refused with an InputError (never a crash, a hang or another exception).
+TEST(Robustness, TruncatedAndDamagedRecordingsDecodeOrAreRefused) {
+  std::vector<test::QStep> steps;
+  for (int k = 1; k <= 40; ++k) steps.push_back({k * 100000, k % 3 == 0 ? 1 : 0, k % 7 == 0 ? -1 : 1});
+  test::QuadratureWriterOptions w;
+  w.counts_per_step = 2;
+  for (const CaptureFormat f : {CaptureFormat::vcd, CaptureFormat::csv}) {
+    const std::string good = f == CaptureFormat::vcd ? test::quadrature_vcd(steps, w, "1 ns")
+                                                     : test::quadrature_csv(steps, w, 9);
+    std::mt19937 rng(3);
+    CaptureOptions o = thesis_options();
+    o.counts_per_step = 2;
+    for (size_t n = 0; n <= good.size(); n += 7) {
+      std::string text = good.substr(0, n);
+      if (n % 2 && !text.empty()) text[rng() % text.size()] = static_cast<char>(rng() % 256);
+      std::istringstream in(text);
+      try {
+        decode_capture(in, "damaged", f, o, nullptr);
+      } catch (const InputError&) {
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace polarcam
