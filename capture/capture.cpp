@@ -134,7 +134,6 @@ void check_options(const CaptureOptions& o) {
     throw InputError("must be a whole number of steps from 1 to 10^9", "--window");
   if (!(o.speed_tolerance > 0) || !std::isfinite(o.speed_tolerance))
     throw InputError("must be a positive fraction (0.05 is 5 %)", "--speed-tolerance");
-  if (!(o.grid.dr > 0) || !(o.grid.dtheta > 0)) throw InputError("the machine's grid has no resolutions", "machine");
 }
 
 }  // namespace
@@ -306,6 +305,7 @@ CaptureResult capture_to_tape(const std::string& file, CaptureFormat format, con
                               const std::string& tape, const nlohmann::ordered_json& machine_provenance,
                               const std::string& generator) {
   check_options(o);
+  if (!(o.grid.dr > 0) || !(o.grid.dtheta > 0)) throw InputError("the machine's grid has no resolutions", "machine");
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError("cannot be read: give a VCD or CSV file of the encoder levels", file);
   std::vector<std::string> matched;

@@ -129,7 +129,7 @@ CaptureResult decode_levels(LevelSource& src, CaptureFormat format, const Captur
 
 // The whole capture from a stream: the reader of `format`, then decode_levels. `name` names the input in
 // messages. The entry point for fuzzing: decode_capture(in, "fuzz", CaptureFormat::vcd, {}, nullptr) reads any
-// bytes and either returns or throws InputError.
+// bytes and either returns or throws InputError (default options: no grid, so every speed reads 0).
 CaptureResult decode_capture(std::istream& in, const std::string& name, CaptureFormat format,
                              const CaptureOptions& o, StepSink* sink);
 

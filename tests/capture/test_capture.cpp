@@ -482,6 +482,14 @@ TEST(Robustness, TruncatedAndDamagedRecordingsDecodeOrAreRefused) {
   for (const CaptureFormat f : {CaptureFormat::vcd, CaptureFormat::csv}) {
     const std::string good = f == CaptureFormat::vcd ? test::quadrature_vcd(steps, w, "1 ns")
                                                      : test::quadrature_csv(steps, w, 9);
+    {  // with default options the whole recording decodes (counts_per_step 1: a step per edge written)
+      std::istringstream in(good);
+      Recorder rec;
+      decode_capture(in, "fuzz", f, {}, &rec);
+      int init[4];
+      int64_t end = 0;
+      EXPECT_EQ(rec.steps.size(), test::quadrature_edges(steps, w, init, end).size());
+    }
     std::mt19937 rng(3);
     CaptureOptions o = thesis_options();
     o.counts_per_step = 2;
@@ -491,6 +499,11 @@ TEST(Robustness, TruncatedAndDamagedRecordingsDecodeOrAreRefused) {
       std::istringstream in(text);
       try {
         decode_capture(in, "damaged", f, o, nullptr);
+      } catch (const InputError&) {
+      }
+      std::istringstream again(text);  // the fuzzing call: default options
+      try {
+        decode_capture(again, "fuzz", f, {}, nullptr);
       } catch (const InputError&) {
       }
     }
