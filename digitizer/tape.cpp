@@ -21,6 +21,7 @@ const char* to_string(TapeRule r) {
     case TapeRule::thesis: return "thesis";
     case TapeRule::dda: return "dda";
     case TapeRule::exact_cartesian: return "exact";
+    case TapeRule::capture: return "capture";
   }
   return "unknown";
 }
@@ -225,7 +226,7 @@ TapeReader::TapeReader(const std::string& path) : path_(path) {
   g = Get{all.data()};
   uint8_t axes = g.u8(kOffAxes), rule = g.u8(kOffRule);
   if (axes > 1) fail("unknown axis kind " + std::to_string(axes));
-  if (rule > 3) fail("unknown stepping rule " + std::to_string(rule));
+  if (rule > 4) fail("unknown stepping rule " + std::to_string(rule));
   h_.axes = static_cast<TapeAxes>(axes);
   h_.rule = static_cast<TapeRule>(rule);
   uint16_t flags = g.u16(kOffFlags);

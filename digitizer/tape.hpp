@@ -21,7 +21,8 @@ inline constexpr uint16_t kTapeVersion = 1;
 inline constexpr uint32_t kTapeFixedHeader = 256;
 
 enum class TapeAxes : uint8_t { polar = 0, cartesian = 1 };
-enum class TapeRule : uint8_t { nearest = 0, thesis = 1, dda = 2, exact_cartesian = 3 };
+// capture: steps decoded from a recorded run of the machine's encoders (capture/capture.hpp), not computed.
+enum class TapeRule : uint8_t { nearest = 0, thesis = 1, dda = 2, exact_cartesian = 3, capture = 4 };
 const char* to_string(TapeRule r);
 
 struct TapeHeader {

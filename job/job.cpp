@@ -104,6 +104,11 @@ Machine parse_machine(Section& machine, const jobfile::MachineTables& tables, js
     m.max_angular_speed = *w;
     pm["max_angular_speed_rad_s"] = *w;
   }
+  if (auto n = machine.integer("counts_per_step")) {
+    if (*n < 1 || *n > (int64_t{1} << 20)) machine.fail("counts_per_step", "must be a whole number of encoder counts from 1 to 2^20 (1048576)");
+    m.counts_per_step = *n;
+    pm["counts_per_step"] = *n;
+  }
   m.dynamics = jobfile::parse_dynamics(machine, tables);
   machine.finish();
   return m;

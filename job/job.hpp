@@ -56,6 +56,9 @@ struct Machine {
   // The arm's top angular speed (rad/s), when given: near the centre, where a turn of the arm hardly moves the
   // ball, steps are timed so that the arm does not turn faster (docs/patterns.md, "The centre").
   std::optional<double> max_angular_speed;
+  // Encoder counts per tape step of a captured run (`polarcam capture`, docs/capture.md): a step each time an
+  // axis's quadrature count crosses a multiple of it. 1 when not given.
+  int64_t counts_per_step = 1;
   std::optional<MachineModel> dynamics;  // mechanics and motors, when described (docs/dynamics.md)
   std::optional<GcodeSpec> gcode;        // the machine file's [gcode] table, when given (docs/gcode.md)
 };

@@ -7,7 +7,8 @@
 // SPEED is K or P/Q (the --speed-scale given to play). Times are measured from the rising edge of the `run`
 // signal (the board's LED, raised at schedule tick 0 by the same interrupt and the same code path that raises
 // the step pins, so the interrupt's latency is common to both). A step's edge is taken as firing on the tick
-// nearest to it; the edges' distance from that tick (the interrupt's jitter) is reported too. Prints a summary;
+// nearest to it; the edges' distance from that tick (the interrupt's jitter) is reported too. The VCD is read
+// through the encoder capture's VCD reader (capture/vcd.cpp, compiled in by the Makefile). Prints a summary;
 // exit status 0 when every step matches within TOLERANCE ticks (default 1), 1 otherwise, 2 for unreadable input.
 #include <algorithm>
 #include <cmath>
@@ -20,6 +21,9 @@
 #include <string>
 #include <vector>
 
+#include "cam/error.hpp"
+#include "capture/vcd.hpp"
+
 namespace {
 
 [[noreturn]] void fail(const std::string& what) {
@@ -31,22 +35,6 @@ struct Edge {
   int64_t t_ps;
   int axis, dir;
 };
-
-int64_t unit_ps(const std::string& s) {
-  // "1ns", "100 ps", "1us"
-  std::string digits, unit;
-  for (char c : s) {
-    if (c >= '0' && c <= '9') digits += c;
-    else if (c != ' ' && c != '\t') unit += c;
-  }
-  const int64_t n = digits.empty() ? 1 : std::stoll(digits);
-  if (unit == "fs") return n / 1000;
-  if (unit == "ps") return n;
-  if (unit == "ns") return n * 1000;
-  if (unit == "us") return n * 1000000;
-  if (unit == "ms") return n * 1000000000;
-  fail("unknown VCD time unit " + s);
-}
 
 }  // namespace
 
@@ -69,61 +57,29 @@ int main(int argc, char** argv) {
   const double tolerance = argc == 6 ? std::atof(argv[5]) : 1.0;
   if (!(tolerance >= 0)) fail("tolerance must be a number of ticks");
 
-  // ---- the VCD --------------------------------------------------------------------------------------------
-  std::ifstream in(argv[1]);
+  // ---- the VCD, through the encoder capture's reader (capture/vcd.hpp) ----------------------------------------
+  std::ifstream in(argv[1], std::ios::binary);
   if (!in) fail(std::string("cannot read ") + argv[1]);
-  std::map<std::string, std::string> id_name;
-  int64_t scale = 1000;
-  std::string tok, text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  std::istringstream ss(text);
-  // header
-  while (ss >> tok) {
-    if (tok == "$timescale") {
-      std::string u, w;
-      while (ss >> w && w != "$end") u += w;
-      scale = unit_ps(u);
-    } else if (tok == "$var") {
-      std::string type, size, id, name, w;
-      ss >> type >> size >> id >> name;
-      while (ss >> w && w != "$end") {
-      }
-      id_name[id] = name;
-    } else if (tok == "$enddefinitions") {
-      ss >> tok;  // $end
-      break;
-    }
-  }
-  std::map<std::string, int> value;
-  int64_t now = 0;
+  enum { kRStep, kRDir, kThetaStep, kThetaDir, kRun };
   int64_t run_edge = -1;
   std::vector<Edge> edges;
-  while (ss >> tok) {
-    if (tok[0] == '#') {
-      now = std::stoll(tok.substr(1)) * scale;
-      continue;
+  try {
+    polarcam::VcdReader vcd(in, argv[1], {"r_step", "r_dir", "theta_step", "theta_dir", "run"});
+    polarcam::LevelSample s;
+    uint32_t before = 0;  // levels before the sample (unknown counts as 0)
+    while (vcd.next(s)) {
+      const int64_t now = static_cast<int64_t>(s.t_fs / 1000);  // ps
+      auto rose = [&](int bit) {
+        const uint32_t m = 1u << bit;
+        return (s.changed & m) && (s.levels & m) && !(before & m);
+      };
+      if (rose(kRun) && run_edge < 0) run_edge = now;
+      if (rose(kRStep)) edges.push_back({now, 0, (s.levels >> kRDir) & 1u ? 1 : -1});
+      if (rose(kThetaStep)) edges.push_back({now, 1, (s.levels >> kThetaDir) & 1u ? 1 : -1});
+      before = s.levels;
     }
-    if (tok[0] == '$') continue;  // $dumpvars, $end
-    int v;
-    std::string id;
-    if (tok[0] == '0' || tok[0] == '1' || tok[0] == 'x' || tok[0] == 'z') {
-      v = tok[0] == '1';
-      id = tok.substr(1);
-    } else if (tok[0] == 'b') {
-      v = tok.find('1') != std::string::npos;
-      ss >> id;
-    } else {
-      continue;
-    }
-    auto it = id_name.find(id);
-    if (it == id_name.end()) continue;
-    const std::string& name = it->second;
-    const int old = value.count(name) ? value[name] : 0;
-    value[name] = v;
-    if (v == 1 && old == 0) {
-      if (name == "run" && run_edge < 0) run_edge = now;
-      if (name == "r_step") edges.push_back({now, 0, value["r_dir"] ? 1 : -1});
-      if (name == "theta_step") edges.push_back({now, 1, value["theta_dir"] ? 1 : -1});
-    }
+  } catch (const polarcam::Error& e) {
+    fail(e.what());
   }
   if (run_edge < 0) fail("the VCD has no rising edge of `run` (START)");
   std::stable_sort(edges.begin(), edges.end(), [](const Edge& a, const Edge& b) {
