@@ -5,7 +5,7 @@
 # executions. Exit status 1 when any harness found something (its input is saved in build-fuzz/artifacts/).
 #   bash scripts/fuzz.sh 5                      # the CI smoke run
 #   FUZZ_TARGETS="tape thr" bash scripts/fuzz.sh 600   # some targets, longer
-#   FUZZ_RUNS=1000000 bash scripts/fuzz.sh 0    # each target until it has run this many inputs
+#   FUZZ_RUNS=1000000 bash scripts/fuzz.sh 600  # each target until it has run this many inputs (or 600 s)
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 secs="${1:-5}"
@@ -39,7 +39,7 @@ for t in "${targets[@]}"; do
   corpus="$dir/corpus/$t" seed="$dir/seeds/$t" art="$dir/artifacts/$t"
   mkdir -p "$corpus" "$seed" "$art"
   mapfile -t files < <(seeds "$t")
-  [ ${#files[@]} -gt 0 ] && cp "${files[@]}" "$seed/"
+  for f in "${files[@]}"; do cp "$f" "$seed/${f//\//_}"; done
   dirs=("$seed")
   [ -d "fuzz/corpus/$t" ] && dirs+=("fuzz/corpus/$t")
   echo "== fuzz_$t"
@@ -52,7 +52,7 @@ for t in "${targets[@]}"; do
     echo "fuzz_$t: $(ls "fuzz/regressions/$t" | wc -l) regression inputs pass"
   fi
   limit=(-max_total_time="$secs")
-  [ -n "${FUZZ_RUNS:-}" ] && limit=(-runs="$FUZZ_RUNS")
+  [ -n "${FUZZ_RUNS:-}" ] && limit+=(-runs="$FUZZ_RUNS")
   if "$bin" "${limit[@]}" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$art/" \
       "$corpus" "${dirs[@]}" > "$dir/$t.log" 2>&1; then
     runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$dir/$t.log")
