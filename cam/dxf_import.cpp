@@ -351,11 +351,13 @@ void prevalidate(const std::string& file) {
                              "): a line is missing or extra above here",
                          where);
       // Codes 72-79 and 90-99 of an entity count its vertices, knots, control points or edges, and dxflib makes
-      // arrays of that size before it reads them: no count exceeds the lines of the file.
-      if (ent && ((code >= 72 && code <= 79) || (code >= 90 && code <= 99)) && (v > bytes / 2 || v < INT_MIN))
+      // arrays of that size before it reads them (also of an entity outside any section): no count exceeds the
+      // lines of the file.
+      if ((ent || !in_section) && ((code >= 72 && code <= 79) || (code >= 90 && code <= 99)) &&
+          (v > bytes / 2 || v < INT_MIN))
         throw InputError("'" + value.substr(0, 40) + "' (group code " + std::to_string(code) + " of the " +
-                             ent->kind + ") is a count larger than this file of " + std::to_string(bytes) +
-                             " bytes can hold: the entity is damaged",
+                             (ent ? ent->kind : std::string("record")) + ") is a count larger than this file of " +
+                             std::to_string(bytes) + " bytes can hold: the entity is damaged",
                          where);
       if (ent && ent->kind == "LWPOLYLINE" && code == 90) ent->vertices = v;
     }
