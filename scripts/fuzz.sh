@@ -14,10 +14,12 @@ all="tape job_toml machine_toml thr svg dxf csv_points units expr options protoc
 read -r -a targets <<< "${FUZZ_TARGETS:-$all}"
 
 launcher=()
+log="$(mktemp)"
 command -v ccache > /dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 cmake -S . -B "$dir" -G Ninja -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DPOLARCAM_FUZZ=ON -DPOLARCAM_BUILD_TESTS=OFF \
-  -DPOLARCAM_BUILD_BENCH=OFF "${launcher[@]}" > "$dir.configure.log" 2>&1 || { cat "$dir.configure.log"; exit 1; }
+  -DPOLARCAM_BUILD_BENCH=OFF "${launcher[@]}" > "$log" 2>&1 || { cat "$log"; rm -f "$log"; exit 1; }
+rm -f "$log"
 cmake --build "$dir" --parallel "$(nproc)" --target "${targets[@]/#/fuzz_}"
 
 # Seeds from the examples and the test data, beside the small ones checked in under fuzz/corpus/.
