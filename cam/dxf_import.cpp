@@ -3,7 +3,9 @@
 #include <dxflib/dl_creationadapter.h>
 #include <dxflib/dl_dxf.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <climits>
 #include <cmath>
 #include <cstdlib>
 #include <optional>
@@ -258,6 +260,7 @@ struct EntityCheck {
   std::string kind;
   size_t line = 0;  // of its "0" code
   std::map<long, int> count;
+  long long vertices = -1;  // an LWPOLYLINE's vertex count (group code 90) when it gives one
 };
 
 void check_entity(const EntityCheck& e, const std::string& file) {
@@ -286,11 +289,19 @@ void check_entity(const EntityCheck& e, const std::string& file) {
       throw InputError("the LWPOLYLINE starting here has " + std::to_string(nx) + " x and " + std::to_string(ny) +
                            " y coordinates (group codes 10 and 20): the entity is damaged or a line is missing",
                        file + ":" + std::to_string(e.line));
+    // dxflib keeps as many vertices as group code 90 declares and drops the others without a word
+    if (e.vertices >= 0 && e.vertices != nx)
+      throw InputError("the LWPOLYLINE starting here declares " + std::to_string(e.vertices) +
+                           " vertices (group code 90) but has " + std::to_string(nx) +
+                           ": the entity is damaged or a line is missing",
+                       file + ":" + std::to_string(e.line));
   }
 }
 
 void prevalidate(const std::string& file) {
-  std::ifstream in(file, std::ios::binary);
+  std::ifstream in(file, std::ios::binary | std::ios::ate);
+  const long long bytes = std::max<long long>(0, static_cast<long long>(in.tellg()));
+  in.seekg(0);
   std::string code_text, value;
   size_t line = 0;
   std::string section;        // the section being read
@@ -334,11 +345,21 @@ void prevalidate(const std::string& file) {
     } else if (is_int_code(code)) {
       char* end = nullptr;
       errno = 0;
-      (void)std::strtoll(value.c_str(), &end, 10);
+      const long long v = std::strtoll(value.c_str(), &end, 10);
       if (value.empty() || *end != '\0' || errno != 0)
         throw InputError("'" + value.substr(0, 40) + "' is not an integer (group code " + std::to_string(code) +
                              "): a line is missing or extra above here",
                          where);
+      // Codes 72-79 and 90-99 of an entity count its vertices, knots, control points or edges, and dxflib makes
+      // arrays of that size before it reads them (also of an entity outside any section): no count exceeds the
+      // lines of the file.
+      if ((ent || !in_section) && ((code >= 72 && code <= 79) || (code >= 90 && code <= 99)) &&
+          (v > bytes / 2 || v < INT_MIN))
+        throw InputError("'" + value.substr(0, 40) + "' (group code " + std::to_string(code) + " of the " +
+                             (ent ? ent->kind : std::string("record")) + ") is a count larger than this file of " +
+                             std::to_string(bytes) + " bytes can hold: the entity is damaged",
+                         where);
+      if (ent && ent->kind == "LWPOLYLINE" && code == 90) ent->vertices = v;
     }
     if (code == 0) {
       close_entity();

@@ -143,9 +143,13 @@ class UnitParser {
       while (pos_ < s_.size() && std::isdigit(static_cast<unsigned char>(s_[pos_]))) ++pos_;
       std::string p(s_.substr(b, pos_ - b));
       if (p.empty() || p == "-" || p == "+") fail("a power must be an integer");
-      int n = std::stoi(p);
+      const size_t digits = p.size() - (std::isdigit(static_cast<unsigned char>(p[0])) ? 0 : 1);
+      const int n = digits > 2 ? 100 : std::stoi(p);  // beyond std::stoi's range otherwise (found by fuzz_units)
+      if (n < -12 || n > 12) fail("the power '" + p + "' is not an integer from -12 to 12");
       u.factor = std::pow(u.factor, n);
       u.dim = u.dim.pow(n);
+      for (int e : u.dim.e)  // powers of powers: exponents stay far from int's range
+        if (e < -1000 || e > 1000) fail("the powers of a unit multiply beyond 1000");
     }
     return u;
   }

@@ -18,7 +18,10 @@ function(polarcam_cgal_unit name source)
   # GCC 12 reports -Wmaybe-uninitialized inside CGAL's kernel objects (Boost tuples) once sanitizers change
   # inlining; CGAL's arrangement handles are classes derived from its DCEL records without data of their own, and
   # its iterators downcast the records to them, which UBSan's vptr check reports.
-  set(opts -Wno-maybe-uninitialized)
+  set(opts)
+  if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")  # clang has no such warning (the fuzz build, POLARCAM_FUZZ)
+    set(opts -Wno-maybe-uninitialized)
+  endif()
   if(POLARCAM_SANITIZE)
     list(APPEND opts -fno-sanitize=vptr)
   endif()

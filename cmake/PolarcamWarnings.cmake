@@ -13,3 +13,6 @@ if(POLARCAM_SANITIZE)
   # function. glibc's and ASan's malloc both align to 16 bytes on 64-bit targets: keep the assumption everywhere.
   target_compile_definitions(polarcam_options INTERFACE EIGEN_MALLOC_ALREADY_ALIGNED=1)
 endif()
+if(POLARCAM_FUZZ)  # coverage for libFuzzer in every library; the harnesses link the fuzzer itself (fuzz/)
+  target_compile_options(polarcam_options INTERFACE -fsanitize=fuzzer-no-link)
+endif()

@@ -1,5 +1,6 @@
 #include "digitizer/tape.hpp"
 
+#include <sys/stat.h>
 #include <unistd.h>
 #include <zlib.h>
 
@@ -204,6 +205,17 @@ void TapeWriter::finish(TapeHeader h) {
 TapeReader::TapeReader(const std::string& path) : path_(path) {
   f_ = std::fopen(path.c_str(), "rb");
   if (!f_) throw InputError(std::string("cannot open the tape (") + std::strerror(errno) + ")", path);
+  // The destructor does not run when the constructor throws: a tape refused here closes its file here.
+  struct CloseUnlessAccepted {
+    std::FILE*& f;
+    bool accepted = false;
+    ~CloseUnlessAccepted() {
+      if (!accepted) {
+        std::fclose(f);
+        f = nullptr;
+      }
+    }
+  } close_unless_accepted{f_};
   std::vector<uint8_t> fixed(kTapeFixedHeader);
   size_t got = std::fread(fixed.data(), 1, fixed.size(), f_);
   if (got < 16 || std::memcmp(fixed.data(), kMagic, 8) != 0) fail("not a polarcam tape (bad magic)");
@@ -262,8 +274,11 @@ TapeReader::TapeReader(const std::string& path) : path_(path) {
   h_.header_crc = stored;
   h_.provenance.assign(reinterpret_cast<const char*>(all.data() + kTapeFixedHeader), plen);
   validate_header();
-  buf_.resize(kBuf);
+  struct stat st;  // the read buffer no larger than the records (a small tape does not take a megabyte)
+  const bool sized = ::fstat(::fileno(f_), &st) == 0 && st.st_size >= 0;
+  buf_.resize(sized ? std::min<size_t>(kBuf, static_cast<size_t>(st.st_size) + 1) : kBuf);
   crc_ = static_cast<uint32_t>(crc32(0L, Z_NULL, 0));
+  close_unless_accepted.accepted = true;
 }
 
 // A tape that passes its checksums may still be hostile (or written by another program): every header field is

@@ -211,3 +211,26 @@ TEST(Dxf, ThePlateExampleHasItsHole) {
   EXPECT_NEAR(d.segments[0].center.y, 0.020, 1e-15);
   EXPECT_NEAR(norm(d.segments[0].from - d.segments[0].center), 0.006, 1e-15);
 }
+
+// Found by fuzzing (fuzz_dxf): dxflib makes an array as long as an LWPOLYLINE's vertex count (group code 90) says
+// before it reads the vertices, so a damaged count asked for some 10^15 bytes; a count below the vertices there are
+// made dxflib drop the others without a word. Both are refused, naming the line.
+TEST(Dxf, VertexCountsThatDisagreeWithTheVerticesAreRefused) {
+  auto slot = [](const std::string& count) {  // the slot of BulgesAndArcsAndCircles, its 90 value at line 10
+    return dxf("0\nLWPOLYLINE\n8\n0\n90\n" + count +
+               "\n70\n1\n10\n0\n20\n0\n42\n0\n10\n20\n20\n0\n42\n1\n10\n20\n20\n10\n42\n0\n10\n0\n20\n10\n42\n1\n");
+  };
+  ASSERT_EQ(read_error("count4.dxf", slot("4")), "");
+  std::string e = read_error("huge.dxf", slot("41421356237300"));
+  EXPECT_NE(e.find("huge.dxf:10"), std::string::npos) << e;
+  EXPECT_NE(e.find("group code 90"), std::string::npos) << e;
+  e = read_error("count3.dxf", slot("3"));
+  EXPECT_NE(e.find("count3.dxf:5"), std::string::npos) << e;  // the LWPOLYLINE's line
+  EXPECT_NE(e.find("declares 3 vertices"), std::string::npos) << e;
+  e = read_error("count5.dxf", slot("5"));
+  EXPECT_NE(e.find("declares 5 vertices"), std::string::npos) << e;
+  // outside any section (dxflib reads it all the same; 1.2 GB and over 10 s before)
+  e = read_error("nosection.dxf", "0\nLWPOLYLINE\n8\n0\n90\n37309503\n10\n0\n20\n0\n0\nEOF\n");
+  EXPECT_NE(e.find("nosection.dxf:6"), std::string::npos) << e;
+  EXPECT_NE(e.find("group code 90"), std::string::npos) << e;
+}

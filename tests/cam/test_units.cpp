@@ -46,6 +46,22 @@ TEST(Units, WrongUnitsAreRejectedWithTheText) {
 }
 
 // A fraction in a message: a percentage while it reads as one, a plain ratio beyond 1000 % (never "5.76e+03 %").
+// Found by fuzzing (fuzz_units): a power too long for an int ("m^24444444444") escaped as std::out_of_range, not
+// as bad input; powers of powers could overflow the exponents.
+TEST(Units, PowersOutOfRangeAreBadInput) {
+  EXPECT_NEAR(parse_quantity("1 cm^2").value, 1e-4, 1e-18);
+  EXPECT_EQ(parse_quantity("1 m^-12").dim, dim::length.pow(-12));
+  for (const char* text : {"4444 s(m^24444444444", "1 m^24444444444", "1 m^13", "1 m^-13", "1 m^007",
+                           "1 ((((m^12)^12)^12)^12)"}) {
+    try {
+      parse_quantity(text);
+      ADD_FAILURE() << text << " accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(Share, PercentBelowAThousandPercentRatioBeyond) {
   EXPECT_EQ(polarcam::share(0.576), "57.6 %");
   EXPECT_EQ(polarcam::share(-0.2), "-20 %");

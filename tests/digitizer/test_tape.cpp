@@ -268,3 +268,22 @@ TEST(Tape, RecordsWhoseTimesPassTwoToTheSixtyTwoNanosecondsAreRefused) {
   }
   std::remove(p.c_str());
 }
+
+// Found by fuzzing (fuzz_tape): a tape refused while its header was read left its file open, one descriptor per
+// refused tape, until the process could open no more files. Refuse the same tape more times than a process has
+// descriptors by default; the lowest free descriptor afterwards is the one before.
+TEST(Tape, RefusedTapesCloseTheirFiles) {
+  const std::string p = temp_path("refused.tape");
+  spit(p, std::string("POLARCAM") + std::string(300, '\0'));  // the magic, then a header of the wrong version
+  auto lowest_free_fd = [] {
+    std::FILE* f = std::fopen("/dev/null", "rb");
+    if (!f) return -1;  // no descriptor left
+    const int fd = fileno(f);
+    std::fclose(f);
+    return fd;
+  };
+  const int before = lowest_free_fd();
+  for (int i = 0; i < 1100; ++i) EXPECT_THROW(TapeReader r(p), InputError);
+  EXPECT_EQ(lowest_free_fd(), before);
+  std::remove(p.c_str());
+}

@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# Fuzzes every parser (docs/fuzzing.md): builds the libFuzzer harnesses of fuzz/ with clang-14 under ASan+UBSan in
+# their own build directory (build-fuzz/, POLARCAM_FUZZ=ON; the normal build is not touched), replays the inputs
+# of fuzz/regressions/, then runs each harness for SECONDS (default 5), one after the other, and prints its
+# executions. Exit status 1 when any harness found something (its input is saved in build-fuzz/artifacts/).
+#   bash scripts/fuzz.sh 5                      # the CI smoke run
+#   FUZZ_TARGETS="tape thr" bash scripts/fuzz.sh 600   # some targets, longer
+#   FUZZ_RUNS=1000000 bash scripts/fuzz.sh 600  # each target until it has run this many inputs (or 600 s)
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+secs="${1:-5}"
+dir="${FUZZ_BUILD_DIR:-build-fuzz}"
+all="tape job_toml machine_toml thr svg dxf csv_points units expr options protocol_host protocol_controller"
+read -r -a targets <<< "${FUZZ_TARGETS:-$all}"
+
+launcher=()
+log="$(mktemp)"
+command -v ccache > /dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+cmake -S . -B "$dir" -G Ninja -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DPOLARCAM_FUZZ=ON -DPOLARCAM_BUILD_TESTS=OFF \
+  -DPOLARCAM_BUILD_BENCH=OFF "${launcher[@]}" > "$log" 2>&1 || { cat "$log"; rm -f "$log"; exit 1; }
+rm -f "$log"
+cmake --build "$dir" --parallel "$(nproc)" --target "${targets[@]/#/fuzz_}"
+
+# Seeds from the examples and the test data, beside the small ones checked in under fuzz/corpus/.
+seeds() {  # target -> the files that seed it
+  case "$1" in
+    job_toml) ls examples/*.toml examples/ch5/*.toml examples/ch6/*.toml ;;
+    machine_toml) ls examples/machines/*.toml tests/data/cli/machines/*.toml ;;
+    thr) find examples/patterns -name '*.thr' -size -16k ;;
+    svg) ls examples/patterns/*.svg tests/data/svg/*.svg ;;
+    dxf) ls examples/*.dxf ;;
+  esac 2> /dev/null || true
+}
+
+export ASAN_OPTIONS="detect_leaks=1:${ASAN_OPTIONS:-}"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:${UBSAN_OPTIONS:-}"
+failed=()
+for t in "${targets[@]}"; do
+  bin="$dir/fuzz_$t"
+  corpus="$dir/corpus/$t" seed="$dir/seeds/$t" art="$dir/artifacts/$t"
+  mkdir -p "$corpus" "$seed" "$art"
+  mapfile -t files < <(seeds "$t")
+  for f in "${files[@]}"; do cp "$f" "$seed/${f//\//_}"; done
+  dirs=("$seed")
+  [ -d "fuzz/corpus/$t" ] && dirs+=("fuzz/corpus/$t")
+  echo "== fuzz_$t"
+  if [ -d "fuzz/regressions/$t" ] && [ -n "$(ls -A "fuzz/regressions/$t")" ]; then
+    if ! "$bin" -runs=1 "fuzz/regressions/$t"/* > "$dir/$t.regressions.log" 2>&1; then
+      echo "fuzz_$t: a regression input fails again (log: $dir/$t.regressions.log)"
+      failed+=("$t")
+      continue
+    fi
+    echo "fuzz_$t: $(ls "fuzz/regressions/$t" | wc -l) regression inputs pass"
+  fi
+  limit=(-max_total_time="$secs")
+  [ -n "${FUZZ_RUNS:-}" ] && limit+=(-runs="$FUZZ_RUNS")
+  if "$bin" "${limit[@]}" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$art/" \
+      "$corpus" "${dirs[@]}" > "$dir/$t.log" 2>&1; then
+    runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$dir/$t.log")
+    rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$dir/$t.log")
+    echo "fuzz_$t: $runs executions, $rate/s, corpus $(ls "$corpus" | wc -l) inputs"
+  else
+    echo "fuzz_$t: FOUND SOMETHING (log: $dir/$t.log; input in $art/)"
+    grep -m3 -E 'ERROR|runtime error|terminate|deadly|timeout' "$dir/$t.log" || true
+    failed+=("$t")
+  fi
+done
+if [ ${#failed[@]} -gt 0 ]; then
+  echo "fuzzing found problems in: ${failed[*]}"
+  exit 1
+fi
