@@ -10,7 +10,7 @@ set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 secs="${1:-5}"
 dir="${FUZZ_BUILD_DIR:-build-fuzz}"
-all="tape job_toml machine_toml thr svg dxf csv_points units expr options protocol_host protocol_controller"
+all="tape job_toml machine_toml thr svg dxf csv_points units expr options protocol_host protocol_controller image vcd"
 read -r -a targets <<< "${FUZZ_TARGETS:-$all}"
 
 launcher=()
@@ -30,6 +30,7 @@ seeds() {  # target -> the files that seed it
     thr) find examples/patterns -name '*.thr' -size -16k ;;
     svg) ls examples/patterns/*.svg tests/data/svg/*.svg ;;
     dxf) ls examples/*.dxf ;;
+    image) ls examples/templates/*.png ;;
   esac 2> /dev/null || true
 }
 
@@ -53,7 +54,7 @@ for t in "${targets[@]}"; do
     fi
     echo "fuzz_$t: $(ls "fuzz/regressions/$t" | wc -l) regression inputs pass"
   fi
-  limit=(-max_total_time="$secs")
+  limit=(-max_total_time="$secs" -seed=1)  # a fixed seed: the same run on every machine
   [ -n "${FUZZ_RUNS:-}" ] && limit+=(-runs="$FUZZ_RUNS")
   if "$bin" "${limit[@]}" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$art/" \
       "$corpus" "${dirs[@]}" > "$dir/$t.log" 2>&1; then

@@ -1,0 +1,17 @@
+// Encoder recordings (capture/capture.hpp): decode_capture of the bytes as a VCD file and as a CSV file, with the
+// default options (the four channels r_a r_b theta_a theta_b, one step per count, no sink).
+#include <sstream>
+
+#include "capture/capture.hpp"
+#include "fuzz/fuzz_common.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  using namespace polarcam;
+  const std::string text(fuzz::as_text(data, size));
+  for (CaptureFormat f : {CaptureFormat::vcd, CaptureFormat::csv})
+    fuzz::expect_typed([&] {
+      std::istringstream in(text);
+      decode_capture(in, "fuzz", f, {}, nullptr);
+    });
+  return 0;
+}
