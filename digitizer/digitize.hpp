@@ -34,6 +34,12 @@ class StepSink {
   virtual ~StepSink() = default;
   // axis kAxisRadial or kAxisAngular, dir +1 or -1, t_ns cumulative time of the step from the start
   virtual void step(int axis, int dir, int64_t t_ns) = 0;
+  // The tool lifted (down = false) or lowered (down = true) at t_ns, between the contours of a job on a machine
+  // that lifts its tool (pipeline/job_tape). Sinks that only count or follow the nodes ignore it.
+  virtual void tool(bool down, int64_t t_ns) {
+    (void)down;
+    (void)t_ns;
+  }
 };
 
 // Checks the track against the work area and chooses the angular branch: returns the multiple of 2 pi added to
