@@ -51,6 +51,9 @@ double place_on_grid(const PolarTrack& track, const Grid& grid);
 // (theta_rho.hpp).
 double place_on_grid_arm(const AxisTrack& track, double c, const Grid& grid);
 
+// Checks the track against the work area on the angular branch `shift` given (InputError as place_on_grid_arm).
+void check_on_grid_arm(const AxisTrack& track, double c, const Grid& grid, double shift);
+
 struct AxisSummary {
   uint64_t plus = 0, minus = 0;
   double max_rate_hz = 0.0;              // max over the path of V |df/ds| (steps per second, geometric)
@@ -77,5 +80,13 @@ DigitizeResult digitize(const PolarTrack& track, const Grid& grid, StepRule rule
 // Digitizes the track of an arm with radial coupling c (m/rad) as above; digitize() of a polar track is c = 0.
 DigitizeResult digitize_arm(const AxisTrack& track, double c, const Grid& grid, StepRule rule,
                             const SpeedProfile& profile, StepSink* sink);
+// One piece of a job of several tracks (the contours of a multi-contour job and the rapid moves between them,
+// pipeline/job_tape): the track on the angular branch `shift` given (checked against the work area), its
+// quantisers continuing from `start_node` (the node the previous piece ended on, so that the steps of all pieces
+// add up to the job's end node less its start node), its steps timed from t0_ns on the tape's clock. The result's
+// times (duration, last step) are the piece's own, from its start.
+DigitizeResult digitize_arm_from(const AxisTrack& track, double c, const Grid& grid, StepRule rule,
+                                 const SpeedProfile& profile, StepSink* sink, double shift,
+                                 const int64_t start_node[2], int64_t t0_ns);
 
 }  // namespace polarcam

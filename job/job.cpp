@@ -103,6 +103,15 @@ Machine parse_machine(Section& machine, const jobfile::MachineTables& tables, js
     m.max_angular_speed = *w;
     pm["max_angular_speed_rad_s"] = *w;
   }
+  if (auto lift = machine.boolean("tool_lift")) {
+    m.tool_lift = *lift;
+    if (*lift) pm["tool_lift"] = true;
+  }
+  if (auto v = machine.quantity("rapid_speed", dim::speed)) {
+    if (!(*v > 0.0) || !std::isfinite(*v)) machine.fail("rapid_speed", "must be a positive speed (e.g. \"100 mm/s\")");
+    m.rapid_speed = *v;
+    pm["rapid_speed_mps"] = *v;
+  }
   m.dynamics = jobfile::parse_dynamics(machine, tables);
   machine.finish();
   return m;

@@ -33,7 +33,7 @@ std::string extension(const std::string& path) {
 
 // The contour of a pattern file, in the machine's frame (the pattern's origin is the machine pole).
 CurvePtr pattern_contour(const std::string& path, const Machine& m, double tolerance, json& prov, std::string& kind,
-                         size_t& contours) {
+                         size_t& contours, std::vector<CurvePtr>& parts) {
   const std::string ext = extension(path);
   const std::string name = std::filesystem::path(path).filename().string();
   if (ext == ".thr") {
@@ -86,6 +86,9 @@ CurvePtr pattern_contour(const std::string& path, const Machine& m, double toler
     prov["centre_m"] = {centre.x, centre.y};
     contours = curves.size();
     if (curves.size() == 1) return curves.front();
+    // a machine that lifts its tool steps each contour as it is (pipeline/job_tape); the joined path below is the
+    // job's one path for the commands that take one
+    if (m.tool_lift) parts = curves;
     // several contours: one theta-rho path, joined by the moves a sand table makes between them
     std::vector<ThetaRho> all;
     for (size_t i = 0; i < curves.size(); ++i) {
@@ -116,7 +119,8 @@ Job pattern_job(const std::string& path, const PatternOptions& o) {
   prov["format"] = "polarcam-job/1";
   job.machine = load_machine(o.machine_file, &prov["machine"]);
   if (!(o.tolerance > 0.0)) throw InputError("must be a positive length", "--tolerance");
-  job.contour = pattern_contour(path, job.machine, o.tolerance, prov["contour"], job.contour_kind, job.contours);
+  job.contour = pattern_contour(path, job.machine, o.tolerance, prov["contour"], job.contour_kind, job.contours,
+                                job.parts);
   prov["placement"] = {{"C_m", 0.0}, {"beta_rad", 0.0}};
   job.tool.side = ToolSide::left;
   prov["tool"] = {{"radius_m", 0.0}, {"side", "left"}};

@@ -5,7 +5,8 @@
 // (docs/patterns.md). An SVG drawing is centred on the pole and scaled to fit the work area (the circle of the
 // machine's r_max, less 2 %); several contours (an SVG's subpaths) are joined in order into one theta-rho path,
 // each contour within `tolerance` of its curve and the connecting moves linear in theta and rho, as a sand table
-// draws them; a single contour keeps its exact curve.
+// draws them; a single contour keeps its exact curve. On a machine that lifts its tool (tool_lift) the contours are
+// also kept one by one (Job::parts), to be joined by rapid moves with the tool up.
 #include <optional>
 #include <string>
 
