@@ -54,7 +54,17 @@ nlohmann::ordered_json summary_json(const Job& job, const DigitizedJob& d, const
   nlohmann::ordered_json j;
   j["job"] = job.file;
   j["contour"] = job.contour->name();
-  j["contours"] = job.contours;  // contours in the job, joined in order into one tool path
+  j["contours"] = job.contours;  // contours in the job, joined in order (drawn, or by rapid moves with the tool up)
+  j["tool_lift"] = d.lifted.has_value();
+  if (d.lifted) {
+    j["tool_events"] = 2 * d.lifted->paths.size() - 2;
+    j["drawn_length_m"] = d.lifted->drawn_length_m;
+    j["rapid_moves"] = d.lifted->rapids.size();
+    j["rapid_length_m"] = d.lifted->rapid_length_m;
+    j["rapid_time_s"] = d.lifted->rapid_time_s;
+    j["rapid_steps"] = d.lifted->rapid_steps;
+    j["rapid_speed_mps"] = job_rapid_speed(job);
+  }
   j["closed"] = r.closed;
   j["rule"] = to_string(job.motion.rule);
   j["steps_radial"] = r.radial.steps();
@@ -78,10 +88,11 @@ nlohmann::ordered_json summary_json(const Job& job, const DigitizedJob& d, const
   j["radial_resolution_m"] = job.machine.grid.dr;
   j["angular_resolution_rad"] = job.machine.grid.dtheta;
   j["angular_steps_per_rev"] = job.machine.grid.steps_per_rev;
-  j["r_min_path_m"] = d.track.r_min().value;
-  j["r_max_path_m"] = d.track.r_max().value;
-  j["theta_min_path_rad"] = d.track.theta_min().value + r.theta_shift;
-  j["theta_max_path_rad"] = d.track.theta_max().value + r.theta_shift;
+  const PathRanges pr = path_ranges(d);
+  j["r_min_path_m"] = pr.r_min;
+  j["r_max_path_m"] = pr.r_max;
+  j["theta_min_path_rad"] = pr.theta_min;
+  j["theta_max_path_rad"] = pr.theta_max;
   if (const auto* t = dynamic_cast<const TemplateSpeed*>(d.profile.get())) j["template_speed"] = template_json(job, *t);
   if (!out.empty()) j["tape"] = out;
   return j;
@@ -99,9 +110,14 @@ std::string summary_text(const Job& job, const DigitizedJob& d, const std::strin
   os << "  grid       dR = " << fmt(job.machine.grid.dr * 1e3) << " mm, dtheta = " << fmt(job.machine.grid.dtheta) << " rad";
   if (job.machine.grid.steps_per_rev) os << " (" << job.machine.grid.steps_per_rev << " steps/rev)";
   os << ", rule " << to_string(job.motion.rule) << "\n";
-  os << "  path       " << fmt(r.path_length_m * 1e3) << " mm long, r " << fmt(d.track.r_min().value * 1e3) << " .. "
-     << fmt(d.track.r_max().value * 1e3) << " mm, theta " << fmt(d.track.theta_min().value + r.theta_shift) << " .. "
-     << fmt(d.track.theta_max().value + r.theta_shift) << " rad\n";
+  const PathRanges pr = path_ranges(d);
+  os << "  path       " << fmt(r.path_length_m * 1e3) << " mm long, r " << fmt(pr.r_min * 1e3) << " .. "
+     << fmt(pr.r_max * 1e3) << " mm, theta " << fmt(pr.theta_min) << " .. " << fmt(pr.theta_max) << " rad\n";
+  if (d.lifted)
+    os << "  contours   " << d.lifted->paths.size() << ", " << fmt(d.lifted->drawn_length_m * 1e3)
+       << " mm drawn; tool lifted between them: " << d.lifted->rapids.size() << " rapid moves, "
+       << fmt(d.lifted->rapid_length_m * 1e3) << " mm in " << fmt(d.lifted->rapid_time_s) << " s at "
+       << fmt(job_rapid_speed(job) * 1e3) << " mm/s\n";
   os << "  steps      radial " << thousands(r.radial.steps()) << " (+" << thousands(r.radial.plus) << " / -"
      << thousands(r.radial.minus) << "), angular " << thousands(r.angular.steps()) << " (+" << thousands(r.angular.plus)
      << " / -" << thousands(r.angular.minus) << "), total " << thousands(r.radial.steps() + r.angular.steps()) << "\n";

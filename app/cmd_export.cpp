@@ -10,6 +10,7 @@
 #include "cam/units.hpp"
 #include "io/output.hpp"
 #include "pipeline/job_export.hpp"
+#include "pipeline/job_tape.hpp"
 
 namespace polarcam::cli {
 namespace {
@@ -31,6 +32,8 @@ nlohmann::ordered_json summary_json(const Job& job, const ExportOptions& eo, con
   j["tolerance_m"] = eo.tolerance;
   j["path_length_m"] = r.path_length_m;
   j["rho_max_m"] = r.rho_max_m;
+  j["contours"] = job.contours;
+  j["tool_lift"] = job_lifts_tool(job);
   if (eo.format == ExportFormat::svg) {
     j["points"] = r.points;
   } else {
@@ -46,6 +49,11 @@ nlohmann::ordered_json summary_json(const Job& job, const ExportOptions& eo, con
     j["g1"] = g.g1;
     j["limited"] = g.limited;
     j["centre_turns"] = g.centre_turns;
+    if (job_lifts_tool(job)) {
+      j["pen_ups"] = g.pen_ups;
+      j["pen_downs"] = g.pen_downs;
+      j["rapids"] = g.rapids;
+    }
     j["duration_s"] = g.duration_s;
     j["max_speed_error_pct"] = g.max_speed_error_pct;
     j["ball_speed_min_mps"] = g.ball_speed_min_mps;

@@ -43,6 +43,10 @@ nlohmann::ordered_json header_json(const TapeHeader& h, const std::string& path)
   j["closed"] = h.closed;
   j["returns_to_start"] = h.returns_to_start;
   j["steps_total"] = h.record_count;
+  if (h.version >= kTapeVersionEvents) {
+    j["tool_events"] = h.event_count;
+    j["tool_starts"] = h.tool_starts_up ? "up" : "down";
+  }
   const char* a0 = h.axes == TapeAxes::polar ? "radial" : "x";
   const char* a1 = h.axes == TapeAxes::polar ? "angular" : "y";
   j[std::string("steps_") + a0] = h.plus[0] + h.minus[0];
@@ -75,7 +79,8 @@ void register_inspect(CLI::App& app, Action& action) {
   CLI::App* c = app.add_subcommand("inspect", "Check a step tape and print its header, or every step");
   c->add_option("tape", o->tape, "step tape")->required();
   auto* fj = c->add_flag("--json", o->json, "print the header and totals as JSON");
-  auto* fc = c->add_flag("--csv", o->csv, "print every step: t_ns,axis,dir,n,m (node after the step)");
+  auto* fc = c->add_flag("--csv", o->csv, "print every step: t_ns,axis,dir,n,m (node after the step); a tool event "
+                                          "as t_ns,tool,up|down,n,m");
   fj->excludes(fc);
   c->callback([o, &action] {
     action = [o] {
@@ -91,6 +96,13 @@ void register_inspect(CLI::App& app, Action& action) {
         buf += "t_ns,axis,dir,n,m\n";
         char line[128];
         const double ns_per_tick = static_cast<double>(h.tick_ps) * 1e-3;
+        rd.on_tool_event([&](const ToolEvent& e) {
+          unsigned long long t = h.tick_ps == 1000 ? e.t_ticks
+                                                   : static_cast<unsigned long long>(static_cast<double>(e.t_ticks) * ns_per_tick + 0.5);
+          int n = std::snprintf(line, sizeof line, "%llu,tool,%s,%lld,%lld\n", t, e.down ? "down" : "up",
+                                static_cast<long long>(rp.node()[0]), static_cast<long long>(rp.node()[1]));
+          buf.append(line, static_cast<size_t>(n));
+        });
         while (rp.next(s)) {
           unsigned long long t = h.tick_ps == 1000 ? s.t_ticks
                                                    : static_cast<unsigned long long>(static_cast<double>(s.t_ticks) * ns_per_tick + 0.5);
@@ -122,6 +134,9 @@ void register_inspect(CLI::App& app, Action& action) {
       os << "  steps     " << thousands(h.record_count) << " (" << axis_name(h, 0) << " +" << thousands(h.plus[0])
          << " / -" << thousands(h.minus[0]) << ", " << axis_name(h, 1) << " +" << thousands(h.plus[1]) << " / -"
          << thousands(h.minus[1]) << ")\n";
+      if (h.event_count > 0)
+        os << "  tool      " << thousands(h.event_count) << " events (up / down), starting "
+           << (h.tool_starts_up ? "up" : "down") << "\n";
       os << "  time      " << j["duration_s"].get<double>() << " s, path " << h.path_length_m * 1e3 << " mm\n";
       os << "  nodes     start [" << h.start[0] << ", " << h.start[1] << "], end [" << h.end[0] << ", " << h.end[1]
          << "], home [" << h.home[0] << ", " << h.home[1] << "]\n";

@@ -42,8 +42,15 @@ void register_preview(CLI::App& app, Action& action) {
         j["input"] = o->input;
         j["output"] = o->out;
         j["steps"] = pv.steps;
-        j["stepped_points"] = pv.stepped.x.size();
-        j["path_points"] = pv.path.x.size();
+        size_t stepped = 0, rapid = 0, path = 0;
+        for (const Polyline& l : pv.stepped) stepped += l.x.size();
+        for (const Polyline& l : pv.rapids) rapid += l.x.size();
+        for (const Polyline& l : pv.path) path += l.x.size();
+        j["stepped_points"] = stepped;
+        j["path_points"] = path;
+        j["contours"] = pv.path.size();
+        j["rapid_moves"] = pv.rapids.size();
+        j["rapid_points"] = rapid;
         j["slowed_stretches"] = pv.slowed.size();
         j["start_mm"] = {pv.start[0], pv.start[1]};
         j["end_mm"] = {pv.end[0], pv.end[1]};

@@ -62,6 +62,7 @@ struct Emitter {
   const SpeedProfile* profile;
   StepSink* sink;
   DigitizeResult* res;
+  int64_t t0_ns = 0;  // the track's start on the tape's clock
   int64_t last_ns = 0;
   int64_t last_axis_ns[2] = {0, 0};
   uint64_t count[2] = {0, 0};
@@ -71,6 +72,7 @@ struct Emitter {
     int64_t ns = std::llround(t * 1e9);
     if (ns < last_ns) ns = last_ns;
     last_ns = ns;
+    ns += t0_ns;
     AxisSummary& ax = axis == kAxisRadial ? res->radial : res->angular;
     if (count[axis] > 0) {
       int64_t iv = ns - last_axis_ns[axis];
@@ -133,6 +135,8 @@ void max_rates(const AxisTrack& tr, const Grid& grid, const SpeedProfile& prof, 
   }
 }
 
+void check_radius(const AxisTrack& tr, double c, const Grid& grid, double shift);
+
 }  // namespace
 
 double place_on_grid_arm(const AxisTrack& tr, double c, const Grid& grid) {
@@ -158,6 +162,13 @@ double place_on_grid_arm(const AxisTrack& tr, double c, const Grid& grid) {
     double a0 = tr.pieces().front().q_a[1];
     shift = -kTwoPi * std::floor(a0 / kTwoPi);
   }
+  check_radius(tr, c, grid, shift);
+  return shift;
+}
+
+namespace {
+// The work area's radii about the track (whatever its angular branch).
+void check_radius(const AxisTrack& tr, double c, const Grid& grid, double shift) {
   // the work area bounds the ball's (tool's) radius r = q0 - c q1: r itself on a polar machine; on a coupled arm
   // the radial motor is geared to the arm and has no travel of its own to bound
   TrackExtent rmin = tr.q_min(0), rmax = tr.q_max(0);
@@ -170,15 +181,31 @@ double place_on_grid_arm(const AxisTrack& tr, double c, const Grid& grid) {
   if (grid.r_max && rmax.value > *grid.r_max + slack)
     throw InputError("the path leaves the work area: r reaches " + fmt(rmax.value * 1e3) + " mm > r_max " +
                      fmt(*grid.r_max * 1e3) + " mm " + where(tr, rmax, shift, c));
-  return shift;
+}
+}  // namespace
+
+void check_on_grid_arm(const AxisTrack& tr, double c, const Grid& grid, double shift) {
+  grid.validate();
+  if (grid.theta_min) {
+    const TrackExtent thmin = tr.q_min(1), thmax = tr.q_max(1);
+    if (thmin.value + shift < *grid.theta_min - 1e-12)
+      throw InputError("the path leaves the work area: theta falls to " + fmt(thmin.value + shift) + " rad < theta_min " +
+                       fmt(*grid.theta_min) + " rad " + where(tr, thmin, shift, c));
+    if (thmax.value + shift > *grid.theta_max + 1e-12)
+      throw InputError("the path leaves the work area: theta reaches " + fmt(thmax.value + shift) + " rad > theta_max " +
+                       fmt(*grid.theta_max) + " rad " + where(tr, thmax, shift, c));
+  }
+  check_radius(tr, c, grid, shift);
 }
 
 double place_on_grid(const PolarTrack& tr, const Grid& grid) { return place_on_grid_arm(tr, 0.0, grid); }
 
-DigitizeResult digitize_arm(const AxisTrack& tr, double c, const Grid& grid, StepRule rule,
-                            const SpeedProfile& profile, StepSink* sink) {
+namespace {
+
+// The walk of digitize_arm and digitize_arm_from: `from` null starts on the track's own start node.
+DigitizeResult walk_track(const AxisTrack& tr, double c, const Grid& grid, StepRule rule, const SpeedProfile& profile,
+                          StepSink* sink, double shift, const int64_t* from, int64_t t0_ns) {
   DigitizeResult res;
-  const double shift = place_on_grid_arm(tr, c, grid);
   res.theta_shift = shift;
   res.closed = tr.closed();
   res.winding = tr.winding();
@@ -212,7 +239,10 @@ DigitizeResult digitize_arm(const AxisTrack& tr, double c, const Grid& grid, Ste
   int64_t node[2];
   for (int a = 0; a < 2; ++a)
     node[a] = static_cast<int64_t>(rule == StepRule::nearest ? std::floor(f0[a] + 0.5) : std::floor(f0[a]));
-  if (rule == StepRule::thesis && tr.closed()) {
+  if (from) {
+    node[0] = from[0];
+    node[1] = from[1];
+  } else if (rule == StepRule::thesis && tr.closed()) {
     // start from the node the quantiser holds after one lap, so the tape is periodic
     int64_t lap[2] = {node[0], node[1]};
     walk_steps<false, DigitizerStyle>(tr, wg, lap, [](int, int, double) {});
@@ -223,14 +253,14 @@ DigitizeResult digitize_arm(const AxisTrack& tr, double c, const Grid& grid, Ste
   res.start_n = node[0];
   res.start_m = node[1];
 
-  Emitter em{&profile, sink, &res};
+  Emitter em{&profile, sink, &res, t0_ns};
   walk_steps<true, DigitizerStyle>(tr, wg, node, em);
   res.end_n = node[0];
   res.end_m = node[1];
   res.last_step_ns = em.last_ns;
   if (res.duration_ns < res.last_step_ns) res.duration_ns = res.last_step_ns;
 
-  if (tr.closed()) {
+  if (tr.closed() && !from) {
     res.returns_to_start = res.end_n == res.start_n &&
                            (grid.steps_per_rev > 0
                                 ? res.end_m == res.start_m + static_cast<int64_t>(tr.winding()) * grid.steps_per_rev
@@ -239,6 +269,21 @@ DigitizeResult digitize_arm(const AxisTrack& tr, double c, const Grid& grid, Ste
       throw std::logic_error("internal error: a closed path did not return to its start node");
   }
   return res;
+}
+
+}  // namespace
+
+DigitizeResult digitize_arm(const AxisTrack& tr, double c, const Grid& grid, StepRule rule,
+                            const SpeedProfile& profile, StepSink* sink) {
+  const double shift = place_on_grid_arm(tr, c, grid);
+  return walk_track(tr, c, grid, rule, profile, sink, shift, nullptr, 0);
+}
+
+DigitizeResult digitize_arm_from(const AxisTrack& tr, double c, const Grid& grid, StepRule rule,
+                                 const SpeedProfile& profile, StepSink* sink, double shift,
+                                 const int64_t start_node[2], int64_t t0_ns) {
+  check_on_grid_arm(tr, c, grid, shift);
+  return walk_track(tr, c, grid, rule, profile, sink, shift, start_node, t0_ns);
 }
 
 DigitizeResult digitize(const PolarTrack& tr, const Grid& grid, StepRule rule, const SpeedProfile& profile,

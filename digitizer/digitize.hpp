@@ -34,6 +34,12 @@ class StepSink {
   virtual ~StepSink() = default;
   // axis kAxisRadial or kAxisAngular, dir +1 or -1, t_ns cumulative time of the step from the start
   virtual void step(int axis, int dir, int64_t t_ns) = 0;
+  // The tool lifted (down = false) or lowered (down = true) at t_ns, between the contours of a job on a machine
+  // that lifts its tool (pipeline/job_tape). Sinks that only count or follow the nodes ignore it.
+  virtual void tool(bool down, int64_t t_ns) {
+    (void)down;
+    (void)t_ns;
+  }
 };
 
 // Checks the track against the work area and chooses the angular branch: returns the multiple of 2 pi added to
@@ -44,6 +50,9 @@ double place_on_grid(const PolarTrack& track, const Grid& grid);
 // machine) and whose angular motor at theta (axis 1): r_min and r_max bound the ball's radius r = q - c theta
 // (theta_rho.hpp).
 double place_on_grid_arm(const AxisTrack& track, double c, const Grid& grid);
+
+// Checks the track against the work area on the angular branch `shift` given (InputError as place_on_grid_arm).
+void check_on_grid_arm(const AxisTrack& track, double c, const Grid& grid, double shift);
 
 struct AxisSummary {
   uint64_t plus = 0, minus = 0;
@@ -71,5 +80,13 @@ DigitizeResult digitize(const PolarTrack& track, const Grid& grid, StepRule rule
 // Digitizes the track of an arm with radial coupling c (m/rad) as above; digitize() of a polar track is c = 0.
 DigitizeResult digitize_arm(const AxisTrack& track, double c, const Grid& grid, StepRule rule,
                             const SpeedProfile& profile, StepSink* sink);
+// One piece of a job of several tracks (the contours of a multi-contour job and the rapid moves between them,
+// pipeline/job_tape): the track on the angular branch `shift` given (checked against the work area), its
+// quantisers continuing from `start_node` (the node the previous piece ended on, so that the steps of all pieces
+// add up to the job's end node less its start node), its steps timed from t0_ns on the tape's clock. The result's
+// times (duration, last step) are the piece's own, from its start.
+DigitizeResult digitize_arm_from(const AxisTrack& track, double c, const Grid& grid, StepRule rule,
+                                 const SpeedProfile& profile, StepSink* sink, double shift,
+                                 const int64_t start_node[2], int64_t t0_ns);
 
 }  // namespace polarcam

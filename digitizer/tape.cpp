@@ -83,9 +83,11 @@ enum : size_t {
   kOffThmax = 80, kOffHome0 = 88, kOffHome1 = 96, kOffStart0 = 104, kOffStart1 = 112, kOffEnd0 = 120,
   kOffEnd1 = 128, kOffCount = 136, kOffPlus0 = 144, kOffMinus0 = 152, kOffPlus1 = 160, kOffMinus1 = 168,
   kOffDuration = 176, kOffLastStep = 184, kOffRecBytes = 192, kOffSpeed = 200, kOffLength = 208,
-  kOffRecCrc = 216, kOffHdrCrc = 220
+  kOffRecCrc = 216, kOffHdrCrc = 220, kOffEvents = 224
 };
-enum : uint16_t { kFlagClosed = 1, kFlagRmax = 2, kFlagTheta = 4, kFlagReturns = 8 };
+enum : uint16_t { kFlagClosed = 1, kFlagRmax = 2, kFlagTheta = 4, kFlagReturns = 8, kFlagToolUp = 16 };
+// A tool event's prefix (version 2): an overlong varint of zero, which no step record is written as.
+constexpr uint8_t kEventPrefix[2] = {0x80, 0x00};
 
 std::vector<uint8_t> encode_header(const TapeHeader& h) {
   std::vector<uint8_t> b(kTapeFixedHeader + h.provenance.size(), 0);
@@ -98,6 +100,7 @@ std::vector<uint8_t> encode_header(const TapeHeader& h) {
   w.u8(kOffRule, static_cast<uint8_t>(h.rule));
   uint16_t flags = (h.closed ? kFlagClosed : 0) | (h.has_r_max ? kFlagRmax : 0) | (h.has_theta_range ? kFlagTheta : 0) |
                    (h.returns_to_start ? kFlagReturns : 0);
+  if (h.version >= kTapeVersionEvents && h.tool_starts_up) flags |= kFlagToolUp;
   w.u16(kOffFlags, flags);
   w.u64(kOffTick, h.tick_ps);
   w.f64(kOffRes0, h.res[0]);
@@ -124,6 +127,7 @@ std::vector<uint8_t> encode_header(const TapeHeader& h) {
   w.f64(kOffSpeed, h.speed_mps);
   w.f64(kOffLength, h.path_length_m);
   w.u32(kOffRecCrc, h.records_crc);
+  if (h.version >= kTapeVersionEvents) w.u64(kOffEvents, h.event_count);
   std::memcpy(b.data() + kTapeFixedHeader, h.provenance.data(), h.provenance.size());
   uint32_t hc = static_cast<uint32_t>(crc32(0L, b.data(), static_cast<uInt>(b.size())));
   w.u32(kOffHdrCrc, hc);
@@ -144,6 +148,8 @@ TapeWriter::TapeWriter(const std::string& path, const TapeHeader& h) : path_(pat
     throw DeviceError(std::string("cannot write (") + std::strerror(errno) + ")", path);
   buf_.reserve(kBuf + 16);
   crc_ = static_cast<uint32_t>(crc32(0L, Z_NULL, 0));
+  tool_starts_up_ = h.tool_starts_up;
+  tool_down_ = !h.tool_starts_up;
 }
 
 TapeWriter::~TapeWriter() = default;  // an unfinished tape's temporary file goes with out_
@@ -171,6 +177,27 @@ void TapeWriter::step(int axis, int dir, int64_t t_ns) {
   write(r);
 }
 
+void TapeWriter::tool(bool down, int64_t t_ns) {
+  if (down == tool_down_)
+    throw std::logic_error(std::string("internal error: the tool is already ") + (down ? "down" : "up"));
+  if (t_ns < last_ns_) throw std::logic_error("internal error: a tool event before the previous record");
+  const uint64_t interval = static_cast<uint64_t>(t_ns - last_ns_);
+  if (interval >> 62) throw std::length_error("tape interval does not fit 62 bits");
+  last_ns_ = t_ns;
+  buf_.push_back(kEventPrefix[0]);
+  buf_.push_back(kEventPrefix[1]);
+  uint64_t v = (interval << 2) | (down ? 1u : 0u);
+  do {
+    uint8_t byte = v & 0x7f;
+    v >>= 7;
+    buf_.push_back(v ? (byte | 0x80) : byte);
+  } while (v);
+  tool_down_ = down;
+  ++events_;
+  cum_ticks_ += interval;
+  if (buf_.size() >= kBuf) flush();
+}
+
 void TapeWriter::flush() {
   if (buf_.empty()) return;
   crc_ = static_cast<uint32_t>(crc32(crc_, buf_.data(), static_cast<uInt>(buf_.size())));
@@ -186,6 +213,9 @@ void TapeWriter::finish(TapeHeader h) {
   h.records_bytes = bytes_;
   h.records_crc = crc_;
   h.last_step_ticks = cum_ticks_;
+  h.version = events_ > 0 ? kTapeVersionEvents : kTapeVersion;
+  h.event_count = events_;
+  h.tool_starts_up = events_ > 0 && tool_starts_up_;
   for (int a = 0; a < 2; ++a) {
     h.plus[a] = plus_[a];
     h.minus[a] = minus_[a];
@@ -221,9 +251,9 @@ TapeReader::TapeReader(const std::string& path) : path_(path) {
   if (got < 16 || std::memcmp(fixed.data(), kMagic, 8) != 0) fail("not a polarcam tape (bad magic)");
   Get g{fixed.data()};
   h_.version = g.u16(kOffVersion);
-  if (h_.version != kTapeVersion)
-    fail("tape format version " + std::to_string(h_.version) + " is not supported (this polarcam reads version " +
-         std::to_string(kTapeVersion) + ")");
+  if (h_.version != kTapeVersion && h_.version != kTapeVersionEvents)
+    fail("tape format version " + std::to_string(h_.version) + " is not supported (this polarcam reads versions " +
+         std::to_string(kTapeVersion) + " and " + std::to_string(kTapeVersionEvents) + ")");
   if (got < kTapeFixedHeader) fail("the header is truncated");
   if (g.u16(kOffFixed) != kTapeFixedHeader) fail("the header size is wrong");
   uint32_t plen = g.u32(kOffProvLen);
@@ -246,6 +276,11 @@ TapeReader::TapeReader(const std::string& path) : path_(path) {
   h_.has_r_max = flags & kFlagRmax;
   h_.has_theta_range = flags & kFlagTheta;
   h_.returns_to_start = flags & kFlagReturns;
+  if (h_.version >= kTapeVersionEvents) {
+    h_.tool_starts_up = flags & kFlagToolUp;
+    h_.event_count = g.u64(kOffEvents);
+  }
+  tool_down_ = !h_.tool_starts_up;
   h_.tick_ps = g.u64(kOffTick);
   h_.res[0] = g.f64(kOffRes0);
   h_.res[1] = g.f64(kOffRes1);
@@ -321,6 +356,8 @@ void TapeReader::validate_header() const {
   }
   if (h_.plus[0] + h_.minus[0] + h_.plus[1] + h_.minus[1] != h_.record_count)
     fail("the header's step totals do not add up to its record count");
+  if (h_.event_count > h_.records_bytes / 3)
+    fail("the header's tool event count (" + std::to_string(h_.event_count) + ") does not fit its records' bytes");
   const uint64_t max_ticks = max_time_ticks();
   if (h_.duration_ticks > max_ticks || h_.last_step_ticks > max_ticks)
     fail("the header's duration or last step time exceeds 2^62 ns (about 146 years)");
@@ -349,48 +386,104 @@ bool TapeReader::fill() {
 
 bool TapeReader::next(StepRecord& r) {
   if (finished_) return false;
-  if (n_ == h_.record_count) {
-    // all records read: nothing may follow, and the totals must agree
-    if (pos_ < len_ || fill()) fail("unexpected data after record " + std::to_string(n_));
-    if (bytes_ != h_.records_bytes)
-      fail("the records take " + std::to_string(bytes_) + " bytes but the header says " + std::to_string(h_.records_bytes));
-    if (crc_ != h_.records_crc) fail("the records' checksum does not match (the tape is corrupted)");
-    for (int a = 0; a < 2; ++a)
-      if (h_.plus[a] != plus_[a] || h_.minus[a] != minus_[a])
-        fail("the step counts of axis " + std::to_string(a) + " do not match the header");
-    if (cum_ != h_.last_step_ticks) fail("the record intervals do not add up to the header's last step time");
-    finished_ = true;
-    return false;
-  }
-  uint64_t v = 0;
-  int shift = 0;
   for (;;) {
-    if (pos_ == len_ && !fill())
-      fail("record " + std::to_string(n_ + 1) + " of " + std::to_string(h_.record_count) + " is missing (the tape is truncated)");
-    uint8_t b = buf_[pos_++];
-    if (shift == 63 && (b & 0x7e)) fail("record " + std::to_string(n_ + 1) + " is malformed (varint overflow)");
-    v |= static_cast<uint64_t>(b & 0x7f) << shift;
-    if (!(b & 0x80)) break;
-    shift += 7;
-    if (shift > 63) fail("record " + std::to_string(n_ + 1) + " is malformed (varint too long)");
+    if (n_ == h_.record_count && events_ == h_.event_count) {
+      // all records read: nothing may follow, and the totals must agree
+      if (pos_ < len_ || fill()) fail("unexpected data after record " + std::to_string(n_));
+      if (bytes_ != h_.records_bytes)
+        fail("the records take " + std::to_string(bytes_) + " bytes but the header says " + std::to_string(h_.records_bytes));
+      if (crc_ != h_.records_crc) fail("the records' checksum does not match (the tape is corrupted)");
+      for (int a = 0; a < 2; ++a)
+        if (h_.plus[a] != plus_[a] || h_.minus[a] != minus_[a])
+          fail("the step counts of axis " + std::to_string(a) + " do not match the header");
+      if (cum_ != h_.last_step_ticks) fail("the record intervals do not add up to the header's last step time");
+      finished_ = true;
+      return false;
+    }
+    const std::string which = n_ < h_.record_count ? "record " + std::to_string(n_ + 1)
+                                                   : "tool event " + std::to_string(events_ + 1);
+    uint64_t v = 0;
+    int shift = 0, nbytes = 0;
+    uint8_t b = 0;
+    for (;;) {
+      if (pos_ == len_ && !fill())
+        fail(h_.event_count == 0 ? which + " of " + std::to_string(h_.record_count) + " is missing (the tape is truncated)"
+                                 : which + " of " + std::to_string(h_.record_count) + " steps and " +
+                                       std::to_string(h_.event_count) + " tool events is missing (the tape is truncated)");
+      b = buf_[pos_++];
+      ++nbytes;
+      if (shift == 63 && (b & 0x7e)) fail(which + " is malformed (varint overflow)");
+      v |= static_cast<uint64_t>(b & 0x7f) << shift;
+      if (!(b & 0x80)) break;
+      shift += 7;
+      if (shift > 63) fail(which + " is malformed (varint too long)");
+    }
+    if (h_.version >= kTapeVersionEvents && nbytes > 1 && b == 0) {
+      // version 2: 0x80 0x00 announces a tool event; no other overlong varint is written
+      if (nbytes != 2) fail(which + " is malformed (an overlong varint)");
+      if (events_ == h_.event_count)
+        fail("tool event " + std::to_string(events_ + 1) + " is one more than the header's " +
+             std::to_string(h_.event_count));
+      const std::string ev = "tool event " + std::to_string(events_ + 1) + " (after step " + std::to_string(n_) + ")";
+      v = 0;
+      shift = 0;
+      for (;;) {
+        if (pos_ == len_ && !fill()) fail(ev + " is missing (the tape is truncated)");
+        b = buf_[pos_++];
+        if (shift == 63 && (b & 0x7e)) fail(ev + " is malformed (varint overflow)");
+        v |= static_cast<uint64_t>(b & 0x7f) << shift;
+        if (!(b & 0x80)) break;
+        shift += 7;
+        if (shift > 63) fail(ev + " is malformed (varint too long)");
+      }
+      if (v & 2) fail(ev + " has an unknown code " + std::to_string(v & 3) + " (0 tool up, 1 tool down)");
+      const bool down = v & 1;
+      if (down == tool_down_)
+        fail(ev + " puts the tool " + (down ? "down" : "up") + " where it already is: tool events must alternate");
+      const uint64_t interval = v >> 2;
+      if (interval > max_time_ticks() - cum_) fail(ev + " takes the tape's time beyond 2^62 ns (about 146 years)");
+      cum_ += interval;
+      pending_ += interval;
+      tool_down_ = down;
+      ++events_;
+      if (!on_event_)
+        fail(ev + ": this reader does not handle tool events (tool up / tool down, tape format version 2)");
+      on_event_(ToolEvent{cum_, down, n_});
+      continue;
+    }
+    if (n_ == h_.record_count) fail("record " + std::to_string(n_ + 1) + " is one more than the header's " + std::to_string(h_.record_count));
+    r.interval = v >> 2;
+    r.axis = static_cast<int>((v >> 1) & 1);
+    r.dir = (v & 1) ? 1 : -1;
+    ++n_;
+    (r.dir > 0 ? plus_ : minus_)[r.axis] += 1;
+    if (r.interval > max_time_ticks() - cum_)
+      fail("record " + std::to_string(n_) + " takes the tape's time beyond 2^62 ns (about 146 years)");
+    cum_ += r.interval;
+    r.interval += pending_;
+    pending_ = 0;
+    return true;
   }
-  r.interval = v >> 2;
-  r.axis = static_cast<int>((v >> 1) & 1);
-  r.dir = (v & 1) ? 1 : -1;
-  ++n_;
-  (r.dir > 0 ? plus_ : minus_)[r.axis] += 1;
-  if (r.interval > max_time_ticks() - cum_)
-    fail("record " + std::to_string(n_) + " takes the tape's time beyond 2^62 ns (about 146 years)");
-  cum_ += r.interval;
-  return true;
 }
 
 TapeHeader verify_tape(const std::string& path) {
   TapeReader rd(path);
+  rd.on_tool_event([](const ToolEvent&) {});
   StepRecord r;
   while (rd.next(r)) {
   }
   return rd.header();
+}
+
+}  // namespace polarcam
+
+namespace polarcam {
+
+void refuse_tool_events(const TapeHeader& h, const std::string& path, const std::string& what, const std::string& advice) {
+  if (h.event_count > 0)
+    throw InputError(what + " does not handle tool events (tool up / tool down, " + std::to_string(h.event_count) +
+                         " in this tape): " + advice,
+                     path);
 }
 
 }  // namespace polarcam

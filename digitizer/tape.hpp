@@ -4,10 +4,14 @@
 // JSON provenance block (the job that made it), then one LEB128 varint per step:
 //   value = (interval_ticks << 2) | (axis << 1) | (direction > 0)
 // where interval_ticks is the time since the previous step (tick = 1 ns) and axis 0/1 is r/theta on a polar
-// tape, x/y on a Cartesian one. Writer and reader stream with O(1) memory; the writer writes to a temporary file
+// tape, x/y on a Cartesian one. Version 2 adds tool events (tool up, tool down) to the record stream: the two
+// bytes 0x80 0x00 (an overlong zero, which no step is written as) followed by one varint
+//   value = (interval_ticks << 2) | (down ? 1 : 0)
+// and a tape without tool events is written as version 1, byte for byte as before. Writer and reader stream with O(1) memory; the writer writes to a temporary file
 // and puts it in place only when the tape is complete (io/output.hpp: renamed over a file, copied into a device).
 #include <cstdint>
 #include <cstdio>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -17,7 +21,8 @@
 
 namespace polarcam {
 
-inline constexpr uint16_t kTapeVersion = 1;
+inline constexpr uint16_t kTapeVersion = 1;         // a tape without tool events
+inline constexpr uint16_t kTapeVersionEvents = 2;   // a tape with tool events (tool up / tool down)
 inline constexpr uint32_t kTapeFixedHeader = 256;
 
 enum class TapeAxes : uint8_t { polar = 0, cartesian = 1 };
@@ -45,6 +50,10 @@ struct TapeHeader {
   uint64_t records_bytes = 0;
   double speed_mps = 0, path_length_m = 0;
   uint32_t records_crc = 0, header_crc = 0;
+  // version 2: the tool events in the record stream, and the tool's state before the first record (down unless
+  // the header says up); events alternate from that state
+  uint64_t event_count = 0;
+  bool tool_starts_up = false;
   std::string provenance;           // JSON text
 };
 
@@ -52,6 +61,14 @@ struct StepRecord {
   uint64_t interval = 0;  // ticks since the previous step
   int axis = 0;
   int dir = 1;
+};
+
+// A tool event of a version 2 tape: the tool lifted (down = false) or lowered (down = true) at t_ticks, the
+// cumulative time from the start of the tape.
+struct ToolEvent {
+  uint64_t t_ticks = 0;
+  bool down = false;
+  uint64_t steps_before = 0;  // steps read before the event
 };
 
 class TapeWriter final : public StepSink {
@@ -65,9 +82,13 @@ class TapeWriter final : public StepSink {
 
   void step(int axis, int dir, int64_t t_ns) override;
   void write(const StepRecord& r);  // raw record (interval already relative)
+  // A tool event at t_ns (>= the last record's time). The tool starts down (or up when the constructor's header
+  // says tool_starts_up); events must alternate (std::logic_error otherwise). A tape with events is version 2.
+  void tool(bool down, int64_t t_ns) override;
 
   // Completes the header (caller's start/end nodes, durations and flags; the writer's own totals and CRCs),
   // checks that the end node equals the start node plus the steps written, and renames the file into place.
+  // The version is 1 when no tool event was written (the bytes of a version 1 tape), else 2.
   void finish(TapeHeader h);
 
  private:
@@ -81,6 +102,8 @@ class TapeWriter final : public StepSink {
   int64_t last_ns_ = 0;
   uint64_t cum_ticks_ = 0;
   size_t header_size_ = 0;
+  uint64_t events_ = 0;
+  bool tool_starts_up_ = false, tool_down_ = true;
 };
 
 class TapeReader {
@@ -92,8 +115,14 @@ class TapeReader {
   TapeReader& operator=(const TapeReader&) = delete;
 
   const TapeHeader& header() const { return h_; }
-  // Next record; false after the last one, once the totals, byte count and CRC have been verified.
+  // Next step; false after the last one, once the totals, byte count and CRC have been verified. A step's
+  // interval is the time since the previous step (tool events between them included). Tool events of a version 2
+  // tape (checked: they alternate, from the header's starting state) go to the handler; without a handler the
+  // first one is an InputError ("this reader does not handle tool events").
   bool next(StepRecord& r);
+  // Receives the tool events of a version 2 tape, in order, as they are read.
+  void on_tool_event(std::function<void(const ToolEvent&)> handler) { on_event_ = std::move(handler); }
+  uint64_t events_read() const { return events_; }
   uint64_t records_read() const { return n_; }
 
  private:
@@ -110,9 +139,17 @@ class TapeReader {
   uint64_t plus_[2] = {0, 0}, minus_[2] = {0, 0};
   uint32_t crc_ = 0;
   bool finished_ = false;
+  uint64_t events_ = 0, pending_ = 0;  // events read; ticks of the events since the last step
+  bool tool_down_ = true;
+  std::function<void(const ToolEvent&)> on_event_;
 };
 
 // Reads the whole tape once and throws InputError if anything is wrong with it.
+// Tool events are checked and counted.
 TapeHeader verify_tape(const std::string& path);
+
+// For readers that do not handle tool events: InputError naming the tape, "<what> does not handle tool events
+// (tool up / tool down): <advice>", when the tape carries any.
+void refuse_tool_events(const TapeHeader& h, const std::string& path, const std::string& what, const std::string& advice);
 
 }  // namespace polarcam

@@ -109,6 +109,15 @@ Machine parse_machine(Section& machine, const jobfile::MachineTables& tables, js
     m.counts_per_step = *n;
     pm["counts_per_step"] = *n;
   }
+  if (auto lift = machine.boolean("tool_lift")) {
+    m.tool_lift = *lift;
+    if (*lift) pm["tool_lift"] = true;
+  }
+  if (auto v = machine.quantity("rapid_speed", dim::speed)) {
+    if (!(*v > 0.0) || !std::isfinite(*v)) machine.fail("rapid_speed", "must be a positive speed (e.g. \"100 mm/s\")");
+    m.rapid_speed = *v;
+    pm["rapid_speed_mps"] = *v;
+  }
   m.dynamics = jobfile::parse_dynamics(machine, tables);
   machine.finish();
   return m;

@@ -59,6 +59,11 @@ struct Machine {
   // Encoder counts per tape step of a captured run (`polarcam capture`, docs/capture.md): a step each time an
   // axis's quadrature count crosses a multiple of it. 1 when not given.
   int64_t counts_per_step = 1;
+  // How the contours of a multi-contour job are joined: false (default) by a drawn move (a sand table cannot
+  // lift its ball); true: the tool is lifted, moved at rapid_speed by a move linear in the motor coordinates
+  // (r and theta, the theta-rho segment between the two points) and lowered (pen plotters, cutters).
+  bool tool_lift = false;
+  std::optional<double> rapid_speed;     // m/s of the tool point along a rapid move (default: the job's speed)
   std::optional<MachineModel> dynamics;  // mechanics and motors, when described (docs/dynamics.md)
   std::optional<GcodeSpec> gcode;        // the machine file's [gcode] table, when given (docs/gcode.md)
 };
@@ -69,6 +74,11 @@ struct Job {
   std::string contour_kind;
   CurvePtr contour;                      // in the contour's own frame (origin = contour pole O1)
   size_t contours = 1;                   // contours of the drawing joined into `contour` (an SVG's subpaths)
+  // The contours one by one (in the contour's frame, in order), when there are several and the machine lifts its
+  // tool between them (Machine::tool_lift): each is stepped as its own path, joined by rapid moves with the tool
+  // up (pipeline/job_tape). `contour` then still holds them joined by drawn moves, for the commands that take
+  // one path. Empty otherwise.
+  std::vector<CurvePtr> parts;
   Placement placement;
   ToolSpec tool;
   MotionSpec motion;

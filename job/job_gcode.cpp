@@ -57,6 +57,8 @@ std::optional<GcodeSpec> parse_gcode(Section& s, std::optional<double> r_max, do
   g.axis_feed = s.number("axis_feed").value_or(0.0);
   if (auto h = lines(s, "header")) g.header = *h;
   if (auto f = lines(s, "footer")) g.footer = *f;
+  if (auto u = lines(s, "pen_up")) g.pen_up = *u;
+  if (auto d = lines(s, "pen_down")) g.pen_down = *d;
   if (auto d = s.integer("decimals")) {
     if (*d < 1 || *d > 9) s.fail("decimals", "must be a whole number from 1 to 9");
     g.decimals = static_cast<int>(*d);

@@ -56,7 +56,7 @@ CurvePtr join_contours(const std::vector<CurvePtr>& curves, double tolerance, co
 
 // The contour of a pattern file, in the machine's frame (the pattern's origin is the machine pole).
 CurvePtr pattern_contour(const std::string& path, const Machine& m, double tolerance, const TraceOptions& trace, json& prov,
-                         std::string& kind, size_t& contours) {
+                         std::string& kind, size_t& contours, std::vector<CurvePtr>& parts) {
   const std::string ext = extension(path);
   const std::string name = std::filesystem::path(path).filename().string();
   if (ext == ".thr") {
@@ -108,6 +108,9 @@ CurvePtr pattern_contour(const std::string& path, const Machine& m, double toler
     prov["scale"] = scale;
     prov["centre_m"] = {centre.x, centre.y};
     contours = curves.size();
+    // a machine that lifts its tool steps each contour as it is (pipeline/job_tape); the joined path is the job's
+    // one path for the commands that take one
+    if (curves.size() > 1 && m.tool_lift) parts = curves;
     return join_contours(curves, tolerance, path, name, "svg", prov);
   }
   if (is_image_file(path)) {
@@ -127,6 +130,7 @@ CurvePtr pattern_contour(const std::string& path, const Machine& m, double toler
     prov["despeckle_px"] = trace.despeckle;
     prov["contours"] = curves.size();
     contours = curves.size();
+    if (curves.size() > 1 && m.tool_lift) parts = curves;
     return join_contours(curves, tolerance, path, name, "image", prov);
   }
   throw InputError("not a pattern file: give .thr, .svg, .dxf, .csv or an image (.png, .pbm, .pgm), or a job file", path);
@@ -143,7 +147,8 @@ Job pattern_job(const std::string& path, const PatternOptions& o) {
   prov["format"] = "polarcam-job/1";
   job.machine = load_machine(o.machine_file, &prov["machine"]);
   if (!(o.tolerance > 0.0)) throw InputError("must be a positive length", "--tolerance");
-  job.contour = pattern_contour(path, job.machine, o.tolerance, o.trace, prov["contour"], job.contour_kind, job.contours);
+  job.contour = pattern_contour(path, job.machine, o.tolerance, o.trace, prov["contour"], job.contour_kind, job.contours,
+                                job.parts);
   prov["placement"] = {{"C_m", 0.0}, {"beta_rad", 0.0}};
   job.tool.side = ToolSide::left;
   prov["tool"] = {{"radius_m", 0.0}, {"side", "left"}};

@@ -7,6 +7,8 @@
 // each contour within `tolerance` of its curve and the connecting moves linear in theta and rho, as a sand table
 // draws them; a single contour keeps its exact curve. An image (a template: .png, .pbm, .pgm) is traced into its
 // outlines and holes (cam/image_trace.hpp), kept at its physical size with its centre on the pole, and joined so.
+// On a machine that lifts its tool (tool_lift) the contours are
+// also kept one by one (Job::parts), to be joined by rapid moves with the tool up.
 #include <optional>
 #include <string>
 

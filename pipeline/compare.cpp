@@ -568,6 +568,10 @@ Comparison compare_job(const Job& job, const CompareOptions& opt, const Progress
   if (job.machine.coupling != 0.0)  // the polar tape's radial axis would be the geared motor, not the radius
     throw InputError("the machine's radial motor is coupled to its arm (coupling): the comparison measures an "
                      "uncoupled polar machine; give a machine file without 'coupling'", job.file);
+  if (job_lifts_tool(job))
+    throw InputError("the machine lifts its tool between the drawing's " + std::to_string(job.parts.size()) +
+                         " contours: the comparison measures one contour; compare each contour as a job of its own",
+                     job.file);
   Comparison c;
   c.job_file = job.file;
   c.contour = job.contour->name();

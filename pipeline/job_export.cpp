@@ -9,6 +9,9 @@
 #include "cam/svg_export.hpp"
 #include "cam/thr_export.hpp"
 #include "cam/thr_file.hpp"
+#include "pipeline/job_tape.hpp"
+
+#include <numbers>
 
 namespace polarcam {
 namespace {
@@ -33,6 +36,70 @@ void check_reach(const Job& job, double reach, double limit, const std::string& 
     throw InputError("the path reaches " + mm(reach) + " from the pole, beyond " + what + " (" + mm(limit) + ")", job.file);
 }
 
+// The contours of a lifting job as theta-rho vertices within the tolerance, each on the arm's turn nearest the end
+// of the one before (as the tape steps them: pipeline/job_tape).
+std::vector<std::vector<ThetaRho>> lifting_strokes(const Job& job, double tolerance, std::vector<ToolPathPtr>& paths) {
+  std::vector<std::vector<ThetaRho>> out;
+  for (size_t k = 0; k < job.parts.size(); ++k) {
+    paths.push_back(in_file(job.file, [&] { return make_tool_path(job.parts[k], job.placement, job.tool, job.motion.travel); }));
+    std::vector<ThetaRho> v = in_file(job.file, [&] { return to_theta_rho(*paths.back(), tolerance); });
+    if (!out.empty()) {
+      const double turn = 2.0 * std::numbers::pi;
+      const double shift = turn * std::nearbyint((out.back().back().theta - v.front().theta) / turn);
+      for (ThetaRho& x : v) x.theta += shift;
+    }
+    out.push_back(std::move(v));
+  }
+  return out;
+}
+
+ExportResult export_lifting(const Job& job, const ExportOptions& o) {
+  ExportResult r;
+  if (o.format == ExportFormat::thr)
+    throw InputError("a theta-rho file cannot lift the tool, and this machine lifts it between the drawing's " +
+                         std::to_string(job.parts.size()) +
+                         " contours: export G-code (--format gcode) or an SVG, or give a machine with tool_lift = false "
+                         "to draw the connecting moves",
+                     job.file);
+  std::vector<ToolPathPtr> paths;
+  const std::vector<std::vector<ThetaRho>> strokes = lifting_strokes(job, o.tolerance, paths);
+  for (const ToolPathPtr& p : paths) r.path_length_m += arc_length(*p, p->u_begin(), p->u_end());
+  std::ostringstream out;
+  if (o.format == ExportFormat::svg) {
+    std::vector<SvgPolyline> lines;
+    for (size_t k = 0; k < paths.size(); ++k) {
+      if (k > 0) lines.push_back({sample_theta_rho({strokes[k - 1].back(), strokes[k].front()}, 0.25 * o.tolerance), false});
+      lines.push_back({sample_curve(*paths[k], 0.25 * o.tolerance), true});
+    }
+    for (const SvgPolyline& l : lines) {
+      for (Vec2 p : l.points) r.rho_max_m = std::max(r.rho_max_m, norm(p));
+      r.points += l.points.size();
+    }
+    SvgOptions so;
+    so.work_radius = job.machine.grid.r_max;
+    so.work_radius_min = job.machine.grid.r_min;
+    so.title = job.contour->name();
+    r.content = svg_document(lines, so);
+    return r;
+  }
+  for (const auto& v : strokes) {
+    r.vertices += v.size();
+    r.rho_max_m = std::max(r.rho_max_m, rho_max(v));
+  }
+  if (!job.machine.gcode)
+    throw InputError("the machine has no [gcode] table: add one to its machine file (docs/gcode.md)", job.file);
+  if (!job.motion.table.empty())
+    throw InputError("G-code export needs a constant speed: give [motion] speed (or --speed), not speed_profile", job.file);
+  GcodeSpec spec = *job.machine.gcode;
+  if (o.feed_mode) spec.feed_mode = *o.feed_mode;
+  if (spec.feed_mode == FeedMode::axis && !(spec.axis_feed > 0.0))
+    throw InputError("the axis feed mode needs axis_feed in the machine's [gcode] table", job.file);
+  check_reach(job, r.rho_max_m, spec.table_radius, "the [gcode] table radius");
+  r.gcode = in_file(job.file, [&] { return write_gcode_lifting(out, strokes, spec, job.motion.speed, source_lines(job, o)); });
+  r.content = out.str();
+  return r;
+}
+
 }  // namespace
 
 const char* to_string(ExportFormat f) {
@@ -46,6 +113,7 @@ const char* to_string(ExportFormat f) {
 
 ExportResult export_job(const Job& job, const ExportOptions& o, const Progress& progress) {
   if (!(o.tolerance > 0.0) || !std::isfinite(o.tolerance)) throw InputError("must be a positive length", "--tolerance");
+  if (job_lifts_tool(job)) return export_lifting(job, o);
   report_progress(progress, 0.0);
   const ToolPathPtr path = make_job_path(job);
   ExportResult r;

@@ -27,6 +27,11 @@ JobStudy study_job(const Job& job, const StudyOptions& o, const Progress& progre
   JobStudy st;
   const int threads = o.threads > 0 ? o.threads : default_threads();
 
+  if (job_lifts_tool(job))
+    throw InputError("the machine lifts its tool between the drawing's " + std::to_string(job.parts.size()) +
+                         " contours: the operator's report studies one contour; report on each contour as a job of "
+                         "its own",
+                     job.file);
   // --- the tape: digitize once, with the error meters and a log of the steps
   st.path = make_job_path(job);
   try {

@@ -1,6 +1,8 @@
 #pragma once
 // Job -> tape glue: the header a job's tape starts with, and digitizing a job end to end.
 #include <algorithm>
+#include <optional>
+
 #include "io/progress.hpp"
 #include <string>
 #include <vector>
@@ -26,16 +28,53 @@ double job_timing_radius(const Job& job);
 // centre), else from x and y. Errors name the job file.
 PolarTrack job_polar_track(const Job& job, const Curve& path);
 
+// A rapid move between two contours of a job on a machine that lifts its tool: the segment linear in the motor
+// coordinates r and theta (a theta-rho segment, theta the machine's angle) from the end of one contour to the start
+// of the next, stepped with the tool up at the machine's rapid_speed.
+struct RapidMove {
+  ThetaRho from, to;        // rho in m, theta in rad (the machine's angle, on the branch the tape steps)
+  double length_m = 0.0;    // the tool point's path along it
+  double duration_s = 0.0;
+  uint64_t steps = 0;       // steps of both motors
+};
+
+// The contours of a lifting job, each stepped as its own path, and the rapid moves between them.
+struct LiftedJob {
+  std::vector<ToolPathPtr> paths;   // the contours' tool paths, in order
+  std::vector<PolarTrack> tracks;   // their tracks (r, theta before the shift)
+  std::vector<double> shifts;       // the angular branch each is stepped on (rad added to its track's theta)
+  std::vector<RapidMove> rapids;    // between contour k and k + 1 (none when the two points coincide)
+  double drawn_length_m = 0.0, rapid_length_m = 0.0, rapid_time_s = 0.0;
+  uint64_t rapid_steps = 0;
+};
+
 struct DigitizedJob {
-  ToolPathPtr path;
-  PolarTrack track;
-  SpeedProfilePtr profile;
-  DigitizeResult result;
+  ToolPathPtr path;                 // a lifting job: the first contour's
+  PolarTrack track;                 // a lifting job: the first contour's
+  SpeedProfilePtr profile;          // a lifting job: the first contour's
+  DigitizeResult result;            // the whole tape
+  std::optional<LiftedJob> lifted;  // a job of several contours on a machine that lifts its tool
+};
+
+// True when the job's contours are stepped one by one with the tool lifted between them (Job::parts).
+bool job_lifts_tool(const Job& job);
+// The speed of the rapid moves: the machine's rapid_speed, else the job's (first) speed.
+double job_rapid_speed(const Job& job);
+
+// The ranges of r (m) and of theta (rad, on the branches stepped) of what the tool draws: the path, or a lifting
+// job's contours (the rapid moves lie between their ends).
+struct PathRanges {
+  double r_min = 0, r_max = 0, theta_min = 0, theta_max = 0;
 };
 
 // Builds the tool path and its track, and digitizes it into `sink` (may be null). Errors name the job file.
+// A lifting job (job_lifts_tool): the first contour as a job of one contour would be (its start node, its angular
+// branch), then for each next contour: tool up (sink->tool), the rapid move, tool down, the contour, on the arm's
+// turn nearest the end of the rapid, its quantisers continuing from the node the rapid ended on. The result's
+// times, steps and length are those of the whole tape (contours and rapids).
 // `progress`: the share of the path's time digitized.
 DigitizedJob digitize_job(const Job& job, StepSink* sink, const Progress& progress = {});
+PathRanges path_ranges(const DigitizedJob& d);
 
 // A sink that passes every step on to `inner` (may be null) and reports the share of `total_s` (the path's time)
 // the steps have reached, every 4096 steps.
@@ -49,6 +88,9 @@ class ProgressSink final : public StepSink {
       const double f = std::min(1.0, static_cast<double>(t_ns) / total_ns_);
       if (f > reported_) progress_(reported_ = f);
     }
+  }
+  void tool(bool down, int64_t t_ns) override {
+    if (inner_) inner_->tool(down, t_ns);
   }
 
  private:

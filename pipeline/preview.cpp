@@ -11,29 +11,41 @@
 namespace polarcam {
 namespace {
 
-// Keeps a node walk as a polyline of points at least `res` apart (and always the last one).
-class Thinner {
+// Keeps a node walk as polylines of points at least `res` apart (and always the last one), one a run of the tool
+// down or up; a new run starts at the last point of the one before.
+class Runs {
  public:
-  Thinner(Polyline& out, double res) : out_(out), res2_(res * res) {}
+  Runs(Preview& pv, double res) : pv_(pv), res2_(res * res) {}
   void add(double x, double y) {
-    last_[0] = x, last_[1] = y, pending_ = true;
-    if (!out_.x.empty()) {
-      const double dx = x - out_.x.back(), dy = y - out_.y.back();
+    last_[0] = x, last_[1] = y, pending_ = true, any_ = true;
+    if (!cur_.x.empty()) {
+      const double dx = x - cur_.x.back(), dy = y - cur_.y.back();
       if (dx * dx + dy * dy < res2_) return;
     }
-    out_.x.push_back(x);
-    out_.y.push_back(y);
+    cur_.x.push_back(x);
+    cur_.y.push_back(y);
     pending_ = false;
   }
-  void finish() {
-    if (pending_) out_.x.push_back(last_[0]), out_.y.push_back(last_[1]);
+  void tool(bool down) {
+    finish();
+    down_ = down;
+    if (any_) add(last_[0], last_[1]);
   }
+  void finish() {
+    if (pending_) cur_.x.push_back(last_[0]), cur_.y.push_back(last_[1]);
+    pending_ = false;
+    if (!cur_.x.empty()) (down_ ? pv_.stepped : pv_.rapids).push_back(std::move(cur_));
+    cur_ = Polyline{};
+  }
+  double last_x() const { return last_[0]; }
+  double last_y() const { return last_[1]; }
 
  private:
-  Polyline& out_;
+  Preview& pv_;
   double res2_;
+  Polyline cur_;
   double last_[2] = {0, 0};
-  bool pending_ = false;
+  bool pending_ = false, any_ = false, down_ = true;
 };
 
 // The machine's position at node (n, m): a coupled arm's radial motor stands at q = r + c theta.
@@ -49,7 +61,7 @@ struct NodeMap {
 
 class NodeSink : public StepSink {
  public:
-  NodeSink(const NodeMap& map, Thinner& th, const int64_t start[2]) : map_(map), th_(th) {
+  NodeSink(const NodeMap& map, Runs& th, const int64_t start[2]) : map_(map), th_(th) {
     node_[0] = start[0], node_[1] = start[1];
     double x, y;
     map_.xy(node_, x, y);
@@ -62,11 +74,12 @@ class NodeSink : public StepSink {
     map_.xy(node_, x, y);
     th_.add(x, y);
   }
+  void tool(bool down, int64_t) override { th_.tool(down); }
   uint64_t steps = 0;
 
  private:
   const NodeMap& map_;
-  Thinner& th_;
+  Runs& th_;
   int64_t node_[2];
 };
 
@@ -80,7 +93,7 @@ Preview preview_job(const Job& job, double resolution_mm) {
   // the tape once without a sink for its start node, then again into the node walk
   const DigitizedJob first = digitize_job(job, nullptr);
   const NodeMap map{job.machine.grid.dr, job.machine.grid.dtheta, job.machine.coupling};
-  Thinner th(pv.stepped, resolution_mm);
+  Runs th(pv, resolution_mm);
   const int64_t start[2] = {first.result.start_n, first.result.start_m};
   NodeSink sink(map, th, start);
   digitize_job(job, &sink);
@@ -89,35 +102,43 @@ Preview preview_job(const Job& job, double resolution_mm) {
   // the tool path, and where the tool is slower than asked: the timing radius r_c near the centre of a theta-rho
   // path (docs/patterns.md) scales the speed by |P'| / sqrt(r'^2 + r_c^2 theta'^2) where r < r_c
   const double rc = job_theta_rho_path(*first.path) ? job_timing_radius(job) : 0.0;
-  const PolarTrack& tr = first.track;
-  bool in_slow = false;
-  for (size_t i = 0; i < tr.pieces().size(); ++i) {
-    const TrackPiece& p = tr.pieces()[i];
-    for (int k = 0; k < 16; ++k) {
-      const double t = -1.0 + 2.0 * k / 16.0;
-      const double r = tr.r(i, t), theta = tr.theta(i, t);
-      const double x = r * std::cos(theta) * 1e3, y = r * std::sin(theta) * 1e3;
-      pv.path.x.push_back(x);
-      pv.path.y.push_back(y);
-      double dr, dth;
-      double f;
-      p.Q[0].eval2(t, f, dr);
-      p.Q[1].eval2(t, f, dth);
-      const double ds2 = dr * dr + r * r * dth * dth;
-      const bool slow = r < rc && ds2 < 0.99 * 0.99 * (dr * dr + rc * rc * dth * dth);
-      if (slow) {
-        if (!in_slow) pv.slowed.emplace_back();
-        pv.slowed.back().x.push_back(x);
-        pv.slowed.back().y.push_back(y);
+  std::vector<const PolarTrack*> tracks;
+  if (first.lifted)
+    for (const PolarTrack& t : first.lifted->tracks) tracks.push_back(&t);
+  else
+    tracks.push_back(&first.track);
+  for (const PolarTrack* trp : tracks) {
+    const PolarTrack& tr = *trp;
+    Polyline& path = pv.path.emplace_back();
+    bool in_slow = false;
+    for (size_t i = 0; i < tr.pieces().size(); ++i) {
+      const TrackPiece& p = tr.pieces()[i];
+      for (int k = 0; k < 16; ++k) {
+        const double t = -1.0 + 2.0 * k / 16.0;
+        const double r = tr.r(i, t), theta = tr.theta(i, t);
+        const double x = r * std::cos(theta) * 1e3, y = r * std::sin(theta) * 1e3;
+        path.x.push_back(x);
+        path.y.push_back(y);
+        double dr, dth;
+        double f;
+        p.Q[0].eval2(t, f, dr);
+        p.Q[1].eval2(t, f, dth);
+        const double ds2 = dr * dr + r * r * dth * dth;
+        const bool slow = r < rc && ds2 < 0.99 * 0.99 * (dr * dr + rc * rc * dth * dth);
+        if (slow) {
+          if (!in_slow) pv.slowed.emplace_back();
+          pv.slowed.back().x.push_back(x);
+          pv.slowed.back().y.push_back(y);
+        }
+        in_slow = slow;
       }
-      in_slow = slow;
     }
+    const double rb = tr.r(tr.pieces().size() - 1, 1.0), thb = tr.theta(tr.pieces().size() - 1, 1.0);
+    path.x.push_back(rb * std::cos(thb) * 1e3);
+    path.y.push_back(rb * std::sin(thb) * 1e3);
   }
-  const double rb = tr.r(tr.pieces().size() - 1, 1.0), thb = tr.theta(tr.pieces().size() - 1, 1.0);
-  pv.path.x.push_back(rb * std::cos(thb) * 1e3);
-  pv.path.y.push_back(rb * std::sin(thb) * 1e3);
-  pv.start[0] = pv.path.x.front(), pv.start[1] = pv.path.y.front();
-  pv.end[0] = pv.path.x.back(), pv.end[1] = pv.path.y.back();
+  pv.start[0] = pv.path.front().x.front(), pv.start[1] = pv.path.front().y.front();
+  pv.end[0] = pv.path.back().x.back(), pv.end[1] = pv.path.back().y.back();
   return pv;
 }
 
@@ -136,7 +157,9 @@ Preview preview_tape(const std::string& path, double resolution_mm) {
       prov["job"]["machine"].contains("coupling_steps_per_rev") && prov["job"]["machine"]["coupling_steps_per_rev"].is_number())
     c = prov["job"]["machine"]["coupling_steps_per_rev"].get<double>() * h.res[0] / (2.0 * M_PI);
   const NodeMap map{h.res[0], h.res[1], c};
-  Thinner th(pv.stepped, resolution_mm);
+  Runs th(pv, resolution_mm);
+  if (h.tool_starts_up) th.tool(false);
+  rd.on_tool_event([&](const ToolEvent& e) { th.tool(e.down); });
   TapeReplay rp(rd);
   double x, y;
   map.xy(h.start, x, y);
@@ -149,7 +172,7 @@ Preview preview_tape(const std::string& path, double resolution_mm) {
     ++pv.steps;
   }
   th.finish();
-  pv.end[0] = pv.stepped.x.back(), pv.end[1] = pv.stepped.y.back();
+  pv.end[0] = th.last_x(), pv.end[1] = th.last_y();
   return pv;
 }
 

@@ -17,11 +17,16 @@ PolarTapeMetrics polar_tape_metrics(const Job& job, const std::string& tape, int
     throw InputError("the machine's radial motor is coupled to its arm (coupling): the error meters measure "
                      "tapes of uncoupled polar machines; give a machine file without 'coupling' to measure the path",
                      job.file);
+  if (job_lifts_tool(job))
+    throw InputError("the machine lifts its tool between the drawing's " + std::to_string(job.parts.size()) +
+                         " contours: the error metrics measure one contour; measure each contour as a job of its own",
+                     job.file);
   const ToolPathPtr path = make_job_path(job);
   const PolarTrack track = job_polar_track(job, *path);
   TapeReader rd(tape);
   const TapeHeader& h = rd.header();
   if (h.axes != TapeAxes::polar) throw InputError("a Cartesian tape, not a polar one", tape);
+  refuse_tool_events(h, tape, "the error metrics", "they measure one contour's staircase against its path; measure each contour as a job of its own");
   PolarTapeMetrics out;
   out.rule = h.rule;
   Grid& g = out.grid;
@@ -51,6 +56,7 @@ CartesianTapeMetrics cartesian_tape_metrics(const Job& job, const std::string& t
   TapeReader rd(tape);
   const TapeHeader& h = rd.header();
   if (h.axes != TapeAxes::cartesian) throw InputError("a polar tape, not a Cartesian one", tape);
+  refuse_tool_events(h, tape, "the error metrics", "they measure one contour's staircase against its path; measure each contour as a job of its own");
   if (!(h.res[0] > 0.0) || h.res[0] != h.res[1])
     throw InputError("the x and y resolutions must be equal and above zero (the header has " +
                      std::to_string(h.res[0]) + " and " + std::to_string(h.res[1]) + " m)", tape);

@@ -37,8 +37,14 @@ plot::Figure preview_figure(const Preview& pv) {
   plot::Panel p = plot::panel(pv.title, "x (mm)", "y (mm)", true);
   if (pv.r_max_mm) p.series.push_back(circle(*pv.r_max_mm, "work area"));
   if (pv.r_min_mm && *pv.r_min_mm > 0) p.series.push_back(circle(*pv.r_min_mm, ""));
-  if (!pv.path.x.empty()) p.series.push_back(line(pv.path, "tool path", 1, 2.5));
-  p.series.push_back(line(pv.stepped, "stepped motion", 0, 0.8));
+  for (size_t i = 0; i < pv.path.size(); ++i) p.series.push_back(line(pv.path[i], i == 0 ? "tool path" : "", 1, 2.5));
+  for (size_t i = 0; i < pv.stepped.size(); ++i)
+    p.series.push_back(line(pv.stepped[i], i == 0 ? "stepped motion" : "", 0, 0.8));
+  for (size_t i = 0; i < pv.rapids.size(); ++i) {
+    plot::Series s = line(pv.rapids[i], i == 0 ? "rapid move, tool up" : "", 3, 1.2);
+    s.dashed = true;
+    p.series.push_back(std::move(s));
+  }
   for (size_t i = 0; i < pv.slowed.size(); ++i)
     p.series.push_back(line(pv.slowed[i], i == 0 ? "below the requested speed" : "", 5, 3.0));
   p.series.push_back(plot::marker(pv.start[0], pv.start[1], "start", 2, 4, 2.5));

@@ -57,11 +57,11 @@ class Writer {
     ++st_.lines;
   }
 
-  // The rapid move to the start.
-  void start(const ThetaRho& v) {
+  // The rapid move to the start (or, with the tool up, to the next contour).
+  void start(const ThetaRho& v, const std::string& comment = "to the start") {
     Coord x, y;
     axes(v, x, y);
-    line("G0 " + s_.theta_axis + x.text + " " + s_.rho_axis + y.text + " (to the start)");
+    line("G0 " + s_.theta_axis + x.text + " " + s_.rho_axis + y.text + " (" + comment + ")");
     x_ = x, y_ = y;
   }
 
@@ -272,38 +272,73 @@ void validate(const GcodeSpec& s) {
   if (s.feed_mode == FeedMode::axis && (!finite(s.axis_feed) || !(s.axis_feed > 0.0)))
     throw InputError("the axis feed mode needs a positive feed in axis units per minute", "axis_feed");
   if (s.decimals < 1 || s.decimals > 9) throw InputError("must be a whole number from 1 to 9", "decimals");
-  for (const auto* lines : {&s.header, &s.footer})
+  for (const auto& [lines, key] : {std::pair{&s.header, "header"}, std::pair{&s.footer, "footer"},
+                                   std::pair{&s.pen_up, "pen_up"}, std::pair{&s.pen_down, "pen_down"}})
     for (const std::string& l : *lines)
       for (char ch : l)
         if (static_cast<unsigned char>(ch) < 0x20 || static_cast<unsigned char>(ch) >= 0x7f)
-          throw InputError("a line holds a character that is not printable ASCII (one line per string)",
-                           lines == &s.header ? "header" : "footer");
+          throw InputError("a line holds a character that is not printable ASCII (one line per string)", key);
 }
 
-GcodeStats write_gcode(std::ostream& out, const std::vector<ThetaRho>& v, const GcodeSpec& spec,
-                       double ball_speed_mps, const std::vector<std::string>& comments) {
+namespace {
+
+GcodeStats write_program(std::ostream& out, const std::vector<std::vector<ThetaRho>>& strokes, const GcodeSpec& spec,
+                         double ball_speed_mps, const std::vector<std::string>& comments, bool lift) {
   validate(spec);
   if (!(ball_speed_mps > 0.0) || !std::isfinite(ball_speed_mps)) throw InputError("the ball speed must be positive");
-  if (v.size() < 2) throw InputError("a pattern needs at least two points");
-  for (size_t i = 0; i < v.size(); ++i) {
-    if (!std::isfinite(v[i].theta) || !std::isfinite(v[i].rho) || v[i].rho < 0.0)
-      throw InputError("theta and rho must be finite, rho not negative", "point " + std::to_string(i + 1));
-    if (v[i].rho > spec.table_radius * (1.0 + 1e-12))
-      throw InputError("lies beyond the table radius (" + fixed(spec.table_radius * 1e3, 3) + " mm)",
-                       "point " + std::to_string(i + 1));
+  if (strokes.empty()) throw InputError("a pattern needs at least two points");
+  for (size_t k = 0; k < strokes.size(); ++k) {
+    const std::vector<ThetaRho>& v = strokes[k];
+    const std::string contour = strokes.size() > 1 ? "contour " + std::to_string(k + 1) + ", " : "";
+    if (v.size() < 2) throw InputError(strokes.size() > 1 ? "contour " + std::to_string(k + 1) + " needs at least two points" : "a pattern needs at least two points");
+    for (size_t i = 0; i < v.size(); ++i) {
+      if (!std::isfinite(v[i].theta) || !std::isfinite(v[i].rho) || v[i].rho < 0.0)
+        throw InputError("theta and rho must be finite, rho not negative", contour + "point " + std::to_string(i + 1));
+      if (v[i].rho > spec.table_radius * (1.0 + 1e-12))
+        throw InputError("lies beyond the table radius (" + fixed(spec.table_radius * 1e3, 3) + " mm)",
+                         contour + "point " + std::to_string(i + 1));
+    }
   }
   std::ostringstream buf;
   Writer w(buf, spec, ball_speed_mps);
+  GcodeStats lifts;
+  auto pen = [&](const std::vector<std::string>& lines, size_t& count) {
+    for (const std::string& l : lines) w.line(l);
+    ++count;
+  };
   for (const std::string& c : comments) w.line("(" + comment_text(c) + ")");
   for (const std::string& l : spec.header) w.line(l);
   w.line(spec.feed_mode == FeedMode::inverse_time ? "G93" : "G94");
-  w.start(v.front());
-  for (size_t i = 0; i + 1 < v.size(); ++i) w.segment(v[i], v[i + 1]);
+  for (size_t k = 0; k < strokes.size(); ++k) {
+    const std::vector<ThetaRho>& v = strokes[k];
+    if (lift) pen(spec.pen_up, lifts.pen_ups);
+    w.start(v.front(), k == 0 ? "to the start" : "rapid, tool up, to contour " + std::to_string(k + 1));
+    if (k > 0) ++lifts.rapids;
+    if (lift) pen(spec.pen_down, lifts.pen_downs);
+    for (size_t i = 0; i + 1 < v.size(); ++i) w.segment(v[i], v[i + 1]);
+  }
+  if (lift) pen(spec.pen_up, lifts.pen_ups);
   w.line("G94");
   for (const std::string& l : spec.footer) w.line(l);
   w.line("M2");
   out << buf.str();
-  return w.stats();
+  GcodeStats st = w.stats();
+  st.pen_ups = lifts.pen_ups;
+  st.pen_downs = lifts.pen_downs;
+  st.rapids = lifts.rapids;
+  return st;
+}
+
+}  // namespace
+
+GcodeStats write_gcode(std::ostream& out, const std::vector<ThetaRho>& v, const GcodeSpec& spec,
+                       double ball_speed_mps, const std::vector<std::string>& comments) {
+  return write_program(out, {v}, spec, ball_speed_mps, comments, false);
+}
+
+GcodeStats write_gcode_lifting(std::ostream& out, const std::vector<std::vector<ThetaRho>>& contours,
+                               const GcodeSpec& spec, double speed_mps, const std::vector<std::string>& comments) {
+  return write_program(out, contours, spec, speed_mps, comments, true);
 }
 
 }  // namespace polarcam

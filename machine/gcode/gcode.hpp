@@ -26,7 +26,7 @@
 // constant feed F in axis units per minute (slowed, and marked, where one axis alone would exceed its limit).
 //
 // The program: comment lines, the header lines, G93 or G94, a rapid G0 to the pattern's start, the moves, G94,
-// the footer lines, M2. Uppercase words, coordinates and F with a fixed number of decimals (no "-0"), accepted by
+// the footer lines, M2 (write_gcode_lifting: each contour after its own G0, between pen_up and pen_down lines). Uppercase words, coordinates and F with a fixed number of decimals (no "-0"), accepted by
 // LinuxCNC's interpreter, GRBL and FluidNC. The same input gives the same bytes.
 #include <iosfwd>
 #include <string>
@@ -51,6 +51,11 @@ struct GcodeSpec {
   double axis_feed = 0.0;                 // axis mode: F in axis units/min (> 0 in that mode)
   std::vector<std::string> header{"G21", "G90"};  // lines written before the moves
   std::vector<std::string> footer;        // lines written after them, before M2
+  // A machine that lifts its tool between contours (write_gcode_lifting): the lines that lift it and lower it.
+  // The defaults stop and start the spindle, which GRBL builds for pen plotters and laser cutters take as pen up
+  // and pen down; a Z move ("G0 Z5") suits a cutter.
+  std::vector<std::string> pen_up{"M5"};
+  std::vector<std::string> pen_down{"M3"};
   int decimals = 4;                       // decimals of coordinates and F (1 .. 9)
 };
 
@@ -66,6 +71,8 @@ struct GcodeStats {
   double max_speed_error_pct = 0.0; // largest |ball speed / requested - 1| x 100 at the ends of the moves not limited
   double ball_speed_min_mps = 0.0;  // smallest and largest ball speed at the ends of the moves (centre turns apart)
   double ball_speed_max_mps = 0.0;
+  size_t pen_ups = 0, pen_downs = 0;  // write_gcode_lifting: the pen_up and pen_down groups written
+  size_t rapids = 0;                  // G0 moves between contours (the G0 to the start apart)
 };
 
 // Writes the program for the theta-rho vertices `v` (rho in metres, at most the table radius) at ball speed
@@ -74,5 +81,13 @@ struct GcodeStats {
 // vertices, a rho beyond the table radius or a non-finite value.
 GcodeStats write_gcode(std::ostream& out, const std::vector<ThetaRho>& v, const GcodeSpec& spec,
                        double ball_speed_mps, const std::vector<std::string>& comments = {});
+
+// The same for the contours of a drawing on a machine that lifts its tool between them: before each contour the
+// pen_up lines, a rapid G0 to its start (a straight line in axis space: linear in theta and rho, the move the
+// tape's rapid makes), the pen_down lines, then its moves; the pen_up lines after the last. So the program lifts
+// the tool once more than it has contours (the first lift before the G0 to the start) and lowers it once per
+// contour. Errors name the contour and point.
+GcodeStats write_gcode_lifting(std::ostream& out, const std::vector<std::vector<ThetaRho>>& contours,
+                               const GcodeSpec& spec, double speed_mps, const std::vector<std::string>& comments = {});
 
 }  // namespace polarcam

@@ -42,6 +42,11 @@ PlayPlan plan_playback(const std::string& tape, const PlayScaling& sc, const std
   p.header = verify_tape(tape);  // the whole tape, checksums and totals, before anything else
   const TapeHeader& h = p.header;
   if (h.axes != TapeAxes::polar) throw InputError("a Cartesian tape; the player drives polar machines", tape);
+  if (h.event_count > 0)
+    throw InputError("the tape lifts and lowers the tool (" + std::to_string(h.event_count) +
+                         " tool events, tape format version 2): tool events are not yet supported by the controller "
+                         "protocol; play each contour as a tape of its own",
+                     tape);
   const PlayMachine m = machine ? *machine : machine_from_header(h);
   if (machine) {
     if (!same(m.grid.dr, h.res[0]) || !same(m.grid.dtheta, h.res[1]))

@@ -287,3 +287,176 @@ TEST(Tape, RefusedTapesCloseTheirFiles) {
   EXPECT_EQ(lowest_free_fd(), before);
   std::remove(p.c_str());
 }
+
+// ------------------------------------------------------------------------------------------ tool events (v2)
+
+namespace {
+
+// A small hand-made tape: steps and tool events at the given times (ns); events as axis -1 (dir +1: down, -1: up).
+struct Rec {
+  int axis, dir;
+  int64_t t;
+};
+void write_small(const std::string& p, const std::vector<Rec>& recs, bool starts_up = false) {
+  TapeHeader h;
+  h.res[0] = 1e-5;
+  h.res[1] = 1e-3;
+  h.tool_starts_up = starts_up;
+  h.provenance = "{}";
+  TapeWriter w(p, h);
+  int64_t node[2] = {0, 0};
+  for (const Rec& r : recs) {
+    if (r.axis < 0) {
+      w.tool(r.dir > 0, r.t);
+    } else {
+      w.step(r.axis, r.dir, r.t);
+      node[r.axis] += r.dir;
+    }
+  }
+  h.end[0] = node[0];
+  h.end[1] = node[1];
+  h.duration_ticks = 1000;
+  w.finish(h);
+}
+
+// The record section of a tape (after the fixed header and the provenance).
+std::string records_of(const std::string& tape) {
+  uint32_t plen = 0;
+  std::memcpy(&plen, &tape[12], 4);
+  return tape.substr(256 + plen);
+}
+
+}  // namespace
+
+TEST(TapeEvents, AWriterWithoutEventsWritesVersionOne) {
+  const std::string p = temp_path("noev.tape");
+  write_small(p, {{0, 1, 10}, {1, -1, 20}}, /*starts_up=*/true);
+  const std::string b = slurp(p);
+  EXPECT_EQ(static_cast<unsigned char>(b[8]), 1u);
+  EXPECT_EQ(static_cast<unsigned char>(b[18]) & 16u, 0u) << "no tool flag in a version 1 tape";
+  for (size_t i = 224; i < 256; ++i) EXPECT_EQ(b[i], 0) << "reserved byte " << i;
+  // the records: (10 << 2) | (0 << 1) | 1 = 41; (10 << 2) | (1 << 1) | 0 = 42
+  EXPECT_EQ(records_of(b), std::string("\x29\x2a", 2));
+  std::remove(p.c_str());
+}
+
+TEST(TapeEvents, RoundTripWithEvents) {
+  const std::string p = temp_path("ev.tape");
+  // draw, lift at 30, two steps up in the air, lower at 100, one more step
+  write_small(p, {{0, 1, 10}, {1, 1, 20}, {-1, -1, 30}, {0, 1, 40}, {1, 1, 40}, {-1, 1, 100}, {0, -1, 130}});
+  const std::string b = slurp(p);
+  EXPECT_EQ(static_cast<unsigned char>(b[8]), 2u);
+  uint64_t events = 0;
+  std::memcpy(&events, &b[224], 8);
+  EXPECT_EQ(events, 2u);
+  // the records as docs/tape-format.md spells them: steps (interval << 2 | axis << 1 | up), an event as
+  // 0x80 0x00 then (interval << 2 | down)
+  const std::string want("\x29"            // 10 ns, r +
+                         "\x2b"            // 10 ns, theta +
+                         "\x80\x00\x28"    // 10 ns, tool up
+                         "\x29"            // 10 ns, r +
+                         "\x03"            // 0 ns, theta +
+                         "\x80\x00\xf1\x01"  // 60 ns, tool down: (60 << 2) | 1 = 241
+                         "\x78",           // 30 ns, r -
+                         12);
+  EXPECT_EQ(records_of(b), want);
+  TapeReader rd(p);
+  EXPECT_EQ(rd.header().version, 2);
+  EXPECT_EQ(rd.header().event_count, 2u);
+  EXPECT_FALSE(rd.header().tool_starts_up);
+  std::vector<ToolEvent> ev;
+  rd.on_tool_event([&](const ToolEvent& e) { ev.push_back(e); });
+  StepRecord r;
+  std::vector<uint64_t> intervals;
+  while (rd.next(r)) intervals.push_back(r.interval);
+  // a step's interval counts from the previous step, across the events
+  EXPECT_EQ(intervals, (std::vector<uint64_t>{10, 10, 20, 0, 90}));
+  ASSERT_EQ(ev.size(), 2u);
+  EXPECT_EQ(ev[0].t_ticks, 30u);
+  EXPECT_FALSE(ev[0].down);
+  EXPECT_EQ(ev[0].steps_before, 2u);
+  EXPECT_EQ(ev[1].t_ticks, 100u);
+  EXPECT_TRUE(ev[1].down);
+  EXPECT_EQ(ev[1].steps_before, 4u);
+  EXPECT_EQ(rd.header().last_step_ticks, 130u);
+  EXPECT_NO_THROW(verify_tape(p));
+  std::remove(p.c_str());
+}
+
+TEST(TapeEvents, AReaderWithoutAHandlerRefusesEventsInOneLine) {
+  const std::string p = temp_path("ev2.tape");
+  write_small(p, {{0, 1, 10}, {-1, -1, 30}, {-1, 1, 40}, {0, 1, 50}});
+  TapeReader rd(p);
+  StepRecord r;
+  ASSERT_TRUE(rd.next(r));
+  try {
+    rd.next(r);
+    ADD_FAILURE() << "an event read without a handler";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("does not handle tool events"), std::string::npos) << m;
+    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+  }
+  std::remove(p.c_str());
+}
+
+TEST(TapeEvents, EventsMustAlternate) {
+  const std::string p = temp_path("alt.tape");
+  {
+    TapeHeader h;
+    h.res[0] = 1e-5;
+    h.res[1] = 1e-3;
+    TapeWriter w(p, h);
+    EXPECT_THROW(w.tool(true, 5), std::logic_error) << "the tool starts down";
+    w.tool(false, 5);
+    EXPECT_THROW(w.tool(false, 6), std::logic_error);
+  }
+  // a tape whose second event is patched from down to up (checksum resealed): the reader names it
+  write_small(p, {{0, 1, 10}, {-1, -1, 30}, {-1, 1, 40}, {0, 1, 50}});
+  std::string b = slurp(p);
+  uint32_t plen = 0;
+  std::memcpy(&plen, &b[12], 4);
+  const size_t rec = 256 + plen;
+  // records: 0x29 | 0x80 0x00 0x50 (20 ns, up) | 0x80 0x00 0x29 (10 ns, down) | 0x29
+  ASSERT_EQ(records_of(b), std::string("\x29\x80\x00\x50\x80\x00\x29\x29", 8));
+  b[rec + 6] = 0x28;  // 10 ns, up
+  put<uint32_t>(b, 216, crc32_bits(b.substr(rec)));
+  b = reseal(b);
+  const std::string q = temp_path("alt2.tape");
+  spit(q, b);
+  try {
+    verify_tape(q);
+    ADD_FAILURE() << "two tool ups in a row accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("alternate"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("tool event 2"), std::string::npos) << e.what();
+  }
+  // a tape that says it starts with the tool up may start by lowering it
+  write_small(p, {{-1, 1, 5}, {0, 1, 10}}, /*starts_up=*/true);
+  TapeReader rd(p);
+  EXPECT_TRUE(rd.header().tool_starts_up);
+  EXPECT_NO_THROW(verify_tape(p));
+  // the header's event count is checked against the events read
+  write_small(p, {{0, 1, 10}, {-1, -1, 30}, {-1, 1, 40}, {0, 1, 50}});
+  b = slurp(p);
+  put<uint64_t>(b, 224, 1);
+  spit(q, reseal(b));
+  EXPECT_THROW(verify_tape(q), InputError);
+  std::remove(p.c_str());
+  std::remove(q.c_str());
+}
+
+TEST(TapeEvents, ReadersThatDoNotHandleEventsRefuseInOneLine) {
+  TapeHeader h;
+  h.event_count = 2;
+  try {
+    refuse_tool_events(h, "x.tape", "the error metrics", "measure each contour as a job of its own");
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("x.tape"), std::string::npos) << m;
+    EXPECT_NE(m.find("the error metrics does not handle tool events"), std::string::npos) << m;
+  }
+  h.event_count = 0;
+  EXPECT_NO_THROW(refuse_tool_events(h, "x.tape", "the error metrics", ""));
+}

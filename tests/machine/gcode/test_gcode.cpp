@@ -487,3 +487,87 @@ TEST(Gcode, LinuxCncInterpreterAcceptsEveryFile) {
     EXPECT_EQ(i, p.moves.size());
   }
 }
+
+TEST(Gcode, LiftingProgramLiftsAroundEachRapidAndLinuxCncAcceptsIt) {
+  ASSERT_STRNE(POLARCAM_RS274, "") << "rs274 (Debian package linuxcnc-uspace) is needed for this test";
+  // three strokes: an arc about the pole, a radial line, a spiral piece
+  const std::vector<std::vector<ThetaRho>> strokes{{{0.0, 0.05}, {1.0, 0.05}},
+                                                   {{2.0, 0.08}, {2.0, 0.15}},
+                                                   {{3.0, 0.10}, {3.5, 0.12}, {4.0, 0.14}}};
+  for (const auto& words : {std::pair<std::vector<std::string>, std::vector<std::string>>{{"M5"}, {"M3"}},
+                            std::pair<std::vector<std::string>, std::vector<std::string>>{{"G0 Z5"}, {"G1 Z-1 F100"}}}) {
+    GcodeSpec s = spec(FeedMode::inverse_time, 0.0);
+    s.pen_up = words.first;
+    s.pen_down = words.second;
+    SCOPED_TRACE(s.pen_up.front());
+    std::ostringstream o;
+    const GcodeStats st = write_gcode_lifting(o, strokes, s, 0.02, {"lifting test"});
+    const std::string g = o.str();
+    EXPECT_EQ(st.pen_ups, 4u);
+    EXPECT_EQ(st.pen_downs, 3u);
+    EXPECT_EQ(st.rapids, 2u);
+    // line by line: each G0 between a lift and a lowering, no G1 of the strokes with the tool up
+    std::istringstream in(g);
+    bool up = false;
+    size_t g0 = 0, ups = 0, downs = 0, g1_xy = 0;
+    for (std::string l; std::getline(in, l);) {
+      if (l == s.pen_up.front()) {
+        up = true;
+        ++ups;
+      } else if (l == s.pen_down.front()) {
+        up = false;
+        ++downs;
+      } else if (l.rfind("G0 X", 0) == 0) {
+        ++g0;
+        EXPECT_TRUE(up) << l;
+      } else if (l.rfind("G1 X", 0) == 0) {
+        ++g1_xy;
+        EXPECT_FALSE(up) << l;
+      }
+    }
+    EXPECT_EQ(ups, 4u);
+    EXPECT_EQ(downs, 3u);
+    EXPECT_EQ(g0, 3u);
+    EXPECT_EQ(g1_xy, st.g1);
+    EXPECT_TRUE(up);
+    // the G0 targets are the strokes' starts in axis units (X = theta, Y = rho in mm)
+    const Program p = read_program(g, 'X', 'Y');
+    std::vector<const Move*> rapids;
+    for (const Move& m : p.moves)
+      if (m.rapid && !m.comment.empty()) rapids.push_back(&m);  // the G0s to the strokes (not a pen word's)
+    ASSERT_EQ(rapids.size(), 3u);
+    for (size_t k = 0; k < 3; ++k) {
+      EXPECT_NEAR(rapids[k]->x1, strokes[k].front().theta, 1e-4);
+      EXPECT_NEAR(rapids[k]->y1, strokes[k].front().rho * 1e3, 1e-4);
+    }
+    const Rs274 r = run_rs274(g, "lifting");
+    EXPECT_EQ(r.status, 0) << r.err;
+    for (const std::string& text : {r.out, r.err}) {
+      std::string lower = text;
+      for (char& ch : lower) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+      EXPECT_EQ(lower.find("error"), std::string::npos) << text.substr(0, 2000);
+    }
+    auto count = [&](const std::string& what) {
+      size_t n = 0;
+      for (size_t q = r.out.find(what); q != std::string::npos; q = r.out.find(what, q + 1)) ++n;
+      return n;
+    };
+    if (s.pen_up.front() == "M5") {
+      EXPECT_EQ(count("STOP_SPINDLE_TURNING("), 4u + 1u);  // the lifts, and M2's own stop of the spindle
+      EXPECT_EQ(count("START_SPINDLE_CLOCKWISE("), 3u);
+      EXPECT_EQ(count("STRAIGHT_TRAVERSE("), 3u);
+    } else {
+      EXPECT_EQ(count("STRAIGHT_TRAVERSE("), 3u + 4u);  // the rapids and the Z lifts
+    }
+  }
+  // a pen word that is not one printable line is refused naming its key
+  GcodeSpec s = spec(FeedMode::inverse_time, 0.0);
+  s.pen_down = {"M3\nM5"};
+  std::ostringstream o;
+  try {
+    write_gcode_lifting(o, strokes, s, 0.02);
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.place(), "pen_down");
+  }
+}
