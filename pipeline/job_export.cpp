@@ -36,6 +36,21 @@ void check_reach(const Job& job, double reach, double limit, const std::string& 
     throw InputError("the path reaches " + mm(reach) + " from the pole, beyond " + what + " (" + mm(limit) + ")", job.file);
 }
 
+// The machine's [gcode] table with the export's feed mode, for a path reaching `reach` from the pole; refuses a
+// machine without one, a job without a constant speed, the axis feed mode without its feed, a path beyond the table.
+GcodeSpec export_gcode_spec(const Job& job, const ExportOptions& o, double reach) {
+  if (!job.machine.gcode)
+    throw InputError("the machine has no [gcode] table: add one to its machine file (docs/gcode.md)", job.file);
+  if (!job.motion.table.empty() || job.motion.rollers)
+    throw InputError("G-code export needs a constant speed: give [motion] speed (or --speed), not speed_profile", job.file);
+  GcodeSpec spec = *job.machine.gcode;
+  if (o.feed_mode) spec.feed_mode = *o.feed_mode;
+  if (spec.feed_mode == FeedMode::axis && !(spec.axis_feed > 0.0))
+    throw InputError("the axis feed mode needs axis_feed in the machine's [gcode] table", job.file);
+  check_reach(job, reach, spec.table_radius, "the [gcode] table radius");
+  return spec;
+}
+
 // The contours of a lifting job as theta-rho vertices within the tolerance, each on the arm's turn nearest the end
 // of the one before (as the tape steps them: pipeline/job_tape).
 std::vector<std::vector<ThetaRho>> lifting_strokes(const Job& job, double tolerance, std::vector<ToolPathPtr>& paths) {
@@ -86,15 +101,7 @@ ExportResult export_lifting(const Job& job, const ExportOptions& o) {
     r.vertices += v.size();
     r.rho_max_m = std::max(r.rho_max_m, rho_max(v));
   }
-  if (!job.machine.gcode)
-    throw InputError("the machine has no [gcode] table: add one to its machine file (docs/gcode.md)", job.file);
-  if (!job.motion.table.empty())
-    throw InputError("G-code export needs a constant speed: give [motion] speed (or --speed), not speed_profile", job.file);
-  GcodeSpec spec = *job.machine.gcode;
-  if (o.feed_mode) spec.feed_mode = *o.feed_mode;
-  if (spec.feed_mode == FeedMode::axis && !(spec.axis_feed > 0.0))
-    throw InputError("the axis feed mode needs axis_feed in the machine's [gcode] table", job.file);
-  check_reach(job, r.rho_max_m, spec.table_radius, "the [gcode] table radius");
+  const GcodeSpec spec = export_gcode_spec(job, o, r.rho_max_m);
   r.gcode = in_file(job.file, [&] { return write_gcode_lifting(out, strokes, spec, job.motion.speed, source_lines(job, o)); });
   r.content = out.str();
   return r;
@@ -153,15 +160,7 @@ ExportResult export_job(const Job& job, const ExportOptions& o, const Progress& 
     head.push_back("theta in radians, rho in 0..1 of r_max = " + mm(R));
     write_thr(out, norm_v, head);
   } else {
-    if (!job.machine.gcode)
-      throw InputError("the machine has no [gcode] table: add one to its machine file (docs/gcode.md)", job.file);
-    if (!job.motion.table.empty() || job.motion.rollers)
-      throw InputError("G-code export needs a constant speed: give [motion] speed (or --speed), not speed_profile", job.file);
-    GcodeSpec spec = *job.machine.gcode;
-    if (o.feed_mode) spec.feed_mode = *o.feed_mode;
-    if (spec.feed_mode == FeedMode::axis && !(spec.axis_feed > 0.0))
-      throw InputError("the axis feed mode needs axis_feed in the machine's [gcode] table", job.file);
-    check_reach(job, r.rho_max_m, spec.table_radius, "the [gcode] table radius");
+    const GcodeSpec spec = export_gcode_spec(job, o, r.rho_max_m);
     r.gcode = in_file(job.file, [&] { return write_gcode(out, v, spec, job.motion.speed, source_lines(job, o)); });
   }
   r.content = out.str();
