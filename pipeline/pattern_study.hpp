@@ -20,6 +20,8 @@ struct PatternStudy {
   double speed_mps = 0.0;               // the requested speed
   double drawn_length_m = 0.0;          // the path's length as drawn (the preview's samples of it: chords)
   double nominal_time_s = 0.0;          // the drawn length at the requested speed throughout
+  double rapid_time_s = 0.0;            // of the rapid moves with the tool up (a machine that lifts its tool)
+  double rapid_length_m = 0.0;
   double slowed_length_m = 0.0;         // of the path below 99 % of the requested speed (from the preview's samples)
   size_t contours = 1;
   bool has_dynamics = false;            // the machine file describes masses and motors

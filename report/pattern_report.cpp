@@ -57,12 +57,16 @@ OperatorReport pattern_report(const Job& job, const PatternStudy& st) {
              "the pattern on the work area");
 
   rep.heading(2, "Time and speed", "time");
+  // below a microsecond: the rounding of the step times, not time lost
+  double lost_s = d.duration_s - st.rapid_time_s - st.nominal_time_s;
+  if (lost_s < 1e-6) lost_s = 0.0;
   std::vector<std::vector<std::string>> rows = {
       {"requested speed", g(st.speed_mps * 1e3) + " mm/s"},
       {"path length as drawn", g(st.drawn_length_m * 1e3, 6) + " mm"},
       {"drawing time", duration(d.duration_s)},
       {"at the requested speed throughout", duration(st.nominal_time_s)},
-      {"time lost where the requested speed is not kept", duration(std::max(0.0, d.duration_s - st.nominal_time_s))},
+      {"rapid moves with the tool up", g(st.rapid_length_m * 1e3, 5) + " mm in " + duration(st.rapid_time_s)},
+      {"time lost where the requested speed is not kept", duration(lost_s)},
       {"drawn below 99 % of the requested speed", g(st.slowed_length_m * 1e3, 4) + " mm (" +
                                                       share(st.drawn_length_m > 0 ? st.slowed_length_m / st.drawn_length_m : 0.0) + ")"},
       {"contours", std::to_string(st.contours)}};
