@@ -20,7 +20,8 @@ struct LevelSample {
   capture_i128 t_fs = 0;  // the sample's time in femtoseconds, as recorded
   uint32_t levels = 0;    // bit i: level of signal i after this time's changes (0 while unknown)
   uint32_t known = 0;     // bit i: signal i has had a level 0 or 1
-  uint32_t changed = 0;   // bit i: signal i changed level at this sample (from a known level or from unknown)
+  uint32_t changed = 0;   // bit i: signal i changed level at this sample (from a known level or from unknown, or
+                          // to unknown where the reader allows that)
   uint64_t line = 0;      // the line of the file that completed the sample (for messages)
 };
 

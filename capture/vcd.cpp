@@ -47,8 +47,9 @@ std::string list_names(const std::vector<std::string>& names) {
 
 }  // namespace
 
-VcdReader::VcdReader(std::istream& in, std::string file, const std::vector<std::string>& signals)
-    : in_(in), file_(std::move(file)) {
+VcdReader::VcdReader(std::istream& in, std::string file, const std::vector<std::string>& signals,
+                     uint32_t may_be_unknown)
+    : in_(in), file_(std::move(file)), may_be_unknown_(may_be_unknown) {
   if (signals.empty() || signals.size() > static_cast<size_t>(kMaxLevelSignals))
     throw InputError("a VCD reader reads 1 to 32 signals", file_);
   read_header(signals);
@@ -245,9 +246,21 @@ bool VcdReader::next(LevelSample& s) {
     }
     if (!bits || dumpoff_) continue;
     if (level == 'x' || level == 'z') {
-      if (known_ & bits)
+      const uint32_t lost = known_ & bits;  // the signals that had a level
+      if (!lost) continue;
+      if (lost & ~may_be_unknown_)
         fail(std::string("signal goes to ") + level + " (unknown) at #" + std::to_string(now_) +
              ": once a signal has a level, a capture must hold 0 or 1");
+      bool emit = false;
+      if (changed_ & lost) {  // a second change at one time: the sample so far comes first
+        s = sample();
+        emit = true;
+      }
+      levels_ &= ~lost;
+      known_ &= ~lost;
+      changed_ |= lost;
+      last_line_ = tok_line_;
+      if (emit) return true;
       continue;
     }
     const uint32_t v = level == '1' ? bits : 0u;

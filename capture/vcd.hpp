@@ -10,7 +10,9 @@
 // zeros allowed), reals rVALUE ID of other signals (skipped); $dumpvars, $dumpall, $dumpon and their $end are
 // transparent, the x values inside $dumpoff ... $end are ignored, $comment ... $end is skipped.
 // x and z: a signal is unknown until its first 0 or 1; an x or z after that is refused (a capture must hold
-// levels), naming the line.
+// levels), naming the line, unless the signal is one of those the reader was told may become unknown again (a
+// step/dir decoder reports a step edge met by an unknown direction itself): then the level is unknown again
+// (its `known` bit cleared, `changed` set) until the next 0 or 1.
 // Every failure is an InputError naming FILE:LINE and what to change.
 #include <istream>
 #include <string>
@@ -24,7 +26,9 @@ class VcdReader final : public LevelSource {
  public:
   // Reads the header from `in` (which must outlive the reader); `file` names it in messages. `signals` are the
   // names asked for, signal i being bit i of the samples. InputError for a bad header or a signal not found.
-  VcdReader(std::istream& in, std::string file, const std::vector<std::string>& signals);
+  // `may_be_unknown`: bits of the signals that may go back to x or z after a level (default none).
+  VcdReader(std::istream& in, std::string file, const std::vector<std::string>& signals,
+            uint32_t may_be_unknown = 0);
 
   bool next(LevelSample& s) override;
   int64_t resolution_fs() const override { return unit_fs_; }
@@ -57,6 +61,7 @@ class VcdReader final : public LevelSource {
   std::vector<std::pair<std::string, uint32_t>> ids_;  // identifier -> bits of the signals asked for (sorted)
   std::vector<std::string> matched_;
   uint32_t levels_ = 0, known_ = 0, changed_ = 0;
+  uint32_t may_be_unknown_ = 0;
   uint64_t last_line_ = 0;
 };
 
