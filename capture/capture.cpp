@@ -398,8 +398,9 @@ std::unique_ptr<LevelSource> make_reader(std::istream& in, const std::string& na
   std::vector<std::string> names = o.signals.list(o.encoding);
   if (!o.origin_signal.empty()) names.push_back(o.origin_signal);
   if (format == CaptureFormat::vcd) {
-    // step/dir: a channel may go back to x or z (a STEP edge met by an unknown DIR is reported as a glitch)
-    auto v = std::make_unique<VcdReader>(in, name, names, o.encoding == CaptureEncoding::step_dir ? 15u : 0u);
+    // step/dir: a channel may go back to x or z (a STEP edge met by an unknown DIR is reported as a glitch);
+    // the origin signal may too (only its first rising edge counts)
+    auto v = std::make_unique<VcdReader>(in, name, names, o.encoding == CaptureEncoding::step_dir ? 31u : 16u);
     matched = v->matched();
     return v;
   }
