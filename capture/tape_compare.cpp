@@ -106,11 +106,16 @@ void TapeComparer::match(const Seen& s) {
   ++r_.matched;
 }
 
+int64_t TapeComparer::on_tick(int64_t t_ns) const {
+  if (o_.tick_ns <= 0) return t_ns;
+  return t_ns >= 0 ? (t_ns + o_.tick_ns / 2) / o_.tick_ns : -((-t_ns + o_.tick_ns / 2) / o_.tick_ns);
+}
+
 void TapeComparer::step(int axis, int dir, int64_t t_ns) {
   const Seen s{axis, dir, t_ns};
   ++r_.steps_seen;
   if (have_held_) {
-    if (held_.t_ns == s.t_ns && held_.axis != s.axis && fill(2)) {
+    if (on_tick(held_.t_ns) == on_tick(s.t_ns) && held_.axis != s.axis && fill(2)) {
       const Expected& e0 = ahead_[0];
       const Expected& e1 = ahead_[1];
       const bool in_order = e0.axis == held_.axis && e0.dir == held_.dir && e1.axis == s.axis && e1.dir == s.dir;

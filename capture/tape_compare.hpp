@@ -5,9 +5,9 @@
 // order, on the same axis, in the same direction, and at the expected time divided by the speed scale P/Q (the
 // scale the tape was played at) within a tolerance.
 //
-// Two steps of different axes at one seen time (one controller tick) may come in either order: when the seen
-// pair matches the next two expected steps the other way round, they are taken as matched (counted in
-// `simultaneous_swapped`). A controller ticking at a period T puts each step on a tick: with tick_ns = T, a seen
+// Two steps of different axes at one seen time (on one controller tick, with tick_ns) may come in either order:
+// when the seen pair matches the next two expected steps the other way round, they are taken as matched (counted
+// in `simultaneous_swapped`). A controller ticking at a period T puts each step on a tick: with tick_ns = T, a seen
 // time is first taken to the nearest multiple of T from the origin (the tick it fired on; the edge's distance
 // from it, the interrupt's latency, is reported as max_jitter_ns), and the error is measured from that tick.
 // Times are compared exactly (integers: the expected tape's ticks, the seen nanoseconds).
@@ -87,6 +87,7 @@ class TapeComparer final : public StepSink {
     uint64_t t_ticks;
   };
   bool fill(size_t n);  // at least n expected steps ahead, unless the tape ends
+  int64_t on_tick(int64_t t_ns) const;  // the seen time's tick (tick_ns), else the time itself
   void match(const Seen& s);
   void list(const TapeMismatch& m);
   TapeCompareOptions o_;

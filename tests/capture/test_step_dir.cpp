@@ -416,6 +416,11 @@ TEST(CompareTapes, StepsOfTwoAxesOnOneTickInEitherOrder) {
   EXPECT_TRUE(c.ok());
   EXPECT_EQ(c.simultaneous_swapped, 1u);
   EXPECT_EQ(c.max_time_error_ns, 2000.0);  // the angular step: 32 000 against 30 000
+  // on one tick with different latencies (edges 160 ns apart): the same
+  c = t.compare({{0, +1, 5000}, {1, +1, 12500}, {0, -1, 20000}, {0, +1, 32040}, {1, +1, 32200}}, at_speed_2(4000, 4000));
+  EXPECT_TRUE(c.ok());
+  EXPECT_EQ(c.simultaneous_swapped, 1u);
+  EXPECT_EQ(c.max_raw_error_ns, 2200.0);
   // at two different times the order is the recording's: both out of order
   c = t.compare({{0, +1, 5000}, {1, +1, 12500}, {0, -1, 20000}, {0, +1, 31000}, {1, +1, 32000}}, at_speed_2(0, 4000));
   EXPECT_EQ(c.simultaneous_swapped, 0u);

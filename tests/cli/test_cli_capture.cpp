@@ -286,4 +286,164 @@ TEST(CliCapture, BadRecordingsAreRefusedInOneLineNamingTheLine) {
                  "missing.vcd: cannot be read");
 }
 
+// ---- step/dir ---------------------------------------------------------------------------------------------------
+
+// The test's own model of a controller playing `steps` at speed scale 2 on a 4 us tick: each step fires on the
+// tick nearest to its time / 2, `latency(i)` ns after the tick (an interrupt's), as a 2.4 us STEP pulse, with
+// DIR set 1.5 us before when it changes; the `run` line rises at tick 0, which is t0_ns into the recording.
+// Written as a VCD (10 ns timescale) with no capture code.
+struct PinModel {
+  int64_t tick_ns = 4000, t0_ns = 7000;
+  int64_t latency(size_t i) const { return 200 + static_cast<int64_t>(i % 5) * 40; }
+  int64_t tick_of(int64_t t_ns) const { return (t_ns + tick_ns) / (2 * tick_ns); }  // nearest to t / 2
+  int64_t edge(size_t i, int64_t t_ns) const { return t0_ns + tick_of(t_ns) * tick_ns + latency(i); }
+};
+
+std::string step_dir_vcd(const std::vector<QStep>& steps, const PinModel& m, size_t skip = SIZE_MAX) {
+  struct Ev {
+    int64_t t;
+    char id;
+    int level;
+  };
+  std::vector<Ev> ev = {{0, '!', 0}, {0, '"', 0}, {0, '#', 0}, {0, '$', 0}, {0, '%', 0}, {m.t0_ns, '%', 1}};
+  int dir[2] = {0, 0};
+  for (size_t i = 0; i < steps.size(); ++i) {
+    if (i == skip) continue;
+    const QStep& s = steps[i];
+    const int64_t e = m.edge(i, s.t_ns);
+    const int want = s.dir > 0 ? 1 : 0;
+    if (want != dir[s.axis]) ev.push_back({e - 1500, s.axis ? '$' : '"', want});
+    dir[s.axis] = want;
+    ev.push_back({e, s.axis ? '#' : '!', 1});
+    ev.push_back({e + 2400, s.axis ? '#' : '!', 0});
+  }
+  std::stable_sort(ev.begin(), ev.end(), [](const Ev& a, const Ev& b) { return a.t < b.t; });
+  std::string v =
+      "$timescale 10 ns $end\n$scope module logic $end\n$var wire 1 ! r_step $end\n$var wire 1 \" r_dir $end\n"
+      "$var wire 1 # theta_step $end\n$var wire 1 $ theta_dir $end\n$var wire 1 % run $end\n$upscope $end\n"
+      "$enddefinitions $end\n$dumpvars\nx!\nx\"\nx#\nx$\nx%\n$end\n";
+  int64_t now = -1;
+  for (const Ev& e : ev) {
+    char line[48];
+    if (e.t != now) {
+      std::snprintf(line, sizeof line, "#%lld\n", static_cast<long long>(e.t / 10));
+      v += line;
+    }
+    now = e.t;
+    std::snprintf(line, sizeof line, "%d%c\n", e.level, e.id);
+    v += line;
+  }
+  char end[32];
+  std::snprintf(end, sizeof end, "#%lld\n", static_cast<long long>(now / 10 + 100));
+  return v + end;
+}
+
+// The limacon's tape in this test's scratch directory (limacon() keeps its steps for the whole process, its
+// file only for the first test).
+std::string limacon_tape(const Scratch& sc) {
+  const std::string tape = sc.path("job.tape");
+  const CliResult r = run_cli("digitize " + kSource + "/examples/limacon.toml -o " + tape);
+  EXPECT_EQ(r.code, 0) << r.err;
+  return tape;
+}
+
+TEST(CliCaptureStepDir, APlayRecordedAtTheStepPinsComparesWithItsTape) {
+  Scratch sc;
+  const Tape& src = limacon(sc);
+  const std::string job = limacon_tape(sc);
+  const PinModel m;
+  const std::string rec = sc.write("pins.vcd", step_dir_vcd(src.steps, m));
+  const std::string out = sc.path("pins.tape");
+  const json j = cli_json("capture " + rec + " --encoding step-dir --origin run -o " + out + " --compare " + job +
+                          " --speed-scale 2 --tick 4us --json");
+  EXPECT_EQ(j["encoding"], "step-dir");
+  EXPECT_EQ(j["signals"]["theta_dir"], "logic.theta_dir");
+  EXPECT_EQ(j["origin_signal"], "logic.run");
+  EXPECT_FALSE(j.contains("counts_per_step"));
+  EXPECT_EQ(j["start_node"], json::array({src.start[0], src.start[1]}));  // the compared tape's start and grid
+  EXPECT_EQ(j["end_node"], json::array({src.end[0], src.end[1]}));
+  EXPECT_EQ(j["dir_setup_late"]["radial"], 0);  // 1.5 us before each edge
+  // the model's errors, worked out here: each step's tick against its time / 2, and the latencies
+  double worst = 0;
+  int64_t jitter = 0;
+  for (size_t i = 0; i < src.steps.size(); ++i) {
+    worst = std::max(worst, std::abs(static_cast<double>(m.tick_of(src.steps[i].t_ns) * m.tick_ns) -
+                                     static_cast<double>(src.steps[i].t_ns) / 2));
+    jitter = std::max(jitter, m.latency(i));
+  }
+  const json& c = j["comparison"];
+  EXPECT_EQ(c["result"], "PASS");
+  EXPECT_EQ(c["steps_expected"], src.steps.size());
+  EXPECT_EQ(c["steps_seen"], src.steps.size());
+  EXPECT_EQ(c["mismatches"], 0);
+  EXPECT_EQ(c["tolerance_ns"], 4000);
+  EXPECT_DOUBLE_EQ(c["max_time_error_ns"].get<double>(), worst);
+  EXPECT_DOUBLE_EQ(c["max_jitter_ns"].get<double>(), static_cast<double>(jitter));
+  // the tape written: the steps at their edges' times from the run line's rise
+  const Tape got = read_tape(out);
+  ASSERT_EQ(got.steps.size(), src.steps.size());
+  for (size_t i : {size_t{0}, src.steps.size() / 2, src.steps.size() - 1}) {
+    EXPECT_EQ(got.steps[i].t_ns, m.edge(i, src.steps[i].t_ns) - m.t0_ns) << i;
+    EXPECT_EQ(got.steps[i].axis, src.steps[i].axis);
+    EXPECT_EQ(got.steps[i].dir, src.steps[i].dir);
+  }
+  // the summary says the same
+  const CliResult text = run_cli("capture " + rec + " --encoding step-dir --origin run --compare " + job +
+                                 " --speed-scale 2 --tick 4us");
+  EXPECT_EQ(text.code, 0) << text.err;
+  EXPECT_NE(text.out.find("0 mismatches"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find(": PASS"), std::string::npos) << text.out;
+}
+
+TEST(CliCaptureStepDir, AMissingPulseFailsTheComparisonWithExitStatus1) {
+  Scratch sc;
+  const Tape& src = limacon(sc);
+  const std::string job = limacon_tape(sc);
+  const size_t lost = 1000;
+  const std::string rec = sc.write("lost.vcd", step_dir_vcd(src.steps, PinModel{}, lost));
+  const CliResult r = run_cli("capture " + rec + " --encoding step-dir --origin run --compare " + job +
+                              " --speed-scale 2 --tick 4us --json");
+  EXPECT_EQ(r.code, 1) << r.err;
+  const json c = json::parse(r.out)["comparison"];
+  EXPECT_EQ(c["result"], "FAIL");
+  EXPECT_EQ(c["steps_seen"], src.steps.size() - 1);
+  EXPECT_GE(c["mismatches"].get<int>(), 1);
+  ASSERT_GE(c["listed"].size(), 1u);
+  EXPECT_EQ(c["listed"][0]["step"], lost + 1);  // the first place that differs is the lost step's
+  // a polarity the wrong way round on the radial axis: its first step (radial, in the tape's direction) differs
+  const std::string good = sc.write("good.vcd", step_dir_vcd(src.steps, PinModel{}));
+  const CliResult inv = run_cli("capture " + good + " --encoding step-dir --origin run --invert-dir r --compare " +
+                                job + " --speed-scale 2 --tick 4us --json");
+  EXPECT_EQ(inv.code, 1) << inv.err;
+  size_t first_radial = 0;
+  while (src.steps[first_radial].axis != 0) ++first_radial;
+  EXPECT_EQ(json::parse(inv.out)["comparison"]["listed"][0]["step"], first_radial + 1);
+}
+
+TEST(CliCaptureStepDir, OptionsThatDoNotApplyAndBadInput) {
+  Scratch sc;
+  const Tape& src = limacon(sc);
+  const std::string rec = sc.write("pins.vcd", step_dir_vcd(src.steps, PinModel{}));
+  const std::string out = sc.path("never.tape");
+  // a machine file's counts_per_step does not apply to step/dir: said on stderr, one pulse is one step
+  const std::string m4 =
+      sc.write("m4.toml", replace(read_file(kMachine), "[machine]\n", "[machine]\ncounts_per_step = 4\n"));
+  const CliResult note = run_cli("capture " + rec + " --encoding step-dir --machine " + m4 + " --json");
+  ASSERT_EQ(note.code, 0) << note.err;
+  EXPECT_NE(note.err.find("counts_per_step (4) does not apply to step/dir"), std::string::npos) << note.err;
+  EXPECT_EQ(json::parse(note.out)["steps_total"], src.steps.size());
+  auto refused = [&](const std::string& args, const std::string& mention) {
+    SCOPED_TRACE(args);
+    expect_refused(run_cli("capture " + rec + " -o " + out + " " + args), sc, out, mention);
+  };
+  refused("--machine " + kMachine + " --encoding stepdir", "--encoding: 'stepdir' is not an encoding");
+  refused("--machine " + kMachine + " --encoding step-dir --signals r_a=D0", "give --encoding quadrature");
+  refused("--machine " + kMachine + " --encoding step-dir --tick 4us", "--tick: applies with --compare");
+  refused("--encoding step-dir", "--machine: give the machine file");
+  refused("--machine " + kMachine + " --invert-dir r", "--invert-dir: applies to --encoding step-dir only");
+  refused("--machine " + kMachine + " --encoding step-dir --invert-dir x", "--invert-dir: 'x' is not r, theta");
+  refused("--machine " + kMachine + " --encoding step-dir --origin enable", "no signal named 'enable'");
+  refused("--encoding step-dir --compare " + sc.path("none.tape"), "none.tape");
+}
+
 }  // namespace
