@@ -1,11 +1,11 @@
 #pragma once
 // Logic levels recorded by a logic analyser or a simulator, as a stream of samples: after each sample time, the
 // level of every signal asked for. The VCD reader (capture/vcd.hpp) and the CSV reader (capture/csv_levels.hpp)
-// produce it; the quadrature decoder (capture/capture.hpp) and the firmware simulation's pin comparison consume
-// it. Times are exact: femtoseconds in a 128-bit integer, as recorded (no origin taken, no rounding).
+// produce it; the quadrature and step/dir decoders (capture/capture.hpp) consume it. Times are exact:
+// femtoseconds in a 128-bit integer, as recorded (no origin taken, no rounding).
 //
-// This header and capture/vcd.cpp depend on nothing but cam/error.hpp, so a program outside the CMake build (the
-// firmware simulator's harness) can compile the VCD reader with it.
+// This header and capture/vcd.cpp depend on nothing but cam/error.hpp (a program outside the CMake build can
+// compile the VCD reader with them).
 #include <cstdint>
 #include <string>
 
