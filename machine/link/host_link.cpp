@@ -34,6 +34,8 @@ void HostLink::on_frame(const Frame& f) {
       }
       if (!got_ack_ || seq_diff(a.next_seq, ack_.next_seq) >= 0) ack_ = a;
       got_ack_ = true;
+      state_ = static_cast<State>(a.state);  // the controller's state as it sent this
+      state_at_ = t_.now();
       return;
     }
     case NAK: {
@@ -56,6 +58,8 @@ void HostLink::on_frame(const Frame& f) {
     case STATUS_REPLY:
       if (Status::decode(f.payload, status_)) {
         got_status_ = true;
+        state_ = status_.state;
+        state_at_ = t_.now();
         if (got_ack_ && seq_diff(status_.next_seq, ack_.next_seq) >= 0) {  // fresher credits than the last ACK
           ack_.next_seq = status_.next_seq;
           ack_.free_slots = status_.free_slots;
@@ -165,6 +169,7 @@ PlayReport HostLink::play(const PlayPlan& plan, const Schedule& sc) {
   std::deque<Out> inflight;
   size_t k = 0;  // next item to send
   bool start_sent = false, resume_pending = false;
+  bool status_schedule_at_underrun = false;  // status_.schedule_ticks is where the underrun stopped the clock
   double resume_sent = -1e9;
   uint64_t steps_sent = 0;
   uint32_t underruns_seen = 0;
@@ -350,6 +355,7 @@ PlayReport HostLink::play(const PlayPlan& plan, const Schedule& sc) {
       if (status_.underruns > underruns_seen) {
         underruns_seen = status_.underruns;
         resume_pending = true;
+        status_schedule_at_underrun = true;
       }
       if (on_progress) {
         PlayProgress p;
@@ -368,19 +374,27 @@ PlayReport HostLink::play(const PlayPlan& plan, const Schedule& sc) {
         rep_.duration_s = static_cast<double>(status_.now_ticks) * tick_s;
         break;
       }
-      // after an underrun stop, resume once the buffer is refilled
-      if (resume_pending && status_.state == State::underrun && inflight.empty() &&
-          (k == sc.items.size() || ack_.free_slots == 0 || byte_credits() < next_item_bytes() ||
-           static_cast<double>(sc.horizon[k - 1]) - static_cast<double>(status_.schedule_ticks) >= prefill_ticks)) {
-        // sent again while the controller still reports the stop (a RESUME can be lost like any frame)
-        if (now - resume_sent > o_.rto_s) {
-          send_raw(encode_frame(next_req(), RESUME, ""));
-          resume_sent = now;
-        }
+    }
+    // after an underrun stop, resume once the buffer is refilled. The controller's state is the latest one heard,
+    // from a STATUS reply or an ACK, whichever came last: an ACK carries the state too, and being short it gets
+    // through a noisy line far more often than a STATUS reply (on a line that loses 2 % of the bytes, an 86-byte
+    // reply arrives whole one time in six), so the stop is seen, and the RESUME confirmed, when the first frame
+    // after it is acknowledged rather than seconds later
+    if (state_ == State::underrun && state_at_ > resume_sent) resume_pending = true;
+    if (resume_pending && state_ == State::underrun && inflight.empty() &&
+        (k == sc.items.size() || ack_.free_slots == 0 || byte_credits() < next_item_bytes() ||
+         (status_schedule_at_underrun && status_.state == State::underrun &&
+          static_cast<double>(sc.horizon[k - 1]) - static_cast<double>(status_.schedule_ticks) >= prefill_ticks))) {
+      // sent again while the controller still reports the stop (a RESUME can be lost like any frame)
+      if (now - resume_sent > o_.rto_s) {
+        send_raw(encode_frame(next_req(), RESUME, ""));
+        resume_sent = now;
       }
-      if (resume_pending && status_.state != State::underrun && status_.state != State::stopping &&
-          now - resume_sent < 1e8)
-        resume_pending = false;
+    }
+    if (resume_pending && state_ != State::underrun && state_ != State::stopping && state_at_ > resume_sent &&
+        resume_sent > -1e8) {
+      resume_pending = false;
+      status_schedule_at_underrun = false;
     }
     // a silent link: reconnect, then carry on if it is the same controller session
     if (now - last_rx_ > o_.link_timeout_s) {

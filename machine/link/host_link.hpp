@@ -133,6 +133,8 @@ class HostLink {
   proto::ErrorMsg error_;
   bool got_error_ = false, rebooted_ = false;
   uint32_t boot_session_ = 0;
+  proto::State state_ = proto::State::idle;  // the controller's latest state heard (ACK or STATUS reply)
+  double state_at_ = -1e9;                   // when it was heard
   uint16_t nak_seq_ = 0;
   bool got_nak_ = false, nak_kept_ = true;
   double last_rx_ = 0;
