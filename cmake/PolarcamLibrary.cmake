@@ -6,6 +6,9 @@ function(polarcam_library name)
   add_library(${name} ${L_SOURCES})
   target_include_directories(${name} PUBLIC ${PROJECT_SOURCE_DIR})
   target_link_libraries(${name} PUBLIC ${L_PUBLIC} polarcam_options PRIVATE ${L_PRIVATE})
+  if(POLARCAM_FUZZ)  # libFuzzer's coverage in the libraries (the parsers); the harnesses link the fuzzer (fuzz/)
+    target_compile_options(${name} PRIVATE -fsanitize=fuzzer-no-link)
+  endif()
 endfunction()
 
 # polarcam_cgal_unit(NAME SOURCE): CGAL confined to one translation unit, built as an object library that a

@@ -1,25 +1,20 @@
 #!/usr/bin/env bash
 # Fuzzes every parser (docs/fuzzing.md): builds the libFuzzer harnesses of fuzz/ with clang-14 under ASan+UBSan in
-# their own build directory (build-fuzz/, POLARCAM_FUZZ=ON; the normal build is not touched), replays the inputs
+# the sanitized build directory (build-asan/, shared with SANITIZE=1 scripts/test.sh; the normal build is not
+# touched; FUZZ_BUILD_DIR names another), replays the inputs
 # of fuzz/regressions/, then runs each harness for SECONDS (default 5), one after the other, and prints its
-# executions. Exit status 1 when any harness found something (its input is saved in build-fuzz/artifacts/).
+# executions. Exit status 1 when any harness found something (its input is saved in build-asan/artifacts/).
 #   bash scripts/fuzz.sh 5                      # the CI smoke run
 #   FUZZ_TARGETS="tape thr" bash scripts/fuzz.sh 600   # some targets, longer
 #   FUZZ_RUNS=1000000 bash scripts/fuzz.sh 600  # each target until it has run this many inputs (or 600 s)
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 secs="${1:-5}"
-dir="${FUZZ_BUILD_DIR:-build-fuzz}"
+dir="${FUZZ_BUILD_DIR:-build-asan}"
 all="tape job_toml machine_toml thr svg dxf csv_points units expr options protocol_host protocol_controller image vcd"
 read -r -a targets <<< "${FUZZ_TARGETS:-$all}"
 
-launcher=()
-log="$(mktemp)"
-command -v ccache > /dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
-cmake -S . -B "$dir" -G Ninja -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DPOLARCAM_FUZZ=ON -DPOLARCAM_BUILD_TESTS=OFF \
-  -DPOLARCAM_BUILD_BENCH=OFF "${launcher[@]}" > "$log" 2>&1 || { cat "$log"; rm -f "$log"; exit 1; }
-rm -f "$log"
+bash scripts/configure-sanitized.sh "$dir"
 cmake --build "$dir" --parallel "$(nproc)" --target "${targets[@]/#/fuzz_}"
 
 # Seeds from the examples and the test data, beside the small ones checked in under fuzz/corpus/.

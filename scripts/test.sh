@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
 # Second command of README.md: build (if needed) and run the whole test suite.
-# SANITIZE=1 builds and runs it under AddressSanitizer + UndefinedBehaviorSanitizer in build-asan/.
+# SANITIZE=1 builds and runs it under AddressSanitizer + UndefinedBehaviorSanitizer with clang in build-asan/, the
+# directory the libFuzzer harnesses of scripts/fuzz.sh share (scripts/configure-sanitized.sh).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 bash scripts/install-deps.sh
 if [ "${SANITIZE:-0}" = 1 ]; then
   dir=build-asan
-  cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPOLARCAM_SANITIZE=ON -DPOLARCAM_BUILD_BENCH=OFF \
-    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1"  # line tables for the reports, a lighter compile
+  bash scripts/configure-sanitized.sh "$dir"
   export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 else
   dir=build
