@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 #include <string>
+#include <string_view>
 
 namespace polarcam {
 
@@ -27,6 +28,24 @@ inline std::string plain(double v, int digits = 3) {
 inline std::string share(double fraction, int digits = 3) {
   if (!(std::abs(fraction) < 10.0)) return plain(fraction, digits) + " times";
   return significant(100.0 * fraction, digits) + " %";
+}
+
+// Text for XML and HTML (SVG titles, report text, attribute values in double quotes): & < > " escaped; the control
+// characters XML 1.0 forbids (below 0x20 other than tab, line feed and carriage return) dropped.
+inline std::string xml_escape(std::string_view s) {
+  std::string o;
+  o.reserve(s.size());
+  for (char c : s) {
+    switch (c) {
+      case '&': o += "&amp;"; break;
+      case '<': o += "&lt;"; break;
+      case '>': o += "&gt;"; break;
+      case '"': o += "&quot;"; break;
+      default:
+        if (static_cast<unsigned char>(c) >= 0x20 || c == '\t' || c == '\n' || c == '\r') o += c;
+    }
+  }
+  return o;
 }
 
 }  // namespace polarcam

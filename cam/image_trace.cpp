@@ -16,6 +16,7 @@
 #include <potracelib.h>
 
 #include "cam/error.hpp"
+#include "cam/format.hpp"
 
 namespace polarcam {
 namespace {
@@ -266,20 +267,6 @@ std::string mm(double metres) {
   if (s.back() == '.') s.pop_back();
   if (s == "-0") s = "0";
   return s;
-}
-
-std::string xml_escape(const std::string& t) {
-  std::string o;
-  for (char ch : t) {
-    switch (ch) {
-      case '&': o += "&amp;"; break;
-      case '<': o += "&lt;"; break;
-      case '>': o += "&gt;"; break;
-      case '"': o += "&quot;"; break;
-      default: o += ch;
-    }
-  }
-  return o;
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "cam/error.hpp"
+#include "cam/format.hpp"
 
 namespace polarcam {
 namespace {
@@ -50,18 +51,6 @@ std::string mm(double m) {
   std::string s(buf);
   if (s.find_first_not_of("-0.") == std::string::npos && s[0] == '-') s.erase(0, 1);
   return s;
-}
-
-std::string escape(const std::string& t) {
-  std::string o;
-  for (char ch : t) {
-    if (ch == '&') o += "&amp;";
-    else if (ch == '<') o += "&lt;";
-    else if (ch == '>') o += "&gt;";
-    else if (ch == '"') o += "&quot;";
-    else if (static_cast<unsigned char>(ch) >= 0x20 || ch == '\t') o += ch;
-  }
-  return o;
 }
 
 void polyline(std::string& s, const std::vector<Vec2>& pts) {
@@ -116,7 +105,7 @@ std::string svg_document(const std::vector<SvgPolyline>& lines, const SvgOptions
   // y up: the content is drawn in a group flipped about the x axis, so the viewBox spans -y1 .. -y0
   s += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + mm(x1 - x0) + "mm\" height=\"" + mm(y1 - y0) +
        "mm\" viewBox=\"" + mm(x0) + " " + mm(-y1) + " " + mm(x1 - x0) + " " + mm(y1 - y0) + "\">\n";
-  if (!o.title.empty()) s += "  <title>" + escape(o.title) + "</title>\n";
+  if (!o.title.empty()) s += "  <title>" + xml_escape(o.title) + "</title>\n";
   s += "  <g transform=\"scale(1,-1)\" fill=\"none\" stroke-linecap=\"round\" stroke-linejoin=\"round\">\n";
   s += "  <g id=\"work-area\" stroke=\"#9e9e9e\" stroke-width=\"" + mm(stroke) + "\">\n";
   if (o.work_radius) s += "    <circle cx=\"0\" cy=\"0\" r=\"" + mm(*o.work_radius) + "\"/>\n";

@@ -1,23 +1,11 @@
 #include "report/html.hpp"
 
+#include "cam/format.hpp"
 #include "io/output.hpp"
 
 namespace polarcam::html {
 
-std::string escape(std::string_view s) {
-  std::string o;
-  o.reserve(s.size());
-  for (char c : s) {
-    switch (c) {
-      case '&': o += "&amp;"; break;
-      case '<': o += "&lt;"; break;
-      case '>': o += "&gt;"; break;
-      case '"': o += "&quot;"; break;
-      default: o += c;
-    }
-  }
-  return o;
-}
+std::string escape(std::string_view s) { return xml_escape(s); }
 
 std::string base64(std::string_view in) {
   static const char* t = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
@@ -47,7 +35,9 @@ Report::Report(std::string title) : title_(std::move(title)) {}
 
 void Report::heading(int level, const std::string& text, const std::string& id) {
   std::string h = "h" + std::to_string(level < 1 ? 1 : (level > 4 ? 4 : level));
-  body_ += "<" + h + (id.empty() ? "" : " id=\"" + escape(id) + "\"") + ">" + escape(text) + "</" + h + ">\n";
+  body_ += "<" + h;
+  if (!id.empty()) body_ += " id=\"" + escape(id) + "\"";
+  body_ += ">" + escape(text) + "</" + h + ">\n";
 }
 
 void Report::paragraph(const std::string& text) { body_ += "<p>" + escape(text) + "</p>\n"; }

@@ -152,7 +152,9 @@ TEST(CliPenUp, GcodeLiftsTheToolAroundEachRapidAndLinuxCncAcceptsIt) {
       ASSERT_LT(i + 1, lines.size());
       EXPECT_EQ(lines[i + 1], "M3 S1000") << "the tool is lowered right after the rapid, line " << i + 2;
     }
-    if (lines[i].rfind("G1 ", 0) == 0) EXPECT_FALSE(tool_up) << "a G1 with the tool up, line " << i + 1;
+    if (lines[i].rfind("G1 ", 0) == 0) {
+      EXPECT_FALSE(tool_up) << "a G1 with the tool up, line " << i + 1;
+    }
   }
   EXPECT_EQ(g0, 4u);
   EXPECT_TRUE(tool_up) << "the tool is lifted at the end";
