@@ -1,5 +1,5 @@
 // polarcam controller-sim --pty [--tick NS] [--faults SPEC] --log FILE [--exit-after-idle SECONDS] [--baud N]
-//                         [--slots N] [--queue-bytes N] [--drop-ahead] [--time-scale F] [--machine FILE]
+//                         [--slots N] [--queue-bytes N] [--drop-ahead] [--time-scale F] [--machine FILE] [--no-tool]
 // The controller emulator: serves the controller protocol on a pseudo-terminal, executes the schedule on a
 // simulated clock, logs every executed step, and injects faults. Prints the pty path as its first line.
 #include <fcntl.h>
@@ -61,6 +61,7 @@ void register_controller_sim(CLI::App& app, Action& action) {
     unsigned slots = 4096;
     unsigned queue_bytes = 0;
     bool drop_ahead = false;
+    bool no_tool = false;
     double time_scale = 1;
   };
   auto o = std::make_shared<Opts>();
@@ -74,6 +75,7 @@ void register_controller_sim(CLI::App& app, Action& action) {
   c->add_option("--slots", o->slots, "queue items it buffers (default 4096)");
   c->add_option("--queue-bytes", o->queue_bytes, "and bytes of encoded items (default: no limit; the reference firmware: 384)");
   c->add_flag("--drop-ahead", o->drop_ahead, "drop frames that arrive after a missing one, as the reference firmware");
+  c->add_flag("--no-tool", o->no_tool, "a controller that drives no tool: refuses tool items (IDENT without the tool capability)");
   c->add_option("--time-scale", o->time_scale, "its clock runs this many times faster than the wall clock (default 1)");
   c->add_option("--machine", o->machine, "machine file: refuse jobs for another grid");
   c->callback([o, &action] {
@@ -90,6 +92,7 @@ void register_controller_sim(CLI::App& app, Action& action) {
       spec.slots = o->slots;
       spec.queue_bytes = o->queue_bytes;
       spec.keep_ahead = !o->drop_ahead;
+      spec.tool = !o->no_tool;
       if (!o->machine.empty()) {
         const Grid g = load_machine(o->machine).grid;
         spec.dr = g.dr;
@@ -127,6 +130,10 @@ void register_controller_sim(CLI::App& app, Action& action) {
       bool wrote = false;
       emu.on_step = [&](uint64_t t_ns, int axis, int dir) {
         std::fprintf(log, "%llu,%s,%+d\n", static_cast<unsigned long long>(t_ns), axis == 0 ? "r" : "theta", dir);
+        wrote = true;
+      };
+      emu.on_tool = [&](uint64_t t_ns, bool down) {
+        std::fprintf(log, "%llu,tool,%s\n", static_cast<unsigned long long>(t_ns), down ? "down" : "up");
         wrote = true;
       };
       using clk = std::chrono::steady_clock;

@@ -42,6 +42,21 @@ std::optional<double> job_accel(const TapeHeader& h) {
   return a->get<double>();
 }
 
+// The tool dwell of the machine the tape was made for (tape provenance), when it declared one.
+std::optional<double> job_tool_dwell(const TapeHeader& h) {
+  auto j = nlohmann::json::parse(h.provenance, nullptr, false);
+  if (j.is_discarded()) return std::nullopt;
+  auto p = j.find("job");
+  if (p == j.end() || !p->is_object()) return std::nullopt;
+  auto m = p->find("machine");
+  if (m == p->end() || !m->is_object()) return std::nullopt;
+  auto d = m->find("tool_dwell_s");
+  if (d == m->end() || !d->is_number()) return std::nullopt;
+  const double v = d->get<double>();
+  if (!(v >= 0.0 && v <= 60.0)) return std::nullopt;
+  return v;
+}
+
 std::string clock(double s) {
   if (!(s >= 0) || s > 1e7) return "--:--";
   const long t = static_cast<long>(s + 0.5);
@@ -107,14 +122,20 @@ void register_play(CLI::App& app, Action& action) {
       sc.angle_offset = o->angle_offset;
       if (!(o->tick_ns >= 1 && o->tick_ns <= 1e9)) throw InputError("--tick must be between 1 ns and 1 s");
       std::optional<PlayMachine> machine;
+      std::optional<double> tool_dwell;
       if (!o->machine.empty()) {
         PlayMachine m;
-        m.grid = load_machine(o->machine).grid;
+        const Machine mf = load_machine(o->machine);
+        m.grid = mf.grid;
         m.source = "machine file " + o->machine;
         machine = m;
+        tool_dwell = mf.tool_dwell;
       }
       // everything about the tape and the scales is checked here, before the port is touched
       PlayPlan plan = resume_plan(plan_playback(o->tape, sc, machine), o->resume);
+      // the tool's time: the machine file's tool_dwell, else that of the machine the tape was made for
+      if (!tool_dwell) tool_dwell = job_tool_dwell(plan.header);
+      plan.tool_dwell_s = tool_dwell.value_or(0.0);
       std::optional<double> accel = job_accel(plan.header);
       if (!o->accel.empty()) {
         accel = parse_quantity_as(o->accel, dim::acceleration);
@@ -133,6 +154,7 @@ void register_play(CLI::App& app, Action& action) {
       j["start_node"] = {plan.start[0], plan.start[1]};
       j["end_node_expected"] = {plan.end[0], plan.end[1]};
       if (o->resume) j["resumed_from"] = o->resume;
+      if (!plan.tools.empty()) j["tool_dwell_s"] = plan.tool_dwell_s;
 
       if (o->simulate) {
         const uint64_t tick_ps = static_cast<uint64_t>(o->tick_ns * 1000 + 0.5);
@@ -140,6 +162,9 @@ void register_play(CLI::App& app, Action& action) {
         struct Log : StepMonitor {
           std::string csv = "t_ns,axis,dir\n";
           bool on = false;
+          void on_tool(uint64_t t_ns, bool down) override {
+            if (on) csv += std::to_string(t_ns) + (down ? ",tool,down\n" : ",tool,up\n");
+          }
           void on_step(const ExecutedStep& e) override {
             if (!on) return;
             char b[64];
@@ -159,6 +184,10 @@ void register_play(CLI::App& app, Action& action) {
         j["steps_executed"] = r.steps;
         j["steps_mismatched"] = r.mismatched;
         j["max_time_error_ns"] = r.max_time_error_ns;
+        j["tool_events"] = r.tool_events_expected;
+        j["tool_events_executed"] = r.tool_events;
+        j["tool_events_mismatched"] = r.tool_mismatched;
+        j["max_tool_time_error_ns"] = r.max_tool_time_error_ns;
         j["duration_s"] = r.duration_s;
         j["end_node"] = {r.end[0], r.end[1]};
         j["runs"] = s.runs;
@@ -171,13 +200,20 @@ void register_play(CLI::App& app, Action& action) {
           os << "polarcam play " << o->tape << " (simulated machine, tick " << o->tick_ns << " ns)\n"
              << "  scale     speed x" << to_string(sc.speed) << ", size " << to_string(sc.size) << ", angle offset " << sc.angle_offset << "\n"
              << "  steps     " << thousands(r.steps) << " of " << thousands(r.steps_expected) << " executed, " << r.mismatched
-             << " out of order, max time error " << r.max_time_error_ns << " ns\n"
-             << "  time      " << r.duration_s << " s, end node [" << r.end[0] << ", " << r.end[1] << "]\n"
+             << " out of order, max time error " << r.max_time_error_ns << " ns\n";
+          if (r.tool_events_expected > 0)
+            os << "  tool      " << r.tool_events << " of " << r.tool_events_expected << " tool events executed, "
+               << r.tool_mismatched << " out of place, max time error " << r.max_tool_time_error_ns << " ns, dwell "
+               << plan.tool_dwell_s << " s\n";
+          os             << "  time      " << r.duration_s << " s, end node [" << r.end[0] << ", " << r.end[1] << "]\n"
              << "  schedule  " << thousands(s.runs) << " runs in " << thousands(bytes.size()) << " bytes ("
              << j["queue_bytes_per_step"].get<double>() << " bytes/step)\n";
           std::cout << os.str();
         }
-        return r.mismatched == 0 && r.steps == r.steps_expected ? 0 : 1;
+        return r.mismatched == 0 && r.steps == r.steps_expected && r.tool_mismatched == 0 &&
+                       r.tool_events == r.tool_events_expected
+                   ? 0
+                   : 1;
       }
 
       SerialTransport port_io(o->port, o->baud, o->flow);
@@ -215,6 +251,7 @@ void register_play(CLI::App& app, Action& action) {
       j["steps_total"] = rep.steps_total;
       j["steps_sent"] = rep.steps_sent;
       j["steps_confirmed"] = rep.steps_confirmed;
+      j["tool_events"] = rep.tool_events;
       j["retransmissions"] = rep.retransmissions;
       j["naks"] = rep.naks;
       j["underruns"] = rep.underruns;

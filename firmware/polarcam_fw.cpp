@@ -1,7 +1,9 @@
 // The reference stepper controller of polarcam's serial protocol (docs/controller-protocol.md, docs/firmware.md)
 // for an Arduino Uno (ATmega328P at 16 MHz) with a CNC shield v3: radial axis on X (step D2 = PD2, direction
 // D5 = PD5), angular axis on Y (step D3 = PD3, direction D6 = PD6), drivers' enable D8 = PB0 (active low), the
-// board's LED D13 = PB5 lit while a job runs (its rising edge is schedule tick 0, START).
+// board's LED D13 = PB5 lit while a job runs (its rising edge is schedule tick 0, START), and the tool on the
+// shield's spindle-enable pin D12 = PB4: high while the tool is down (a pen servo's or a Z axis's driver reads it;
+// low after reset, CONFIGURE and ABORT).
 //
 // Three parts:
 //   - the wire (machine/link/wire.hpp, shared with the host): frames, CRC, payloads, queue items, run arithmetic;
@@ -35,7 +37,7 @@ constexpr uint32_t kMaxStepRate = 6000;  // steps/s, both axes together, sustain
 const char kName[] PROGMEM = "polarcam firmware, ATmega328P, CNC shield v3";
 
 constexpr uint8_t kRStep = _BV(PD2), kTStep = _BV(PD3), kRDir = _BV(PD5), kTDir = _BV(PD6);
-constexpr uint8_t kEnable = _BV(PB0), kLed = _BV(PB5);
+constexpr uint8_t kEnable = _BV(PB0), kLed = _BV(PB5), kTool = _BV(PB4);
 
 // ---- UART (115200 baud, 8N1; U2X: UBRR 16 gives 117 647 baud, 2.1 % fast, as every Uno) ---------------------
 
@@ -85,12 +87,13 @@ constexpr size_t kPayloadOut = sizeof out_frame - kOverhead;
 // ---- events: what the timer interrupt executes ---------------------------------------------------------------
 //
 // The main loop precomputes everything an event does: its timer tick (32 bits), the whole of PORTD at its step
-// (both direction pins and the step pins of the axes stepping at that tick) and whether it toggles the LED. The
-// interrupt writes them: the step edges of every event, and the LED's edge at START, come the same few cycles
-// after their tick begins, on one code path, whatever the event.
+// (both direction pins and the step pins of the axes stepping at that tick) and whether it toggles the LED or the
+// tool pin. The interrupt writes them: the step edges of every event, the LED's edge at START and the tool's
+// edges, come the same few cycles after their tick begins, on one code path, whatever the event.
 
 constexpr uint8_t kDirs = kRDir | kTDir, kSteps = kRStep | kTStep;
-constexpr uint8_t kEvLed = kLed, kEvStop = 1, kEvEnd = 2;  // ev_bits: kEvLed is the LED's bit in PINB (a toggle)
+// ev_bits: kEvLed and kEvTool are the LED's and the tool's bits in PINB (toggles)
+constexpr uint8_t kEvLed = kLed, kEvTool = kTool, kEvStop = 1, kEvEnd = 2;
 constexpr uint8_t kEvents = 32;   // power of two
 uint32_t ev_time[kEvents];        // timer ticks
 uint8_t ev_pd[kEvents];           // PORTD at the event: directions | steps
@@ -183,13 +186,13 @@ void schedule() {
     uint8_t lo = static_cast<uint8_t>(due);
     for (;;) {
       const uint8_t b = ev_bits[i];
-      const uint8_t led = b & kEvLed;
+      const uint8_t led = b & (kEvLed | kEvTool);
       if (d >= -64) {  // at most 5 ticks ahead: the low byte suffices (a late event fires at once)
         while (static_cast<int8_t>(TCNT1L - lo) < 0) {
         }
       }
       PORTD = pd;   // the steps
-      PINB = led;   // START's and the end's LED edge, on the same cycle grid
+      PINB = led;   // START's and the end's LED edge, the tool's edges, on the same cycle grid
       i = static_cast<uint8_t>((i + 1) & (kEvents - 1));
       ev_tail = i;
       if (b & (kEvStop | kEvEnd)) {
@@ -253,17 +256,20 @@ void account() {
 // A QUEUE frame's payload is checked whole (every item decoded and validated with the producer's predictions),
 // then its bytes are appended to the ring as they came. Each axis reads the ring from its own position with its
 // own predictions (an item's prediction depends only on the earlier items of its axis), skipping the other axis's
-// items; the bytes behind both axes' positions are free again.
+// items and the tool items; a third reader takes the tool items and skips the rest. The bytes behind all three
+// positions are free again.
 
 uint8_t store[kStore];
 uint16_t st_tail, st_used;  // the oldest byte still needed; bytes held from there
-uint16_t rd[2];             // each axis's read position: bytes after st_tail
+uint16_t rd[3];             // each axis's read position, and the tool items': bytes after st_tail
+uint16_t tools_stored;      // tool items in the ring that the tool reader has not taken
 ItemCodec reader;           // the predictions of the items read back
 uint8_t item_buf[kMaxItemBytes];
 
 void store_reset() {
   st_tail = st_used = 0;
-  rd[0] = rd[1] = 0;
+  rd[0] = rd[1] = rd[2] = 0;
+  tools_stored = 0;
   reader = ItemCodec{};
 }
 
@@ -309,6 +315,14 @@ uint32_t bad_frames;
 ItemCodec codec;
 Axis axes[2];
 bool end_emitted, stop_emitted;
+// the next tool item (read from the ring, not yet in the event ring), and the tool pin's level after the last
+// tool event the producer emitted
+struct Tool {
+  bool has_next = false;
+  bool down = false;
+  uint64_t tick = 0;
+  bool level = false;
+} tool;
 
 // Credits: bytes (an item is one byte at least, so as many items)
 uint32_t free_slots() { return kStore - st_used; }
@@ -359,6 +373,8 @@ void reset_job() {
   stop_timer_events();
   store_reset();
   for (Axis& a : axes) a = Axis{};
+  tool = Tool{};
+  PORTB &= static_cast<uint8_t>(~kTool);  // the tool up
   codec = ItemCodec{};
   next_seq = 1;
   nak_sent = false;
@@ -374,22 +390,27 @@ void reset_job() {
   PORTB &= static_cast<uint8_t>(~kLed);
 }
 
-// Frees the bytes behind both axes' read positions (an ended axis reads nothing more).
+bool prepare_tool();
+
+// Frees the bytes behind the axes' and the tool reader's positions (an ended axis reads nothing more; the tool
+// reader reads on to its next item first).
 void store_release() {
-  uint16_t m = st_used;
+  prepare_tool();
+  uint16_t m = rd[2];
   for (uint8_t ai = 0; ai < 2; ++ai)
     if (!axes[ai].ended && rd[ai] < m) m = rd[ai];
   if (m == 0) return;
   st_tail = static_cast<uint16_t>(st_tail + m >= kStore ? st_tail + m - kStore : st_tail + m);
   st_used = static_cast<uint16_t>(st_used - m);
-  for (uint8_t ai = 0; ai < 2; ++ai) rd[ai] = static_cast<uint16_t>(rd[ai] > m ? rd[ai] - m : 0);
+  for (uint8_t ai = 0; ai < 3; ++ai) rd[ai] = static_cast<uint16_t>(rd[ai] > m ? rd[ai] - m : 0);
 }
 
-// The next item of axis ai from the ring (false: none queued yet). The bytes were checked when they arrived.
-__attribute__((noinline)) bool next_item(uint8_t ai, QueueItem& it) {
+// The next item of axis ai (2: the next tool item) from the ring before byte `limit` (false: none there yet). The
+// bytes were checked when they arrived.
+__attribute__((noinline)) bool next_item(uint8_t ai, QueueItem& it, uint16_t limit) {
   for (;;) {
     const uint16_t avail = static_cast<uint16_t>(st_used - rd[ai]);
-    if (rd[ai] >= st_used) return false;
+    if (rd[ai] >= limit) return false;
     const uint8_t m = static_cast<uint8_t>(avail < kMaxItemBytes ? avail : kMaxItemBytes);
     uint16_t j = static_cast<uint16_t>(st_tail + rd[ai]);
     if (j >= kStore) j = static_cast<uint16_t>(j - kStore);
@@ -400,7 +421,7 @@ __attribute__((noinline)) bool next_item(uint8_t ai, QueueItem& it) {
     size_t pos = 0;
     if (!reader.parse(item_buf, m, pos, it)) return false;  // (cannot happen: checked on arrival)
     rd[ai] = static_cast<uint16_t>(rd[ai] + pos);
-    if ((it.axis & 1) == ai) {
+    if (it.kind == ItemKind::tool ? ai == 2 : (it.axis & 1) == ai) {
       reader.take(it);
       return true;
     }
@@ -417,7 +438,7 @@ bool prepare(uint8_t ai) {
       break;
     }
     QueueItem it;
-    if (!next_item(ai, it)) return false;
+    if (!next_item(ai, it, st_used)) return false;
     if (it.kind == ItemKind::wait) {
       a.clk.base += it.wait;
     } else if (it.kind == ItemKind::end) {
@@ -429,6 +450,34 @@ bool prepare(uint8_t ai) {
     store_release();
   }
   return a.has_next;
+}
+
+// The next tool item, read once (its bytes stay held until it is in the event ring).
+// The tool reader reads only as far as the axes have: a tool item is queued before the first item that lets the
+// schedule reach its tick, so while it lies beyond every axis's position, some axis's next step or stop comes
+// before its tick, and there is no need to know it yet. So it parses each item once, a few at a time, and nothing
+// when no tool item is queued.
+bool prepare_tool() {
+  if (tool.has_next) return true;
+  if (tools_stored == 0) {
+    rd[2] = st_used;
+    return false;
+  }
+  uint16_t far = 0;
+  bool all_ended = true;
+  for (uint8_t ai = 0; ai < 2; ++ai)
+    if (!axes[ai].ended) {
+      all_ended = false;
+      if (rd[ai] > far) far = rd[ai];
+    }
+  QueueItem it;
+  if (next_item(2, it, all_ended ? st_used : far)) {
+    --tools_stored;
+    tool.has_next = true;
+    tool.down = it.dir > 0;
+    tool.tick = it.wait;
+  }
+  return tool.has_next;
 }
 
 bool ring_full() {
@@ -453,6 +502,14 @@ void emit(uint32_t tick, uint8_t steps, uint8_t dirs, uint8_t bits) {
   ev_head = static_cast<uint8_t>((h + 1) & (kEvents - 1));
   if (was_empty) schedule();  // the interrupt had nothing to wait for: set the compare for this one
   SREG = s;
+}
+
+// The tool event of the next tool item: the pin toggles when the item changes the tool's state.
+void emit_tool() {
+  emit(static_cast<uint32_t>(tool.tick), 0, 0, tool.down != tool.level ? kEvTool : 0);
+  tool.level = tool.down;
+  tool.has_next = false;
+  store_release();
 }
 
 // Runs the axes' clocks ahead, in time order, into the event ring. An axis whose items have run out (and that
@@ -481,6 +538,10 @@ void produce_events() {
     for (uint8_t ai = 0; ai < 2; ++ai) prepare(ai);
     Axis &r = axes[0], &t = axes[1];
     if (r.ended && t.ended) {
+      if (prepare_tool()) {  // (a host sends no tool item after the last steps; one that does gets it done)
+        emit_tool();
+        continue;
+      }
       emit(last_emitted, 0, 0, static_cast<uint8_t>(kEvEnd | kEvLed));  // right after the last step; LED off
       end_emitted = true;
       return;
@@ -500,6 +561,11 @@ void produce_events() {
         best = a.clk.base;
         best_stop = true;
       }
+    }
+    // a tool item acts after the steps of its tick, before a stop there and the steps of later ticks
+    if (prepare_tool() && (tool.tick < best || (tool.tick == best && best_stop))) {
+      emit_tool();
+      continue;
     }
     if (best_stop) {
       const uint8_t s = SREG;
@@ -541,16 +607,21 @@ __attribute__((noinline)) void handle_queue(const uint8_t* p, size_t n) {
   if (!overflow) {
     ItemCodec trial = codec;
     size_t pos = 0;
+    uint16_t tools = 0;
     while (pos < n) {
       QueueItem it;
       if (!parse_item(trial, p, n, pos, it) || !valid_run(it)) {
         ok = false;
         break;
       }
+      if (it.kind == ItemKind::tool) ++tools;
       trial.take(it);
       produce();  // keep the event ring fed while a long frame is checked
     }
-    if (ok) codec = trial;
+    if (ok) {
+      codec = trial;
+      tools_stored = static_cast<uint16_t>(tools_stored + tools);
+    }
   }
   if (!ok || overflow) {
     error = overflow ? ErrorCode::overflow : ErrorCode::bad_queue;
@@ -666,6 +737,7 @@ __attribute__((noinline)) void reply_ident(uint16_t seq) {
   id.slots = kStore;
   id.session = session;
   id.max_step_rate = kMaxStepRate;
+  id.caps = kCapTool;
   char name[sizeof kName];
   strcpy_P(name, kName);
   id.name = name;
@@ -810,7 +882,7 @@ void receive() {
 
 int main() {
   DDRD |= kRStep | kTStep | kRDir | kTDir;
-  DDRB |= kEnable | kLed;
+  DDRB |= kEnable | kLed | kTool;
   PORTB |= kEnable;  // drivers off until a job is configured
   // UART 115200 8N1, double speed
   UCSR0A = _BV(U2X0);

@@ -34,7 +34,8 @@ class FuzzTransport : public polarcam::Transport {
   double now_ = 0;
 };
 
-// Twelve steps (radial out, angular on, radial back) on a 0.1 mm / 0.1 degree grid, one every millisecond.
+// Twelve steps (radial out, angular on, radial back) on a 0.1 mm / 0.1 degree grid, one every millisecond, the tool
+// lifted over the angular ones.
 polarcam::PlayPlan small_plan() {
   polarcam::PlayPlan p;
   p.tape = "fuzz.tape";
@@ -52,6 +53,10 @@ polarcam::PlayPlan small_plan() {
   }
   p.end[1] = 4;
   p.lo[0] = 500, p.hi[0] = 504, p.hi[1] = 4;
+  // a lifting tape's tool items: down at the start, up after the radial steps out, down again before they come back
+  p.header.event_count = 2;
+  p.tools = {{0, 0, true}, {4500000, 4, false}, {8500000, 8, true}};
+  p.tool_dwell_s = 0.002;
   return p;
 }
 

@@ -118,6 +118,11 @@ Machine parse_machine(Section& machine, const jobfile::MachineTables& tables, js
     m.rapid_speed = *v;
     pm["rapid_speed_mps"] = *v;
   }
+  if (auto v = machine.quantity("tool_dwell", dim::time)) {
+    if (!(*v >= 0.0) || !(*v <= 60.0)) machine.fail("tool_dwell", "must be a time from 0 to 60 s (e.g. \"0.2 s\")");
+    m.tool_dwell = *v;
+    if (*v > 0.0) pm["tool_dwell_s"] = *v;
+  }
   m.dynamics = jobfile::parse_dynamics(machine, tables);
   machine.finish();
   return m;

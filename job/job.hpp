@@ -64,6 +64,9 @@ struct Machine {
   // (r and theta, the theta-rho segment between the two points) and lowered (pen plotters, cutters).
   bool tool_lift = false;
   std::optional<double> rapid_speed;     // m/s of the tool point along a rapid move (default: the job's speed)
+  // The time the tool needs to go up or down (a pen servo, a Z axis): `play` waits this long after each tool event
+  // before the next step. The tape's times leave it out (tool events take no time there).
+  double tool_dwell = 0.0;               // s
   std::optional<MachineModel> dynamics;  // mechanics and motors, when described (docs/dynamics.md)
   std::optional<GcodeSpec> gcode;        // the machine file's [gcode] table, when given (docs/gcode.md)
 };

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,7 @@
 #include "machine/player/scaling.hpp"
 #include "machine/player/schedule.hpp"
 #include "tests/example_tapes.hpp"
+#include "tests/temp_path.hpp"
 
 namespace polarcam::test {
 
@@ -20,9 +22,11 @@ struct TapeStep {
   int64_t n, m;    // tape node after the step
 };
 
-// The tape read record by record, with no player code.
+// The tape read record by record, with no player code (its steps; a version 2 tape's tool events are passed over,
+// their time counted in the next step's).
 inline std::vector<TapeStep> read_tape(const std::string& path) {
   TapeReader rd(path);
+  rd.on_tool_event([](const ToolEvent&) {});
   std::vector<TapeStep> v;
   StepRecord r;
   uint64_t t = 0;
@@ -43,6 +47,47 @@ inline PlayScaling scaling(const std::string& speed, const std::string& size = "
   return s;
 }
 
+// A tape of two strokes with the tool lifted between them, written by hand (tape ticks of 1 ns): stroke A, 200
+// steps alternating r+ and theta+ every 50 us from t = 50 us; the tool up 30 us after A's last step; a rapid of 100
+// r+ steps every 20 us; the tool down at the time of the rapid's last step (an interval of 0); stroke B, 200
+// theta- steps every 40 us. kLift* are those times and the steps before each event.
+inline constexpr uint64_t kLiftUpNs = 200 * 50000 + 30000;                    // after 200 steps
+inline constexpr uint64_t kLiftDownNs = kLiftUpNs + 100 * 20000;              // after 300 steps
+inline constexpr uint64_t kLiftLastNs = kLiftDownNs + 200 * 40000;            // the last of 500 steps
+inline std::string lifting_tape() {
+  struct Cleanup {
+    std::string file;
+    ~Cleanup() {
+      if (!file.empty()) std::remove(file.c_str());
+    }
+  };
+  static Cleanup cleanup;
+  if (!cleanup.file.empty()) return cleanup.file;
+  const std::string path = temp_path("lifting.tape");
+  TapeHeader h;
+  h.res[0] = 0.0254e-3;
+  h.steps_per_rev = 16000;
+  h.res[1] = dtheta_from_steps(h.steps_per_rev);
+  h.r_min = 0.0;
+  h.has_r_max = true;
+  h.r_max = 0.3;
+  h.speed_mps = 0.01;
+  h.home[0] = 0, h.home[1] = 0;
+  h.start[0] = 2000, h.start[1] = 100;
+  TapeWriter w(path, h);
+  uint64_t t = 0;
+  for (int k = 0; k < 200; ++k) w.step(k % 2, +1, static_cast<int64_t>(t += 50000));
+  w.tool(false, static_cast<int64_t>(t += 30000));
+  for (int k = 0; k < 100; ++k) w.step(0, +1, static_cast<int64_t>(t += 20000));
+  w.tool(true, static_cast<int64_t>(t));
+  for (int k = 0; k < 200; ++k) w.step(1, -1, static_cast<int64_t>(t += 40000));
+  h.end[0] = 2000 + 100 + 100, h.end[1] = 100 + 100 - 200;
+  h.duration_ticks = t;
+  w.finish(h);
+  cleanup.file = path;
+  return path;
+}
+
 // Encodes `items` and decodes them back: every field each item's kind uses comes back, and nothing is left over.
 inline void expect_codec_round_trip(const std::vector<QueueItem>& items) {
   ItemCodec enc, dec;
@@ -56,8 +101,11 @@ inline void expect_codec_round_trip(const std::vector<QueueItem>& items) {
     ASSERT_TRUE(dec.decode(d, bytes.size(), pos, got)) << "item " << i;
     ASSERT_EQ(got.kind, it.kind) << "item " << i;
     ASSERT_EQ(got.axis, it.axis) << "item " << i;
-    if (it.kind == ItemKind::wait) {
+    if (it.kind == ItemKind::wait || it.kind == ItemKind::tool) {
       ASSERT_EQ(got.wait, it.wait) << "item " << i;
+    }
+    if (it.kind == ItemKind::tool) {
+      ASSERT_EQ(got.dir, it.dir) << "item " << i;
     }
     if (it.kind != ItemKind::run) continue;
     ASSERT_EQ(got.dir, it.dir) << "item " << i;

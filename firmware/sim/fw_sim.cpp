@@ -8,7 +8,7 @@
 // sees the board's pace; the UART's bytes take the simulated baud rate's time. Faults, in each direction, per
 // byte: drop=F drops it, corrupt=F flips one of its bits (a seeded generator: the same faults every run).
 // VCD signals: r_step (PD2), r_dir (PD5), theta_step (PD3), theta_dir (PD6), enable (PB0), run (PB5, the LED:
-// rising at schedule tick 0). At the end it reports the deepest stack (the RAM above the variables is painted).
+// rising at schedule tick 0), tool (PB4, high while the tool is down). At the end it reports the deepest stack (the RAM above the variables is painted).
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
@@ -188,6 +188,7 @@ int main(int argc, char** argv) {
   avr_vcd_add_signal(&vcd, avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ('D'), 6), 1, "theta_dir");
   avr_vcd_add_signal(&vcd, avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ('B'), 0), 1, "enable");
   avr_vcd_add_signal(&vcd, avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ('B'), 5), 1, "run");
+  avr_vcd_add_signal(&vcd, avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ('B'), 4), 1, "tool");
   avr_vcd_start(&vcd);
   std::fflush(stdout);
   ::dup2(saved_stdout, 1);

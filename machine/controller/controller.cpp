@@ -45,7 +45,11 @@ uint32_t Controller::free_bytes() const {
 void Controller::reboot(uint64_t now) {
   ControllerSpec s = spec_;
   const uint32_t next_session = session_ + 1;
+  auto step_cb = std::move(on_step);
+  auto tool_cb = std::move(on_tool);
   *this = Controller(s, next_session);
+  on_step = std::move(step_cb);
+  on_tool = std::move(tool_cb);
   now_ = now;
   send(BOOT, 0, Writer().u32(session_).s);
 }
@@ -77,6 +81,9 @@ bool Controller::configure(const Configure& c, std::string* why) {
     ax_[a] = Axis{};
     ax_[a].node = c.start[a];
   }
+  tools_.clear();
+  tool_bytes_.clear();
+  tool_down_ = false;
   codec_ = ItemCodec{};
   queued_items_ = 0;
   queued_bytes_ = 0;
@@ -95,6 +102,14 @@ bool Controller::configure(const Configure& c, std::string* why) {
 bool Controller::push(const QueueItem& it, uint32_t bytes) {
   if (queued_items_ >= spec_.slots || !run_is_valid(it)) return false;
   if (spec_.queue_bytes != 0 && bytes > free_bytes()) return false;
+  if (it.kind == ItemKind::tool) {
+    if (!spec_.tool) return false;
+    tools_.push_back(it);
+    tool_bytes_.push_back(bytes);
+    ++queued_items_;
+    queued_bytes_ += bytes;
+    return true;
+  }
   Axis& a = ax_[it.axis & 1];
   if (a.ended_queued) return false;
   a.q.push_back(it);
@@ -164,6 +179,12 @@ void Controller::handle_queue(const std::string& p) {
       send_error(ErrorCode::bad_queue, "malformed queue item", 0);
       return;
     }
+    if (it.kind == ItemKind::tool && !spec_.tool) {
+      error_ = ErrorCode::bad_queue;
+      state_ = State::fault;
+      send_error(ErrorCode::bad_queue, "a tool item, and this controller drives no tool", 0);
+      return;
+    }
     items.push_back(it);
     sizes.push_back(static_cast<uint32_t>(pos - from));
   }
@@ -190,6 +211,7 @@ void Controller::handle(const Frame& f, uint64_t now) {
       id.session = session_;
       id.max_step_rate = spec_.max_step_rate ? spec_.max_step_rate
                                              : static_cast<uint32_t>(std::min<uint64_t>(2000000000000ull / spec_.tick_ps, UINT32_MAX));
+      id.caps = spec_.tool ? wire::kCapTool : 0;
       id.name = spec_.name;
       send(IDENT, f.seq, id.encode());
       return;
@@ -231,6 +253,9 @@ void Controller::handle(const Frame& f, uint64_t now) {
             a.has_next = false;
             a.run.left = 0;
           }
+          tools_.clear();
+          tool_bytes_.clear();
+          tool_down_ = false;  // a job stopped halfway leaves the tool lifted
           queued_items_ = 0;
           queued_bytes_ = 0;
           started_ = false;
@@ -336,12 +361,28 @@ bool Controller::prepare_next(Axis& a) {
 
 uint64_t Controller::horizon(const Axis& a) const { return a.ended_queued ? UINT64_MAX : a.tail.base; }
 
+void Controller::pop_tool() {
+  tools_.pop_front();
+  --queued_items_;
+  queued_bytes_ -= tool_bytes_.front();
+  tool_bytes_.pop_front();
+  if (spec_.queue_bytes != 0 && free_bytes() >= acked_free_bytes_ + wire::kWindowUpdate) send_ack();
+}
+
 void Controller::fire_due() {
   for (;;) {
     int best = -1;
     for (int i = 0; i < 2; ++i) {
       if (!ax_[i].has_next && !prepare_next(ax_[i])) continue;
       if (best < 0 || ax_[i].next_tick < ax_[best].next_tick) best = i;
+    }
+    // a tool item acts after the steps of its tick and before those of later ticks
+    if (!tools_.empty() && (best < 0 || tools_.front().wait < ax_[best].next_tick)) {
+      if ((static_cast<u128>(tools_.front().wait) << 16) > tau_) break;
+      tool_down_ = tools_.front().dir > 0;
+      pop_tool();
+      if (on_tool) on_tool(now_ - start_, tool_down_);
+      continue;
     }
     if (best < 0) break;
     Axis& a = ax_[best];
@@ -353,7 +394,7 @@ void Controller::fire_due() {
     last_step_ = now_ - start_;
     if (on_step) on_step(last_step_, best, dir);
   }
-  if (ax_[0].ended && ax_[1].ended && state_ != State::fault) {
+  if (ax_[0].ended && ax_[1].ended && tools_.empty() && state_ != State::fault) {
     state_ = State::done;
     started_ = false;
   }
@@ -379,6 +420,7 @@ void Controller::run_to(uint64_t now) {
       for (Axis& a : ax_) {
         if (a.has_next || prepare_next(a)) next = std::min(next, ahead(a.next_tick));
       }
+      if (!tools_.empty()) next = std::min(next, ahead(tools_.front().wait));
       uint64_t trigger = UINT64_MAX;
       for (const Axis& a : ax_) {
         if (a.ended) continue;

@@ -21,6 +21,7 @@ struct ControllerSpec {
   uint32_t queue_bytes = 0;     // and bytes of encoded items (0: no limit); the reference firmware's is 384
   bool keep_ahead = true;       // keeps frames that arrive after a missing one (the reference firmware does not)
   uint32_t max_step_rate = 0;   // steps per second it reports (IDENT); 0: one step per axis per tick
+  bool tool = true;             // drives a tool and executes tool items (IDENT's capability); false: refuses them
   std::string name = "polarcam controller emulator";
   double dr = 0, dtheta = 0;    // its machine grid, when it knows one (0: accepts any)
 };
@@ -40,6 +41,8 @@ class Controller {
 
   // Every executed step: time in ticks since START, axis, direction.
   std::function<void(uint64_t t_ticks, int axis, int dir)> on_step;
+  // Every executed tool item: time in ticks since START, down (true) or up. Within a tick, after its steps.
+  std::function<void(uint64_t t_ticks, bool down)> on_tool;
 
   // In-process use without the link (the simulated machine): configure, queue items and start directly.
   bool configure(const proto::Configure& c, std::string* why);
@@ -52,6 +55,8 @@ class Controller {
   proto::State state() const { return state_; }
   uint32_t free_slots() const;
   uint32_t free_bytes() const;  // kUnlimited without a queue_bytes limit
+  // The tool's state: down after a tool item that lowered it (up after CONFIGURE, ABORT and a reboot).
+  bool tool_down() const { return tool_down_; }
   const ControllerSpec& spec() const { return spec_; }
 
  private:
@@ -80,6 +85,7 @@ class Controller {
   uint64_t horizon(const Axis& a) const;
   void run_to(uint64_t now);
   void fire_due();
+  void pop_tool();
   void start_ramp(int direction, proto::State during);
 
   ControllerSpec spec_;
@@ -92,6 +98,9 @@ class Controller {
   proto::Configure cfg_;
   ItemCodec codec_;
   Axis ax_[2];
+  std::deque<QueueItem> tools_;     // tool items not executed yet, in order
+  std::deque<uint32_t> tool_bytes_;
+  bool tool_down_ = false;
   uint16_t next_seq_ = 1;
   std::map<uint16_t, proto::Frame> pending_;  // sequenced frames received ahead of a missing one
   std::map<uint8_t, uint16_t> last_req_;      // last request id per out-of-band type

@@ -11,10 +11,16 @@ Emulator::Emulator(const ControllerSpec& spec, double baud, const FaultSpec& fau
   ctl_->on_step = [this](uint64_t t, int axis, int dir) {
     if (on_step) on_step(static_cast<uint64_t>(static_cast<double>(t) * static_cast<double>(spec_.tick_ps) / 1000.0 + 0.5), axis, dir);
   };
+  ctl_->on_tool = [this](uint64_t t, bool down) {
+    if (on_tool) on_tool(static_cast<uint64_t>(static_cast<double>(t) * static_cast<double>(spec_.tick_ps) / 1000.0 + 0.5), down);
+  };
   if (spec_.tick_ps % 1000 == 0) {
     const uint64_t ns = spec_.tick_ps / 1000;
     ctl_->on_step = [this, ns](uint64_t t, int axis, int dir) {
       if (on_step) on_step(t * ns, axis, dir);
+    };
+    ctl_->on_tool = [this, ns](uint64_t t, bool down) {
+      if (on_tool) on_tool(t * ns, down);
     };
   }
 }

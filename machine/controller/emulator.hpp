@@ -32,6 +32,8 @@ class Emulator {
   Controller& controller() { return *ctl_; }
   // Every executed step: ns since START (the tick times the tick length), axis, direction.
   std::function<void(uint64_t t_ns, int axis, int dir)> on_step;
+  // Every executed tool item: ns since START, down (true) or up.
+  std::function<void(uint64_t t_ns, bool down)> on_tool;
   bool garble = false;  // the host's line settings do not match: every byte arrives damaged
   uint64_t resets = 0;
 

@@ -27,6 +27,26 @@ SimResult simulate_playback(const PlayPlan& plan, const Schedule& sched, const P
   const long double exact_scale = static_cast<long double>(plan.header.tick_ps) * 1e-3L *
                                   static_cast<long double>(plan.scaling.speed.den) / static_cast<long double>(plan.scaling.speed.num);
   int64_t node[2] = {plan.start[0], plan.start[1]};
+  // exact times: the scaled tape time and a tool dwell for every tool item before
+  const double dwell_ns = static_cast<double>(sched.tool_dwell_ticks) * ns_per_tick;
+  std::vector<uint64_t> tools_before(plan.steps.size() + 1, 0);
+  for (size_t i = 0, j = 0; i <= plan.steps.size(); ++i) {
+    while (j < plan.tools.size() && plan.tools[j].before <= i) ++j;
+    tools_before[i] = j;
+  }
+  res.tool_events_expected = plan.tools.size();
+  ctl.on_tool = [&](uint64_t t, bool down) {
+    const uint64_t j = res.tool_events++;
+    if (j >= plan.tools.size()) {
+      ++res.tool_mismatched;
+      return;
+    }
+    const PlayTool& e = plan.tools[j];
+    if (e.down != down || e.before != res.steps) ++res.tool_mismatched;
+    const double exact = static_cast<double>(static_cast<long double>(e.t) * exact_scale) + static_cast<double>(j) * dwell_ns;
+    res.max_tool_time_error_ns = std::max(res.max_tool_time_error_ns, std::fabs(static_cast<double>(t) * ns_per_tick - exact));
+    if (monitor) monitor->on_tool(static_cast<uint64_t>(std::llround(static_cast<double>(t) * ns_per_tick)), down);
+  };
   ctl.on_step = [&](uint64_t t, int axis, int dir) {
     ExecutedStep s;
     s.index = ++res.steps;
@@ -40,7 +60,8 @@ SimResult simulate_playback(const PlayPlan& plan, const Schedule& sched, const P
     s.theta_rad = static_cast<double>(node[1]) * machine.grid.dtheta;
     if (s.index <= plan.steps.size()) {
       const PlayStep& p = plan.steps[s.index - 1];
-      s.t_exact_ns = static_cast<double>(static_cast<long double>(p.t) * exact_scale);
+      s.t_exact_ns = static_cast<double>(static_cast<long double>(p.t) * exact_scale) +
+                     static_cast<double>(tools_before[s.index - 1]) * dwell_ns;
       if (p.axis != axis || p.dir != dir) ++res.mismatched;
       res.max_time_error_ns = std::max(res.max_time_error_ns, std::fabs(static_cast<double>(t) * ns_per_tick - s.t_exact_ns));
     } else {

@@ -25,6 +25,8 @@ class StepMonitor {
  public:
   virtual ~StepMonitor() = default;
   virtual void on_step(const ExecutedStep& s) = 0;
+  // Every executed tool item: ns since START, down or up.
+  virtual void on_tool(uint64_t /*t_ns*/, bool /*down*/) {}
 };
 
 // Hook for the motor dynamics (Ch. 5 of the thesis): required / pull-out torque of the stepping axis at this step.
@@ -37,9 +39,12 @@ class LostStepModel {
 struct SimResult {
   uint64_t steps = 0, steps_expected = 0;
   uint64_t mismatched = 0;        // steps whose axis or direction differs from the tape's (must be 0)
-  double max_time_error_ns = 0;   // max |executed - scaled tape time|
+  double max_time_error_ns = 0;   // max |executed - scaled tape time (plus the tool dwells before the step)|
   double duration_s = 0;          // time of the last step
   int64_t end[2] = {0, 0};
+  uint64_t tool_events = 0, tool_events_expected = 0;  // tool items executed, and in the plan (plan.tools)
+  uint64_t tool_mismatched = 0;   // tool items executed in another state, or between other steps, than the plan's
+  double max_tool_time_error_ns = 0;  // max |executed - exact| of the tool items
   uint64_t lost_steps = 0;        // steps with torque ratio > 1 (needs a LostStepModel)
   double max_torque_ratio = 0;
 };

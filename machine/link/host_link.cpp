@@ -151,8 +151,16 @@ PlayReport HostLink::play(const PlayPlan& plan, const Schedule& sc) {
   rep_.tick_ps = sc.tick_ps;
   rep_.steps_total = sc.steps[0] + sc.steps[1];
   rep_.items = sc.items.size();
+  rep_.tool_events = sc.tools;
   const double tick_s = static_cast<double>(sc.tick_ps) * 1e-12;
   const double t0 = t_.now();
+  // a lifting tape needs a controller that drives a tool: refused before the job is sent
+  if (sc.tools > 0 && !(ident_.caps & wire::kCapTool))
+    throw InputError("the tape lifts and lowers the tool (" + std::to_string(plan.header.event_count) +
+                         " tool events) and the controller on " + t_.describe() + " (" + ident_.name +
+                         ") drives no tool: play it on a controller with a tool output, or each contour as a tape "
+                         "of its own",
+                     plan.tape);
 
   Configure c;
   c.tick_ps = sc.tick_ps;

@@ -75,6 +75,7 @@ struct PlayReport {
   uint64_t steps_total = 0, steps_sent = 0, steps_confirmed = 0;
   uint64_t items = 0, frames_sent = 0, bytes_sent = 0, retransmissions = 0, naks = 0, bad_frames = 0;
   uint64_t underruns = 0, reconnects = 0;
+  uint64_t tool_events = 0;  // tool items in the schedule (the tool's state at the start, then the tape's events)
   double duration_s = 0;   // controller time from START to the last step
   double wall_s = 0;
   int64_t end_node[2] = {0, 0};

@@ -137,6 +137,7 @@ std::string Ident::encode() const {
   w.slots = slots;
   w.session = session;
   w.max_step_rate = max_step_rate;
+  w.caps = caps;
   w.name = name.data();
   w.name_len = name.size();
   uint8_t b[wire::kMaxPayload];
@@ -151,6 +152,7 @@ bool Ident::decode(const std::string& p, Ident& o) {
   o.slots = w.slots;
   o.session = w.session;
   o.max_step_rate = w.max_step_rate;
+  o.caps = w.caps;
   o.name.assign(w.name, w.name_len);
   return true;
 }

@@ -18,7 +18,7 @@ namespace polarcam::proto {
 using wire::kMaxPayload;
 using wire::kOverhead;
 using wire::kSync;
-using wire::kVersion;  // 4: ACK and STATUS carry free bytes; 3: IDENT the largest step rate; 2: cubic runs
+using wire::kVersion;  // 5: tool items, IDENT's capabilities; 4: ACK and STATUS carry free bytes; 3: IDENT the largest step rate; 2: cubic runs
 using wire::kUnlimited;
 
 using wire::Type;
@@ -91,6 +91,7 @@ struct Ident {
   uint32_t slots = 0;
   uint32_t session = 0;
   uint32_t max_step_rate = 0;  // steps per second, both axes together, that the controller sustains (0: no limit)
+  uint8_t caps = 0;            // capability bits: wire::kCapTool, it executes tool items
   std::string name;
   std::string encode() const;
   // false when malformed; out.version is set from the first byte even then (a controller of another version)

@@ -14,10 +14,13 @@ namespace wire {
 
 // ---- constants -------------------------------------------------------------------------------------------
 
-// 4: ACK and STATUS_REPLY carry the queue's free bytes (credits in bytes as well as items), NAK whether the frames
-// after the missing one were kept; 3: IDENT carries the controller's largest sustained step rate; 2: cubic runs
-// with an offset.
-static constexpr uint8_t kVersion = 4;
+// 5: tool items in the queue (the tool up or down at a schedule tick), IDENT carries capability bits; 4: ACK and
+// STATUS_REPLY carry the queue's free bytes (credits in bytes as well as items), NAK whether the frames after the
+// missing one were kept; 3: IDENT carries the controller's largest sustained step rate; 2: cubic runs with an
+// offset.
+static constexpr uint8_t kVersion = 5;
+// IDENT's capability bits
+static constexpr uint8_t kCapTool = 1;  // executes tool items (drives a tool: a pen lift, a spindle, a Z axis)
 static constexpr uint32_t kUnlimited = 0xffffffffu;  // free_bytes of a controller whose queue counts items only
 // A controller that counts bytes sends an ACK unasked when its free bytes have grown by this much since its last
 // ACK (a window update): a host with no room left learns of the new room without a STATUS round trip.
@@ -181,7 +184,7 @@ inline size_t frame_encode(uint8_t* out, uint16_t seq, uint8_t type, const uint8
 
 // ---- payloads ------------------------------------------------------------------------------------------
 
-// IDENT: version u8, tick_ps u64, slots u32, session u32, max_step_rate u32, name (u8 length + bytes).
+// IDENT: version u8, tick_ps u64, slots u32, session u32, max_step_rate u32, caps u8, name (u8 length + bytes).
 // A decoder reads the version first: a controller of another version is named, not misread.
 struct Ident {
   uint8_t version = kVersion;
@@ -189,11 +192,12 @@ struct Ident {
   uint32_t slots = 0;           // queue items it buffers
   uint32_t session = 0;         // changes at every boot
   uint32_t max_step_rate = 0;   // steps per second (both axes together) it sustains; 0: not limited
+  uint8_t caps = 0;             // capability bits (kCapTool)
   const char* name = "";
   size_t name_len = 0;
   size_t encode(uint8_t* out, size_t cap) const {
     Put w(out, cap);
-    w.u8(version).u64(tick_ps).u32(slots).u32(session).u32(max_step_rate).str(name, name_len);
+    w.u8(version).u64(tick_ps).u32(slots).u32(session).u32(max_step_rate).u8(caps).str(name, name_len);
     return w.ok ? w.n : 0;
   }
   // false when malformed; `version` is set whenever the payload has a first byte
@@ -205,6 +209,7 @@ struct Ident {
     slots = r.u32();
     session = r.u32();
     max_step_rate = r.u32();
+    caps = r.u8();
     name = r.str(name_len);
     return r.done();
   }
@@ -341,18 +346,20 @@ static constexpr int64_t kAddLimit = int64_t{1} << 62;
 static constexpr uint32_t kMaxRunCount = 65535;
 static constexpr size_t kMaxItemBytes = 1 + 3 + 2 + 4 * 10;   // tag, count, shifts, four varints
 
-enum class ItemKind : uint8_t { run = 0, wait = 1, end = 2 };
+// tool (version 5): the tool goes down or up when the schedule time reaches a tick, after the steps of that tick
+// and before those of later ticks; it holds no axis clock (the host leaves the tool its time in the steps' ticks).
+enum class ItemKind : uint8_t { run = 0, wait = 1, end = 2, tool = 3 };
 
 struct QueueItem {
   ItemKind kind = ItemKind::run;
   uint8_t axis = 0;
-  int8_t dir = 1;            // run
+  int8_t dir = 1;            // run; tool: +1 down, -1 up
   uint32_t count = 0;        // run: steps
   int64_t offset = 0;        // run: clock shift before the first step (the first interval is offset + interval)
   int64_t interval = 0;      // run: interval of the progression's first step, 32.32 ticks
   int64_t add = 0;           // run: interval change per step, 32.32 ticks
   int64_t add2 = 0;          // run: change of the add per step, 32.32 ticks
-  uint64_t wait = 0;         // wait: whole ticks
+  uint64_t wait = 0;         // wait: whole ticks; tool: the schedule tick (since START) at which it acts
 };
 
 // Signed 128-bit values for the validity checks, in plain 64-bit arithmetic (avr-gcc has no __int128).
@@ -502,18 +509,20 @@ inline int wire_shift(uint64_t d) {
 }
 
 // Items inside QUEUE payloads:
-//   tag:   bit 0 axis, bits 1-2 kind (0 run, 1 wait, 2 end), bit 3 direction + (bits 4-7 zero)
+//   tag:   bit 0 axis, bits 1-2 kind (0 run, 1 wait, 2 end, 3 tool), bit 3 direction + or tool down
+//          (bits 4-7 zero; a tool item's bit 0 is zero)
 //   run:   tag | varint n | s_O/2 + 16 s_I/2 | s_A/2 + 16 s_B/2 |
 //          zz(O >> s_O) | zz((I - I') >> s_I) | zz((A - A') >> s_A) | zz((B - B') >> s_B)
 //   wait:  tag | varint ticks
 //   end:   tag
+//   tool:  tag | varint tick
 // (I', A', B') is the axis's prediction (continuation() of its previous run; zero before the first). Encoder and
 // decoder keep the same predictions, so they must see the same items in the same order.
 struct ItemCodec {
   RunRef ref[2];
   // Writes a valid item into out (room for kMaxItemBytes) and returns its size.
   size_t encode(const QueueItem& it, uint8_t* out) {
-    const int a = it.axis & 1;
+    const int a = it.kind == ItemKind::tool ? 0 : it.axis & 1;
     size_t n = 0;
     out[n++] = static_cast<uint8_t>(a | (static_cast<int>(it.kind) << 1) | (it.dir > 0 ? 8 : 0));
     if (it.kind == ItemKind::run) {
@@ -528,7 +537,7 @@ struct ItemCodec {
       out[n++] = static_cast<uint8_t>((s[2] / 2) | ((s[3] / 2) << 4));
       for (int i = 0; i < 4; ++i) n += put_varint(zigzag(static_cast<int64_t>(d[i]) >> s[i]), out + n);
       ref[a] = continuation(it);
-    } else if (it.kind == ItemKind::wait) {
+    } else if (it.kind == ItemKind::wait || it.kind == ItemKind::tool) {
       n += put_varint(it.wait, out + n);
     }
     return n;
@@ -551,7 +560,7 @@ struct ItemCodec {
     const uint8_t tag = d[p++];
     if (tag & 0xf0) return false;
     const int kind = (tag >> 1) & 3;
-    if (kind > 2) return false;
+    if (kind == static_cast<int>(ItemKind::tool) && (tag & 1)) return false;
     r = QueueItem{};
     r.axis = tag & 1;
     r.kind = static_cast<ItemKind>(kind);
@@ -574,7 +583,7 @@ struct ItemCodec {
       r.interval = static_cast<int64_t>(static_cast<uint64_t>(ref[a].interval) + static_cast<uint64_t>(v[1]));
       r.add = static_cast<int64_t>(static_cast<uint64_t>(ref[a].add) + static_cast<uint64_t>(v[2]));
       r.add2 = static_cast<int64_t>(static_cast<uint64_t>(ref[a].add2) + static_cast<uint64_t>(v[3]));
-    } else if (r.kind == ItemKind::wait) {
+    } else if (r.kind == ItemKind::wait || r.kind == ItemKind::tool) {
       if (!get_varint(d, len, p, r.wait)) return false;
     }
     pos = p;

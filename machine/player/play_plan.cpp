@@ -42,11 +42,6 @@ PlayPlan plan_playback(const std::string& tape, const PlayScaling& sc, const std
   p.header = verify_tape(tape);  // the whole tape, checksums and totals, before anything else
   const TapeHeader& h = p.header;
   if (h.axes != TapeAxes::polar) throw InputError("a Cartesian tape; the player drives polar machines", tape);
-  if (h.event_count > 0)
-    throw InputError("the tape lifts and lowers the tool (" + std::to_string(h.event_count) +
-                         " tool events, tape format version 2): tool events are not yet supported by the controller "
-                         "protocol; play each contour as a tape of its own",
-                     tape);
   const PlayMachine m = machine ? *machine : machine_from_header(h);
   if (machine) {
     if (!same(m.grid.dr, h.res[0]) || !same(m.grid.dtheta, h.res[1]))
@@ -80,6 +75,17 @@ PlayPlan plan_playback(const std::string& tape, const PlayScaling& sc, const std
   TapeReader rd(tape);
   StepRecord r;
   uint64_t t = 0, t_radial = 0, rec = 0;
+  if (h.event_count > 0) {
+    p.tools.push_back(PlayTool{0, 0, !h.tool_starts_up});
+    // an event is a boundary: the machine steps before it are emitted before it, and a radial tape step after it
+    // spreads its machine steps (size scale > 1) over the time after it only
+    rd.on_tool_event([&](const ToolEvent& e) {
+      for (const PlayStep& s : pending) emit(s);
+      pending.clear();
+      t_radial = std::max(t_radial, e.t_ticks);
+      p.tools.push_back(PlayTool{e.t_ticks, p.steps.size(), e.down});
+    });
+  }
   while (rd.next(r)) {
     t += r.interval;
     ++rec;
@@ -141,6 +147,15 @@ PlayPlan resume_plan(const PlayPlan& plan, uint64_t done) {
   PlayPlan r = plan;
   const uint64_t t0 = plan.steps[done - 1].t;
   for (uint64_t k = 0; k < done; ++k) r.start[plan.steps[k].axis] += plan.steps[k].dir;
+  r.tools.clear();
+  for (const PlayTool& e : plan.tools) {
+    if (e.before <= done) {  // done or due before the resumed steps: the state the tool must be in at the start
+      if (r.tools.empty()) r.tools.push_back(PlayTool{0, 0, e.down});
+      r.tools.front().down = e.down;
+    } else {
+      r.tools.push_back(PlayTool{e.t - t0, e.before - done, e.down});
+    }
+  }
   r.steps.assign(plan.steps.begin() + static_cast<std::ptrdiff_t>(done), plan.steps.end());
   r.steps_per_axis[0] = r.steps_per_axis[1] = 0;
   for (PlayStep& s : r.steps) {

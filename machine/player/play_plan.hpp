@@ -20,6 +20,13 @@ struct PlayStep {
   int8_t dir = 1;           // +1 / -1
 };
 
+// The tool lifted or lowered (a tape's tool event, or the tool's state where the play begins).
+struct PlayTool {
+  uint64_t t = 0;           // tape ticks from the start of the tape (before the speed scale)
+  uint64_t before = 0;      // machine steps before it: it comes between steps before - 1 and before (0-based)
+  bool down = false;
+};
+
 struct PlayPlan {
   std::string tape;                 // path as given
   TapeHeader header;                // verified header of the tape
@@ -29,6 +36,12 @@ struct PlayPlan {
   int64_t lo[2] = {0, 0}, hi[2] = {0, 0};  // extreme machine nodes along the way
   uint64_t steps_per_axis[2] = {0, 0};
   std::vector<PlayStep> steps;      // machine steps in execution order
+  // A tape that lifts its tool (version 2): first the tool's state where the play begins (t = 0, before = 0), then
+  // every tool event in order. Empty for a tape without tool events.
+  std::vector<PlayTool> tools;
+  // The time the tool needs to go up or down (the machine's tool_dwell): the schedule waits this long after each
+  // tool item before the next step; not scaled by the speed scale.
+  double tool_dwell_s = 0;
   double tape_tick_s() const { return static_cast<double>(header.tick_ps) * 1e-12; }
 };
 
@@ -46,8 +59,9 @@ PlayPlan plan_playback(const std::string& tape, const PlayScaling& scaling, cons
 
 // The rest of `plan` after its first `done` machine steps (a run stopped after the controller confirmed them):
 // the machine starts at the node those steps reached, and every later step keeps its interval from the step
-// before it (the first one from step `done`). InputError naming --resume when `done` is not below the plan's
-// machine steps.
+// before it (the first one from step `done`). A lifting tape's tool starts in the state the events before step
+// `done` left it in (the first tool item), and the later events follow. InputError naming --resume when `done`
+// is not below the plan's machine steps.
 PlayPlan resume_plan(const PlayPlan& plan, uint64_t done);
 
 }  // namespace polarcam

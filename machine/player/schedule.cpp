@@ -1,6 +1,7 @@
 #include "machine/player/schedule.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "cam/error.hpp"
@@ -175,18 +176,48 @@ void compress_axis(const PlayPlan& plan, uint64_t tick_ps, const RunShape& shape
 
 // ------------------------------------------------------------------------------------------- windows
 
+uint64_t tool_dwell_ticks(const PlayPlan& plan, uint64_t tick_ps) {
+  if (plan.tools.empty() || !(plan.tool_dwell_s > 0)) return 0;
+  const double d = std::ceil(plan.tool_dwell_s * 1e12 / static_cast<double>(tick_ps));
+  if (!(d < 1e15)) throw InputError("the tool dwell of " + std::to_string(plan.tool_dwell_s) + " s is too long", plan.tape);
+  return static_cast<uint64_t>(d);
+}
+
+std::vector<uint64_t> tool_ticks(const PlayPlan& plan, uint64_t tick_ps) {
+  if (tick_ps == 0) throw InputError("the controller tick is zero");
+  const i128 D = static_cast<i128>(plan.scaling.speed.num) * tick_ps;
+  const i128 F = static_cast<i128>(plan.header.tick_ps) * plan.scaling.speed.den;
+  const i128 dwell = tool_dwell_ticks(plan, tick_ps);
+  std::vector<uint64_t> T(plan.tools.size());
+  for (size_t j = 0; j < T.size(); ++j)
+    T[j] = static_cast<uint64_t>(floor_div(static_cast<i128>(plan.tools[j].t) * F + static_cast<i128>(j) * dwell * D, D));
+  return T;
+}
+
 std::vector<StepWindow> step_windows(const PlayPlan& plan, uint64_t tick_ps) {
   if (tick_ps == 0) throw InputError("the controller tick is zero");
   const size_t n = plan.steps.size();
   std::vector<StepWindow> w(n);
   std::vector<i128> X(n);
-  // x = t * tape_tick_ps * den / (num * tick_ps) = X / D
+  // x = t * tape_tick_ps * den / (num * tick_ps) = X / D, plus a tool dwell for every tool item before the step
   const i128 D = static_cast<i128>(plan.scaling.speed.num) * tick_ps;
   const i128 F = static_cast<i128>(plan.header.tick_ps) * plan.scaling.speed.den;
+  const i128 dwell = tool_dwell_ticks(plan, tick_ps);
+  const std::vector<uint64_t> T = tool_ticks(plan, tick_ps);
+  size_t before = 0;  // tool items before step i
   for (size_t i = 0; i < n; ++i) {
-    X[i] = static_cast<i128>(plan.steps[i].t) * F;
+    while (before < plan.tools.size() && plan.tools[before].before <= i) ++before;
+    X[i] = static_cast<i128>(plan.steps[i].t) * F + static_cast<i128>(before) * dwell * D;
     w[i].lo = static_cast<int64_t>(ceil_div(X[i], D) - 1);
     w[i].hi = static_cast<int64_t>(floor_div(X[i], D) + 1);
+    // on its side of the tool items: after the tick of the last one before it, at or before the next one's
+    if (before > 0) w[i].lo = std::max(w[i].lo, static_cast<int64_t>(T[before - 1]) + 1);
+    if (before < T.size()) w[i].hi = std::min(w[i].hi, static_cast<int64_t>(T[before]));
+    if (w[i].lo > w[i].hi)
+      throw InputError("machine step " + std::to_string(i + 1) + " (from tape record " +
+                       std::to_string(plan.steps[i].record) + ") falls within one controller tick of a tool event at "
+                       "speed scale " + to_string(plan.scaling.speed) + ": use a lower speed scale or a finer tick",
+                       plan.tape);
   }
   const std::vector<size_t> on_axis[2] = {axis_steps(plan, 0), axis_steps(plan, 1)};
   for (const auto& idx : on_axis) narrow_axis(plan, tick_ps, w, idx);
@@ -263,6 +294,11 @@ Schedule compress_schedule(const PlayPlan& plan, uint64_t tick_ps, const RunShap
       }
     compress_axis(plan, tick_ps, shape, axis, w, dir, index, axes[axis], sc);
   }
+  // tool items, each sent before the first item that lets the schedule time reach its tick (the controller stops
+  // for want of items at the end of the axis whose queued items end sooner): it is there when its tick comes
+  const std::vector<uint64_t> T = tool_ticks(plan, tick_ps);
+  sc.tool_dwell_ticks = tool_dwell_ticks(plan, tick_ps);
+  size_t tj = 0;
   // sending order: always the axis whose queued schedule ends sooner
   size_t k0 = 0, k1 = 0;
   uint64_t h0 = 0, h1 = 0, done = 0;
@@ -271,6 +307,19 @@ Schedule compress_schedule(const PlayPlan& plan, uint64_t tick_ps, const RunShap
     const bool take0 = k1 >= items[1]->size() || (k0 < items[0]->size() && h0 <= h1);
     const int a = take0 ? 0 : 1;
     size_t& k = take0 ? k0 : k1;
+    const uint64_t reach = std::min(axes[a].horizon[k], take0 ? h1 : h0);
+    for (; tj < T.size() && T[tj] <= reach; ++tj) {
+      QueueItem tool;
+      tool.kind = ItemKind::tool;
+      tool.axis = 0;
+      tool.dir = plan.tools[tj].down ? 1 : -1;
+      tool.wait = T[tj];
+      sc.items.push_back(tool);
+      sc.horizon.push_back(std::min(h0, h1));
+      sc.steps_before.push_back(done);
+      ++sc.tools;
+      sc.last_tick = std::max(sc.last_tick, T[tj]);
+    }
     sc.items.push_back((*items[a])[k]);
     sc.horizon.push_back(axes[a].horizon[k]);
     sc.steps_before.push_back(done);

@@ -55,13 +55,24 @@ struct Schedule {
   uint64_t steps[2] = {0, 0};
   uint64_t last_tick = 0;               // tick of the last step
   uint64_t runs = 0, waits = 0;
+  uint64_t tools = 0;                   // tool items (a lifting tape's: the state at the start, then its events)
+  uint64_t tool_dwell_ticks = 0;        // the wait after each tool item, in the steps' ticks
   uint64_t searches = 0;                // run searches (a search whose run the wire's rounding spoils is repeated shorter)
   uint64_t searched_steps = 0;          // steps in the runs the searches proposed: the compressor's work
 };
 
 // Windows for every step of the plan at speed scale plan.scaling.speed on a controller of tick `tick_ps`.
 // Throws InputError when two steps are closer than the controller can order (speed scale too high for its tick).
+// A lifting tape's tool items (plan.tools) act at ticks too: a step's exact time is its scaled tape time plus one
+// tool dwell (plan.tool_dwell_s in whole ticks, rounded up) for every tool item before it, and its window keeps it
+// on its side of each tool item's tick (tool_ticks()): the steps before an item at or before its tick, those
+// after it later.
 std::vector<StepWindow> step_windows(const PlayPlan& plan, uint64_t tick_ps);
+
+// The tool dwell in whole controller ticks (rounded up), and the tick of each of plan.tools: its scaled tape time
+// plus a dwell for every tool item before it, rounded down.
+uint64_t tool_dwell_ticks(const PlayPlan& plan, uint64_t tick_ps);
+std::vector<uint64_t> tool_ticks(const PlayPlan& plan, uint64_t tick_ps);
 
 // The runs the compressor may use: cubic runs with a free offset (the default), or the simpler shapes it was
 // measured against (docs/benchmarks.md): quadratic (add2 = 0), anchored at the previous run's end (offset = 0).

@@ -209,8 +209,6 @@ TEST(CliPenUp, ReadersThatCannotTakeToolEventsRefuseInOneLine) {
   Scratch sc;
   const std::string tape = sc.path("logo.tape");
   ASSERT_EQ(run_cli("digitize " + kPattern + " -o " + tape).code, 0);
-  expect_one_line_error(run_cli("play " + tape + " --simulate"),
-                        "tool events are not yet supported by the controller protocol");
   expect_one_line_error(run_cli("error " + tape + " --job " + kPattern), "lifts its tool");
   expect_one_line_error(run_cli("compare " + kPattern), "lifts its tool");
   const std::string thr = sc.path("logo.thr");

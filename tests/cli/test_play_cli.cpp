@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <fstream>
 #include <sstream>
 #include <thread>
@@ -259,6 +260,100 @@ TEST(PlayCli, EmulatorRefusesBadFaultSpecs) {
   auto r = run_cli("controller-sim --pty --log " + s.path("x.csv") + " --faults drop=5");
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("drop"), std::string::npos) << r.err;
+}
+
+
+// ------------------------------------------------------------------------------------------- tool events
+
+using test::CliResult;
+
+const std::string kSrc = std::string(POLARCAM_SOURCE_DIR);
+const std::string kPlotter = kSrc + "/examples/machines/pen-plotter.toml";
+const std::string kLogoJob = kSrc + "/examples/patterns/logo.svg --machine " + kPlotter + " --speed \"20 mm/s\"";
+
+struct Row {
+  uint64_t t_ns;
+  std::string what, dir;  // r/theta and +1/-1, or tool and up/down
+};
+
+std::vector<Row> rows(const std::vector<std::string>& lines) {
+  std::vector<Row> v;
+  for (size_t i = 1; i < lines.size(); ++i) {
+    std::istringstream ls(lines[i]);
+    std::string t, a, d;
+    std::getline(ls, t, ',');
+    std::getline(ls, a, ',');
+    std::getline(ls, d, ',');
+    v.push_back({std::stoull(t), a, d});
+  }
+  return v;
+}
+
+std::vector<std::string> split_lines(const std::string& text) {
+  std::vector<std::string> v;
+  std::istringstream in(text);
+  for (std::string l; std::getline(in, l);) v.push_back(l);
+  return v;
+}
+
+// The pen plotter's drawing of the logo (four contours, three rapids with the pen up) digitized and played at
+// speed scale K to the emulator: its log holds first the pen's state (down), then every step and every tool event
+// of the tape's own listing (inspect --csv) in order, each within one 1 us tick of its tape time divided by K plus
+// the machine file's tool_dwell (0.2 s) for every tool event before it.
+TEST(PlayCli, PenPlotterTapeToTheEmulatorStepsAndLiftsInOrderAndOnTime) {
+  Scratch s;
+  const std::string tape = s.path("logo.tape");
+  ASSERT_EQ(run_cli("digitize " + kLogoJob + " -o " + tape).code, 0);
+  const CliResult listing = run_cli("inspect " + tape + " --csv");
+  ASSERT_EQ(listing.code, 0) << listing.err;
+  const std::vector<Row> want = rows(split_lines(listing.out));
+  const int64_t K = 10;
+  const double dwell_ns = 0.2e9;
+  Emulator emu(s, "--faults drop=0.005,seed=4");
+  ASSERT_FALSE(emu.pty.empty());
+  const auto j = test::cli_json("play " + tape + " --port " + emu.pty + " --speed-scale " + std::to_string(K) + " --json");
+  EXPECT_EQ(j["tool_events"], 7);  // the pen's state at the start, then the tape's six events
+  EXPECT_EQ(j["completed"], true);
+  const std::vector<std::string> lines = emu.lines();
+  ASSERT_FALSE(lines.empty());
+  EXPECT_EQ(lines[0], "t_ns,axis,dir");
+  const std::vector<Row> got = rows(lines);
+  ASSERT_EQ(got.size(), want.size() + 1);
+  EXPECT_EQ(got[0].what, "tool");
+  EXPECT_EQ(got[0].dir, "down");
+  EXPECT_LE(got[0].t_ns, 1000u);
+  size_t events = 1, tool_rows = 0;
+  for (size_t i = 0; i < want.size(); ++i) {
+    const Row& g = got[i + 1];
+    ASSERT_EQ(g.what, want[i].what) << "row " << i + 1;
+    ASSERT_EQ(g.dir, want[i].dir) << "row " << i + 1;
+    const double exact = static_cast<double>(want[i].t_ns) / static_cast<double>(K) + static_cast<double>(events) * dwell_ns;
+    EXPECT_LE(std::fabs(static_cast<double>(g.t_ns) - exact), 1000.0) << "row " << i + 1 << ": " << g.what;
+    if (g.what == "tool") ++events, ++tool_rows;
+  }
+  EXPECT_EQ(tool_rows, 6u);
+  // the simulated machine plays the same tape with the same tool items
+  const auto sim = test::cli_json("play " + tape + " --simulate --speed-scale 10 --json");
+  EXPECT_EQ(sim["tool_events"], 7);
+  EXPECT_EQ(sim["tool_events_executed"], 7);
+  EXPECT_EQ(sim["tool_events_mismatched"], 0);
+  EXPECT_EQ(sim["steps_mismatched"], 0);
+  EXPECT_LE(sim["max_tool_time_error_ns"].get<double>(), 1000.0);
+  EXPECT_LE(sim["max_time_error_ns"].get<double>(), 1000.0);
+  EXPECT_EQ(sim["tool_dwell_s"], 0.2);
+}
+
+// A controller that drives no tool: the lifting tape is refused in one line naming the tape before any step.
+TEST(PlayCli, ControllerWithoutAToolRefusesTheLiftingTape) {
+  Scratch s;
+  const std::string tape = s.path("logo.tape");
+  ASSERT_EQ(run_cli("digitize " + kLogoJob + " -o " + tape).code, 0);
+  Emulator emu(s, "--no-tool");
+  ASSERT_FALSE(emu.pty.empty());
+  const CliResult r = run_cli("play " + tape + " --port " + emu.pty);
+  expect_one_line_error(r, "drives no tool");
+  EXPECT_NE(r.err.find("logo.tape"), std::string::npos) << r.err;
+  EXPECT_EQ(emu.lines(), std::vector<std::string>{"t_ns,axis,dir"});
 }
 
 }  // namespace

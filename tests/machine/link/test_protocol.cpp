@@ -76,24 +76,35 @@ TEST(Protocol, FrameLayoutByHand) {
   EXPECT_EQ(out[0].payload, "\xaa\xbb");
 }
 
-// IDENT (version 4) carries the largest step rate; an IDENT of another version still names its version.
-TEST(Protocol, IdentVersion4AndOtherVersionsNamed) {
+// IDENT (version 5) carries the largest step rate (since version 3) and the capabilities, then the name; an IDENT
+// of another version still names its version.
+TEST(Protocol, IdentVersion5AndOtherVersionsNamed) {
   proto::Ident id;
   id.tick_ps = 4000000;
   id.slots = 24;
   id.session = 7;
   id.max_step_rate = 20000;
+  id.caps = 1;
   id.name = "board";
   const std::string p = id.encode();
-  ASSERT_EQ(p.size(), 1u + 8 + 4 + 4 + 4 + 1 + 5);
-  EXPECT_EQ(static_cast<uint8_t>(p[0]), 4);
+  ASSERT_EQ(p.size(), 1u + 8 + 4 + 4 + 4 + 1 + 1 + 5);
+  EXPECT_EQ(static_cast<uint8_t>(p[0]), 5);
   EXPECT_EQ(static_cast<uint8_t>(p[17]) | static_cast<uint8_t>(p[18]) << 8, 20000 & 0xffff);  // after the session
+  EXPECT_EQ(static_cast<uint8_t>(p[21]), 1);  // the tool capability, after the step rate
+  EXPECT_EQ(static_cast<uint8_t>(p[22]), 5);  // the name's length
   proto::Ident back;
   ASSERT_TRUE(proto::Ident::decode(p, back));
   EXPECT_EQ(back.tick_ps, 4000000u);
   EXPECT_EQ(back.slots, 24u);
   EXPECT_EQ(back.max_step_rate, 20000u);
+  EXPECT_EQ(back.caps, 1);
   EXPECT_EQ(back.name, "board");
+  std::string v4 = p;
+  v4[0] = 4;
+  v4.erase(21, 1);  // version 4 had no capabilities
+  proto::Ident four;
+  EXPECT_FALSE(proto::Ident::decode(v4, four));
+  EXPECT_EQ(four.version, 4);
   std::string v2 = p;
   v2[0] = 2;
   v2.erase(17, 4);  // version 2 had no step rate

@@ -176,5 +176,135 @@ TEST(Schedule, ItemCodecRoundTripsAndRejectsGarbage) {
   EXPECT_EQ(jp, 0u);
 }
 
+
+// ------------------------------------------------------------------------------------------- tool events
+
+using test::kLiftDownNs;
+using test::kLiftUpNs;
+using test::lifting_tape;
+
+// A lifting tape's plan: the tool's state at the start (down: the tape's header says nothing else), then the
+// tape's two events, each between the steps the tape has it between.
+TEST(PlayerTool, PlanHasTheStartStateAndEveryEventBetweenItsSteps) {
+  const PlayPlan p = plan_playback(lifting_tape(), scaling("1"), std::nullopt);
+  ASSERT_EQ(p.steps.size(), 500u);
+  ASSERT_EQ(p.tools.size(), 3u);
+  EXPECT_TRUE(p.tools[0].down);
+  EXPECT_EQ(p.tools[0].t, 0u);
+  EXPECT_EQ(p.tools[0].before, 0u);
+  EXPECT_FALSE(p.tools[1].down);
+  EXPECT_EQ(p.tools[1].t, kLiftUpNs);
+  EXPECT_EQ(p.tools[1].before, 200u);
+  EXPECT_TRUE(p.tools[2].down);
+  EXPECT_EQ(p.tools[2].t, kLiftDownNs);
+  EXPECT_EQ(p.tools[2].before, 300u);
+  // a tape without tool events has no tool items
+  EXPECT_TRUE(plan_playback(example_tape("circle"), scaling("1"), std::nullopt).tools.empty());
+}
+
+// Every step and tool item of the schedule at its tick: a tool item at its scaled tape time plus the dwells of the
+// items before it, rounded down; each step within one tick of its scaled time plus the dwells before it, the steps
+// before a tool item at or before its tick, those after it later. Times from the tape's construction, in 1 us
+// ticks of a controller.
+TEST(PlayerTool, ScheduleWaitsTheDwellAfterEachToolItem) {
+  const std::vector<test::TapeStep> tape = test::read_tape(lifting_tape());
+  for (const auto& [speed, K] : {std::pair<const char*, double>{"1", 1.0}, {"4", 4.0}, {"2/3", 2.0 / 3.0}})
+    for (const double dwell_s : {0.0, 0.005, 0.2}) {
+      PlayPlan p = plan_playback(lifting_tape(), scaling(speed), std::nullopt);
+      p.tool_dwell_s = dwell_s;
+      const Schedule sc = compress_schedule(p, 1000000);
+      const double dwell_us = dwell_s * 1e6;
+      const double exact_tool[3] = {0.0, kLiftUpNs / 1e3 / K + dwell_us, kLiftDownNs / 1e3 / K + 2 * dwell_us};
+      const bool down[3] = {true, false, true};
+      std::vector<uint64_t> tool_tick;
+      for (const QueueItem& it : sc.items)
+        if (it.kind == ItemKind::tool) {
+          ASSERT_LT(tool_tick.size(), 3u);
+          EXPECT_EQ(it.dir > 0, down[tool_tick.size()]);
+          tool_tick.push_back(it.wait);
+        }
+      ASSERT_EQ(tool_tick.size(), 3u) << speed << " " << dwell_s;
+      EXPECT_EQ(sc.tools, 3u);
+      for (int j = 0; j < 3; ++j) {
+        EXPECT_LE(static_cast<double>(tool_tick[j]), exact_tool[j] + 1e-6) << j;
+        EXPECT_GT(static_cast<double>(tool_tick[j]), exact_tool[j] - 1.0) << j;
+      }
+      const std::vector<uint64_t> ticks[2] = {execute_axis(sc.items, 0), execute_axis(sc.items, 1)};
+      size_t k[2] = {0, 0};
+      for (size_t i = 0; i < tape.size(); ++i) {
+        const int a = tape[i].axis;
+        ASSERT_LT(k[a], ticks[a].size());
+        const uint64_t tick = ticks[a][k[a]++];
+        const int before = i < 200 ? 1 : i < 300 ? 2 : 3;  // tool items before step i
+        const double exact = static_cast<double>(tape[i].t) / 1e3 / K + before * dwell_us;
+        EXPECT_LE(std::fabs(static_cast<double>(tick) - exact), 1.0 + 1e-9) << "step " << i << " " << speed << " " << dwell_s;
+        if (before < 3) {
+          EXPECT_LE(tick, tool_tick[before]) << "step " << i;
+        }
+        EXPECT_GT(tick, tool_tick[before - 1]) << "step " << i;
+      }
+      EXPECT_EQ(k[0] + k[1], 500u);
+    }
+}
+
+// A play resumed after step N starts with the tool in the state the events before step N left it in, and the
+// later events follow at their times from step N.
+TEST(PlayerTool, ResumeStartsWithTheToolStateAtTheResumePoint) {
+  const PlayPlan p = plan_playback(lifting_tape(), scaling("1"), std::nullopt);
+  struct Case {
+    uint64_t done;
+    bool start_down;
+    std::vector<std::pair<uint64_t, bool>> later;  // (before, down)
+  };
+  for (const Case& c : {Case{150, true, {{50, false}, {150, true}}}, Case{200, false, {{100, true}}},
+                        Case{250, false, {{50, true}}}, Case{300, true, {}}, Case{499, true, {}}}) {
+    const PlayPlan r = resume_plan(p, c.done);
+    ASSERT_EQ(r.tools.size(), 1 + c.later.size()) << c.done;
+    EXPECT_EQ(r.tools[0].down, c.start_down) << c.done;
+    EXPECT_EQ(r.tools[0].t, 0u);
+    EXPECT_EQ(r.tools[0].before, 0u);
+    const uint64_t t0 = p.steps[c.done - 1].t;
+    for (size_t j = 0; j < c.later.size(); ++j) {
+      EXPECT_EQ(r.tools[j + 1].before, c.later[j].first) << c.done;
+      EXPECT_EQ(r.tools[j + 1].down, c.later[j].second) << c.done;
+      EXPECT_EQ(r.tools[j + 1].t, (c.later[j].second ? kLiftDownNs : kLiftUpNs) - t0) << c.done;
+    }
+    // the first schedule item is the tool's state, at tick 0
+    const Schedule sc = compress_schedule(r, 1000000);
+    ASSERT_FALSE(sc.items.empty());
+    EXPECT_EQ(sc.items[0].kind, ItemKind::tool);
+    EXPECT_EQ(sc.items[0].wait, 0u);
+    EXPECT_EQ(sc.items[0].dir > 0, c.start_down);
+  }
+}
+
+// Tool items on the wire: the tag (kind 3, bit 3 down) and the tick as a varint, by hand; a tool tag with the axis
+// bit set is refused.
+TEST(PlayerTool, ToolItemBytesByHand) {
+  QueueItem down;
+  down.kind = ItemKind::tool;
+  down.dir = 1;
+  down.wait = 300;  // varint 0xac 0x02
+  QueueItem up = down;
+  up.dir = -1;
+  up.wait = 5;
+  ItemCodec enc;
+  std::string bytes;
+  enc.encode(down, bytes);
+  enc.encode(up, bytes);
+  EXPECT_EQ(bytes, std::string("\x0e\xac\x02\x06\x05", 5));
+  test::expect_codec_round_trip({down, up});
+  ItemCodec dec;
+  size_t pos = 0;
+  QueueItem got;
+  ASSERT_TRUE(dec.decode(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), pos, got));
+  EXPECT_EQ(got.kind, ItemKind::tool);
+  EXPECT_EQ(got.dir, 1);
+  EXPECT_EQ(got.wait, 300u);
+  const uint8_t odd[] = {0x07, 0x05};
+  pos = 0;
+  EXPECT_FALSE(ItemCodec{}.decode(odd, sizeof odd, pos, got));
+}
+
 }  // namespace
 }  // namespace polarcam
