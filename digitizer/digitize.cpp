@@ -10,6 +10,7 @@
 #include "cam/error.hpp"
 #include "cam/format.hpp"
 #include "digitizer/step_walker.hpp"
+#include "digitizer/theta_rho.hpp"
 
 namespace polarcam {
 
@@ -26,36 +27,69 @@ std::string fmt(double v, int prec = 6) {
   return os.str();
 }
 
+// How the digitizer reads a track: an AxisTrack holds its pieces (and their interior extrema); a PolylineTrack
+// makes each piece as it is visited (it has no interior extrema: both coordinates are linear on every piece).
+// f(index, piece, extrema, number of extrema) for every piece in order.
+template <class F>
+void for_each_piece(const AxisTrack& tr, F&& f) {
+  const auto& P = tr.pieces();
+  const auto& E = tr.extrema();
+  for (size_t i = 0; i < P.size(); ++i) f(i, P[i], E.data() + P[i].ext_begin, size_t{P[i].ext_end - P[i].ext_begin});
+}
+template <class F>
+void for_each_piece(const PolylineTrack& tr, F&& f) {
+  tr.for_each([&](size_t i, const TrackPiece& pc) { f(i, pc, static_cast<const double*>(nullptr), size_t{0}); });
+}
+const TrackPiece& piece_at(const AxisTrack& tr, size_t i) { return tr.pieces()[i]; }
+TrackPiece piece_at(const PolylineTrack& tr, size_t i) { return tr.piece(i); }
+size_t piece_count(const AxisTrack& tr) { return tr.pieces().size(); }
+size_t piece_count(const PolylineTrack& tr) { return tr.size(); }
+const TrackPiece& first_piece(const AxisTrack& tr) { return tr.pieces().front(); }
+const TrackPiece& first_piece(const PolylineTrack& tr) { return tr.front(); }
+const TrackPiece& last_piece(const AxisTrack& tr) { return tr.pieces().back(); }
+const TrackPiece& last_piece(const PolylineTrack& tr) { return tr.back(); }
+
+// Walks every piece of the track (walk_piece).
+template <bool kEmit, class Style, class Track, class Emit>
+void walk_all(const Track& tr, const WalkGrid& wg, int64_t node[2], Emit&& emit) {
+  std::vector<double> ts;
+  const size_t n = piece_count(tr);
+  for_each_piece(tr, [&](size_t i, const TrackPiece& pc, const double* ext, size_t n_ext) {
+    walk_piece<kEmit, Style>(pc, ext, n_ext, i + 1 == n && tr.closed(), wg, node, emit, ts);
+  });
+}
+
 // The point of an extent; the radial motor stands at q = r + c theta (theta before the shift).
-std::string where(const AxisTrack& tr, const TrackExtent& e, double shift, double c) {
-  const TrackPiece& p = tr.pieces()[e.piece];
-  const double th0 = tr.q(1, e.piece, e.t), r = tr.q(0, e.piece, e.t) - c * th0, th = th0 + shift;
+template <class Track>
+std::string where(const Track& tr, const TrackExtent& e, double shift, double c) {
+  const TrackPiece& p = piece_at(tr, e.piece);
+  const double th0 = p.q_a[1] + p.Q[1](e.t), r = p.q_a[0] + p.Q[0](e.t) - c * th0, th = th0 + shift;
   return "at path parameter " + fmt(p.u_at(e.t)) + " (r = " + fmt(r * 1e3) + " mm, theta = " + fmt(th) +
          " rad, machine x = " + fmt(r * std::cos(th) * 1e3) + " mm, y = " + fmt(r * std::sin(th) * 1e3) + " mm)";
 }
 
 // Range of r = q0 - c q1 over a coupled arm's track: the ends of the pieces and the roots of dQ0 - c dQ1.
-void ball_radius_range(const AxisTrack& tr, double c, TrackExtent& lo, TrackExtent& hi) {
+template <class Track>
+void ball_radius_range(const Track& tr, double c, TrackExtent& lo, TrackExtent& hi) {
   lo = {std::numeric_limits<double>::infinity(), 0, -1.0};
   hi = {-std::numeric_limits<double>::infinity(), 0, -1.0};
-  auto consider = [&](size_t i, double t) {
-    const double r = tr.q(0, i, t) - c * tr.q(1, i, t);
+  auto consider = [&](const TrackPiece& p, size_t i, double t) {
+    const double r = (p.q_a[0] + p.Q[0](t)) - c * (p.q_a[1] + p.Q[1](t));
     if (r < lo.value) lo = {r, i, t};
     if (r > hi.value) hi = {r, i, t};
   };
   std::vector<double> roots;
-  for (size_t i = 0; i < tr.pieces().size(); ++i) {
-    const TrackPiece& p = tr.pieces()[i];
-    consider(i, -1.0);
+  for_each_piece(tr, [&](size_t i, const TrackPiece& p, const double*, size_t) {
+    consider(p, i, -1.0);
     Cheb d = p.dQ[1];
     d.scale(-c);
     for (int k = 0; k <= std::max(d.deg, p.dQ[0].deg); ++k) d.c[k] = (k <= d.deg ? d.c[k] : 0.0) + (k <= p.dQ[0].deg ? p.dQ[0].c[k] : 0.0);
     d.deg = std::max(d.deg, p.dQ[0].deg);
     roots.clear();
     cheb_sign_changes(d, roots);
-    for (double t : roots) consider(i, t);
-  }
-  consider(tr.pieces().size() - 1, 1.0);
+    for (double t : roots) consider(p, i, t);
+  });
+  consider(last_piece(tr), piece_count(tr) - 1, 1.0);
 }
 
 struct Emitter {
@@ -88,46 +122,53 @@ struct Emitter {
 // The digitizer's walk: the arc length rides in the solver (most crossings are steps), guesses are quadratic.
 using DigitizerStyle = WalkStyle<true, 3>;
 
-// Max over the path of V(s) |df/ds| / resolution for both axes, sampled and refined.
-void max_rates(const AxisTrack& tr, const Grid& grid, const SpeedProfile& prof, DigitizeResult& res) {
-  const auto& P = tr.pieces();
-  auto rate = [&](size_t i, double t, int axis) {
-    const TrackPiece& p = P[i];
+// Max over the path of V(s) |df/ds| / resolution for both axes, sampled and refined. One pass over the pieces
+// for both axes (each axis keeps a copy of the piece of its best sample).
+template <class Track>
+void max_rates(const Track& tr, const Grid& grid, const SpeedProfile& prof, DigitizeResult& res) {
+  auto rate = [&](const TrackPiece& p, double t, int axis) {
     double v = p.V(t);
     if (!(v > 0.0)) return 0.0;
     double d = axis == 0 ? p.dQ[0](t) / grid.dr : p.dQ[1](t) / grid.dtheta;
     return prof.speed_at(p.s0 + p.S(t)) * std::abs(d) / v;
   };
-  for (int axis = 0; axis < 2; ++axis) {
-    double best = -1.0, bt = 0.0;
-    size_t bi = 0;
-    constexpr int M = 8;  // per piece; the best sample is refined below
-    for (size_t i = 0; i < P.size(); ++i)
+  constexpr int M = 8;  // per piece; the best sample is refined below
+  double bests[2] = {-1.0, -1.0}, bts[2] = {0.0, 0.0};
+  TrackPiece bps[2] = {first_piece(tr), first_piece(tr)};
+  for_each_piece(tr, [&](size_t, const TrackPiece& p, const double*, size_t) {
+    for (int axis = 0; axis < 2; ++axis) {
+      bool better = false;
       for (int j = 0; j <= M; ++j) {
-        double t = -1.0 + 2.0 * j / M, r = rate(i, t, axis);
-        if (r > best) {
-          best = r;
-          bi = i;
-          bt = t;
+        double t = -1.0 + 2.0 * j / M, r = rate(p, t, axis);
+        if (r > bests[axis]) {
+          bests[axis] = r;
+          bts[axis] = t;
+          better = true;
         }
       }
+      if (better) bps[axis] = p;
+    }
+  });
+  for (int axis = 0; axis < 2; ++axis) {
+    double best = bests[axis], bt = bts[axis];
+    const TrackPiece& bp = bps[axis];
     // golden-section refinement around the best sample
     double lo = std::max(-1.0, bt - 2.0 / M), hi = std::min(1.0, bt + 2.0 / M);
     const double g = 0.6180339887498949;
-    double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo), f1 = rate(bi, x1, axis), f2 = rate(bi, x2, axis);
+    double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo), f1 = rate(bp, x1, axis), f2 = rate(bp, x2, axis);
     for (int it = 0; it < 60; ++it) {
       if (f1 > f2) {
         hi = x2;
         x2 = x1;
         f2 = f1;
         x1 = hi - g * (hi - lo);
-        f1 = rate(bi, x1, axis);
+        f1 = rate(bp, x1, axis);
       } else {
         lo = x1;
         x1 = x2;
         f1 = f2;
         x2 = lo + g * (hi - lo);
-        f2 = rate(bi, x2, axis);
+        f2 = rate(bp, x2, axis);
       }
     }
     best = std::max({best, f1, f2});
@@ -135,11 +176,11 @@ void max_rates(const AxisTrack& tr, const Grid& grid, const SpeedProfile& prof, 
   }
 }
 
-void check_radius(const AxisTrack& tr, double c, const Grid& grid, double shift);
+template <class Track>
+void check_radius(const Track& tr, double c, const Grid& grid, double shift);
 
-}  // namespace
-
-double place_on_grid_arm(const AxisTrack& tr, double c, const Grid& grid) {
+template <class Track>
+double place_on_grid_impl(const Track& tr, double c, const Grid& grid) {
   grid.validate();
   double shift = 0.0;
   const TrackExtent thmin = tr.q_min(1), thmax = tr.q_max(1);
@@ -159,16 +200,16 @@ double place_on_grid_arm(const AxisTrack& tr, double c, const Grid& grid) {
                        fmt(thmin.value + shift) + " rad needs theta >= theta_min " + fmt(*grid.theta_min) + " rad");
     }
   } else {
-    double a0 = tr.pieces().front().q_a[1];
+    double a0 = first_piece(tr).q_a[1];
     shift = -kTwoPi * std::floor(a0 / kTwoPi);
   }
   check_radius(tr, c, grid, shift);
   return shift;
 }
 
-namespace {
 // The work area's radii about the track (whatever its angular branch).
-void check_radius(const AxisTrack& tr, double c, const Grid& grid, double shift) {
+template <class Track>
+void check_radius(const Track& tr, double c, const Grid& grid, double shift) {
   // the work area bounds the ball's (tool's) radius r = q0 - c q1: r itself on a polar machine; on a coupled arm
   // the radial motor is geared to the arm and has no travel of its own to bound
   TrackExtent rmin = tr.q_min(0), rmax = tr.q_max(0);
@@ -182,9 +223,8 @@ void check_radius(const AxisTrack& tr, double c, const Grid& grid, double shift)
     throw InputError("the path leaves the work area: r reaches " + fmt(rmax.value * 1e3) + " mm > r_max " +
                      fmt(*grid.r_max * 1e3) + " mm " + where(tr, rmax, shift, c));
 }
-}  // namespace
-
-void check_on_grid_arm(const AxisTrack& tr, double c, const Grid& grid, double shift) {
+template <class Track>
+void check_on_grid_impl(const Track& tr, double c, const Grid& grid, double shift) {
   grid.validate();
   if (grid.theta_min) {
     const TrackExtent thmin = tr.q_min(1), thmax = tr.q_max(1);
@@ -198,12 +238,9 @@ void check_on_grid_arm(const AxisTrack& tr, double c, const Grid& grid, double s
   check_radius(tr, c, grid, shift);
 }
 
-double place_on_grid(const PolarTrack& tr, const Grid& grid) { return place_on_grid_arm(tr, 0.0, grid); }
-
-namespace {
-
 // The walk of digitize_arm and digitize_arm_from: `from` null starts on the track's own start node.
-DigitizeResult walk_track(const AxisTrack& tr, double c, const Grid& grid, StepRule rule, const SpeedProfile& profile,
+template <class Track>
+DigitizeResult walk_track(const Track& tr, double c, const Grid& grid, StepRule rule, const SpeedProfile& profile,
                           StepSink* sink, double shift, const int64_t* from, int64_t t0_ns) {
   DigitizeResult res;
   res.theta_shift = shift;
@@ -229,7 +266,7 @@ DigitizeResult walk_track(const AxisTrack& tr, double c, const Grid& grid, StepR
   wg.offset[0] = c * shift;  // the radial motor turns with the arm's whole-turn shift
   wg.offset[1] = shift;
   wg.h = rule == StepRule::nearest ? 0.5 : 1.0;
-  const TrackPiece& first = tr.pieces().front();
+  const TrackPiece& first = first_piece(tr);
   const double f0[2] = {(first.q_a[0] + wg.offset[0]) / grid.dr, (first.q_a[1] + shift) / grid.dtheta};
   // a closed path ends at its start advanced by whole turns; with a whole number of steps per turn its end value
   // in angular steps is exact. The radial motor of a coupled arm ends 2 pi c per turn away from its start.
@@ -245,16 +282,17 @@ DigitizeResult walk_track(const AxisTrack& tr, double c, const Grid& grid, StepR
   } else if (rule == StepRule::thesis && tr.closed()) {
     // start from the node the quantiser holds after one lap, so the tape is periodic
     int64_t lap[2] = {node[0], node[1]};
-    walk_steps<false, DigitizerStyle>(tr, wg, lap, [](int, int, double) {});
+    walk_all<false, DigitizerStyle>(tr, wg, lap, [](int, int, double) {});
     if (radial_closes) node[0] = lap[0];
     if (grid.steps_per_rev > 0 || tr.winding() == 0)
       node[1] = lap[1] - static_cast<int64_t>(tr.winding()) * grid.steps_per_rev;
   }
   res.start_n = node[0];
   res.start_m = node[1];
+  if (sink && !from) sink->begin(node[0], node[1]);
 
   Emitter em{&profile, sink, &res, t0_ns};
-  walk_steps<true, DigitizerStyle>(tr, wg, node, em);
+  walk_all<true, DigitizerStyle>(tr, wg, node, em);
   res.end_n = node[0];
   res.end_m = node[1];
   res.last_step_ns = em.last_ns;
@@ -273,16 +311,30 @@ DigitizeResult walk_track(const AxisTrack& tr, double c, const Grid& grid, StepR
 
 }  // namespace
 
+double place_on_grid_arm(const AxisTrack& tr, double c, const Grid& grid) { return place_on_grid_impl(tr, c, grid); }
+
+void check_on_grid_arm(const AxisTrack& tr, double c, const Grid& grid, double shift) {
+  check_on_grid_impl(tr, c, grid, shift);
+}
+
+double place_on_grid(const PolarTrack& tr, const Grid& grid) { return place_on_grid_arm(tr, 0.0, grid); }
+
+DigitizeResult digitize(const PolylineTrack& tr, const Grid& grid, StepRule rule, const SpeedProfile& profile,
+                        StepSink* sink) {
+  const double shift = place_on_grid_impl(tr, tr.coupling(), grid);
+  return walk_track(tr, tr.coupling(), grid, rule, profile, sink, shift, nullptr, 0);
+}
+
 DigitizeResult digitize_arm(const AxisTrack& tr, double c, const Grid& grid, StepRule rule,
                             const SpeedProfile& profile, StepSink* sink) {
-  const double shift = place_on_grid_arm(tr, c, grid);
+  const double shift = place_on_grid_impl(tr, c, grid);
   return walk_track(tr, c, grid, rule, profile, sink, shift, nullptr, 0);
 }
 
 DigitizeResult digitize_arm_from(const AxisTrack& tr, double c, const Grid& grid, StepRule rule,
                                  const SpeedProfile& profile, StepSink* sink, double shift,
                                  const int64_t start_node[2], int64_t t0_ns) {
-  check_on_grid_arm(tr, c, grid, shift);
+  check_on_grid_impl(tr, c, grid, shift);
   return walk_track(tr, c, grid, rule, profile, sink, shift, start_node, t0_ns);
 }
 

@@ -40,6 +40,13 @@ class StepSink {
     (void)down;
     (void)t_ns;
   }
+  // The node (radial n, angular m) the tape starts on, before its first step: called once, by the walk of a
+  // tape's first track (digitize, digitize_arm; not digitize_arm_from, which continues a tape). Sinks that follow
+  // the nodes (a preview) take their start from it, so that one pass of the digitizer is enough.
+  virtual void begin(int64_t n, int64_t m) {
+    (void)n;
+    (void)m;
+  }
 };
 
 // Checks the track against the work area and chooses the angular branch: returns the multiple of 2 pi added to

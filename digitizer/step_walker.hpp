@@ -39,11 +39,16 @@ struct WalkStyle {
   static constexpr int history = kHistory;
 };
 
-// Walks the whole track from the nodes in `node` (updated to the end nodes). With kEmit, emit(axis, dir, s) is
-// called for every step, s the arc length from the path start; without it only the nodes are tracked (no root
-// finding).
+// Walks one piece of a track from the nodes in `node` (updated to the nodes at its end): `ext` its `n_ext` interior
+// extrema (sorted t in (-1, 1)), `closing` when it is the last piece of a closed path (its end is then
+// wg.last_end where that is known). With kEmit, emit(axis, dir, s) is called for every step, s the arc length
+// from the path start; without it only the nodes are tracked (no root finding). `ts` is scratch space.
+// Pieces walked one after the other give the same steps as walk_steps over a track holding them all, so a
+// track whose pieces are made as they are walked (digitizer/theta_rho.hpp, PolylineTrack) needs no more memory
+// than one piece.
 template <bool kEmit, class Style, class Emit>
-void walk_steps(const AxisTrack& tr, const WalkGrid& wg, int64_t node[2], Emit&& emit) {
+void walk_piece(const TrackPiece& pc, const double* ext, size_t n_ext, bool closing, const WalkGrid& wg,
+                int64_t node[2], Emit& emit, std::vector<double>& ts) {
   struct Cursor {
     int dir = 0;
     bool has = false;
@@ -52,23 +57,19 @@ void walk_steps(const AxisTrack& tr, const WalkGrid& wg, int64_t node[2], Emit&&
     double hist[3] = {0, 0, 0};      // the axis's last crossings on this sub-interval, newest first
     int nh = 0;
   };
-  const auto& P = tr.pieces();
-  const auto& E = tr.extrema();
   const double h = wg.h;
   Cheb g[2];
-  std::vector<double> ts;
-  for (size_t i = 0; i < P.size(); ++i) {
-    const TrackPiece& pc = P[i];
+  {
     double base[2], end[2];
     for (int a = 0; a < 2; ++a) {
       g[a] = pc.Q[a];
       g[a].scale(1.0 / wg.res[a]);
       base[a] = (pc.q_a[a] + wg.offset[a]) / wg.res[a];
       end[a] = (pc.q_b[a] + wg.offset[a]) / wg.res[a];
-      if (i + 1 == P.size() && tr.closed() && !std::isnan(wg.last_end[a])) end[a] = wg.last_end[a];
+      if (closing && !std::isnan(wg.last_end[a])) end[a] = wg.last_end[a];
     }
     ts.assign(1, -1.0);
-    for (uint32_t k = pc.ext_begin; k < pc.ext_end; ++k) ts.push_back(E[k]);
+    for (size_t k = 0; k < n_ext; ++k) ts.push_back(ext[k]);
     ts.push_back(1.0);
     double fprev[2] = {base[0], base[1]};
     for (size_t k = 0; k + 1 < ts.size(); ++k) {
@@ -127,6 +128,19 @@ void walk_steps(const AxisTrack& tr, const WalkGrid& wg, int64_t node[2], Emit&&
       fprev[0] = fend[0];
       fprev[1] = fend[1];
     }
+  }
+}
+
+// Walks the whole track from the nodes in `node` (updated to the end nodes), piece by piece (walk_piece).
+template <bool kEmit, class Style, class Emit>
+void walk_steps(const AxisTrack& tr, const WalkGrid& wg, int64_t node[2], Emit&& emit) {
+  const auto& P = tr.pieces();
+  const auto& E = tr.extrema();
+  std::vector<double> ts;
+  for (size_t i = 0; i < P.size(); ++i) {
+    const TrackPiece& pc = P[i];
+    walk_piece<kEmit, Style>(pc, E.data() + pc.ext_begin, pc.ext_end - pc.ext_begin,
+                             i + 1 == P.size() && tr.closed(), wg, node, emit, ts);
   }
 }
 

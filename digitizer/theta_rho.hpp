@@ -10,6 +10,8 @@
 // r_max bound the ball's radius r (the radial motor is geared to the arm: its position q grows with every turn of
 // a pattern whose theta accumulates, and has no travel of its own to bound). A closed path that winds about the pole does not bring the radial
 // motor back to its start (it ends 2 pi c per turn away), so such a tape is not periodic.
+#include <type_traits>
+
 #include "cam/theta_rho_path.hpp"
 #include "digitizer/digitize.hpp"
 #include "digitizer/polar_track.hpp"
@@ -70,6 +72,62 @@ PolarTrack polyline_polar_track(const ThetaRhoPath& path, double r_floor);
 
 // Every step of both motors along the track (as digitize() for the polar machine).
 DigitizeResult digitize(const ThetaRhoTrack& track, const Grid& grid, StepRule rule, const SpeedProfile& profile,
+                        StepSink* sink);
+
+// The track of a theta-rho polyline (as ThetaRhoTrack::build from the path, or polyline_polar_track for c = 0),
+// streamed: it holds the path's vertices (by reference) and a summary (length, ranges, the first and last
+// pieces), and makes each piece from its segment's two vertices when it is visited, so its memory does not grow
+// with the path (an AxisTrack holds about 1 KB a piece). Every piece it visits is bit for bit the piece the held
+// track has at that index, s0 included, so digitizing it gives the same steps at the same times.
+// The path must outlive the track.
+class PolylineTrack {
+ public:
+  // One pass over the segments (InputError as polyline_polar_track; c must be finite).
+  PolylineTrack(const ThetaRhoPath& path, double c, double r_floor);
+
+  const ThetaRhoPath& path() const { return *path_; }
+  double coupling() const { return c_; }
+  double timing_radius() const { return r_floor_; }
+  size_t size() const { return n_; }  // pieces
+  double length() const { return length_; }
+  bool closed() const { return closed_; }
+  int winding() const { return winding_; }
+  // Ranges of the axis coordinates (0: the radial motor q = rho + c theta, 1: theta), as AxisTrack's.
+  TrackExtent q_min(int a) const { return qmin_[a]; }
+  TrackExtent q_max(int a) const { return qmax_[a]; }
+  // Ranges of the ball's radius rho, as the polar track's (c = 0) r_min() and r_max().
+  TrackExtent r_min() const { return rmin_; }
+  TrackExtent r_max() const { return rmax_; }
+  const TrackPiece& front() const { return front_; }
+  const TrackPiece& back() const { return back_; }
+
+  // Visits the pieces in order, f(index, piece), s0 set. `polar`: the pieces of the polar track (c = 0: q0 = rho)
+  // instead of the coupled arm's.
+  template <class F>
+  void for_each(F&& f, bool polar = false) const {
+    visit([](void* ctx, size_t i, const TrackPiece& pc) { (*static_cast<std::remove_reference_t<F>*>(ctx))(i, pc); },
+          const_cast<void*>(static_cast<const void*>(&f)), polar);
+  }
+  // Piece i (made by a walk of the pieces before it: for error messages and single look-ups).
+  TrackPiece piece(size_t i, bool polar = false) const;
+
+ private:
+  void visit(void (*f)(void*, size_t, const TrackPiece&), void* ctx, bool polar) const;
+
+  const ThetaRhoPath* path_;
+  double c_, r_floor_;
+  size_t n_ = 0;
+  double length_ = 0.0;
+  bool closed_ = false;
+  int winding_ = 0;
+  TrackExtent qmin_[2]{}, qmax_[2]{}, rmin_{}, rmax_{};
+  TrackPiece front_, back_;
+};
+
+// Every step of both motors along a streamed polyline track: the same result and the same steps, in the same
+// order and at the same times, as digitize() of ThetaRhoTrack::build(path, c, r_floor) (or, for c = 0, of
+// polyline_polar_track), in memory that does not grow with the path.
+DigitizeResult digitize(const PolylineTrack& track, const Grid& grid, StepRule rule, const SpeedProfile& profile,
                         StepSink* sink);
 
 }  // namespace polarcam

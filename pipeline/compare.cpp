@@ -185,7 +185,7 @@ void polar_side(const Job& job, const CompareOptions& opt, Comparison& c, const 
   s.deviation_m = pm.m.deviation_max_m;
   s.deviation_at = pm.m.deviation_at + pole;
   s.resolution_worst_m = pm.m.deviation_eq41_m;
-  const double rmax = d.track.r_max().value;
+  const double rmax = path_ranges(d).r_max;
   s.resolution_where = rmax * g.dtheta > g.dr
                            ? "r Δθ at the path's largest radius, r = " + mm(rmax, 5)
                            : "ΔR (the path stays within r = ΔR / Δθ, where r Δθ <= ΔR)";

@@ -144,8 +144,10 @@ ExportResult export_job(const Job& job, const ExportOptions& o, const Progress& 
   const ThetaRhoPath* pattern = as_theta_rho_path(*job.contour);
   const bool as_is = pattern && job.placement.C == 0.0 && job.tool.radius == 0.0 && !job.motion.travel.reverse &&
                      !job.motion.travel.start_parameter;
-  const std::vector<ThetaRho> v =
-      as_is ? pattern->vertices() : in_file(job.file, [&] { return to_theta_rho(*path, o.tolerance); });
+  // (a pattern's own vertices are not copied: a large pattern's export holds them once)
+  std::vector<ThetaRho> fitted;
+  if (!as_is) fitted = in_file(job.file, [&] { return to_theta_rho(*path, o.tolerance); });
+  const std::vector<ThetaRho>& v = as_is ? pattern->vertices() : fitted;
   r.vertices = v.size();
   r.rho_max_m = rho_max(v);
   report_progress(progress, 0.6);
@@ -163,7 +165,7 @@ ExportResult export_job(const Job& job, const ExportOptions& o, const Progress& 
     const GcodeSpec spec = export_gcode_spec(job, o, r.rho_max_m);
     r.gcode = in_file(job.file, [&] { return write_gcode(out, v, spec, job.motion.speed, source_lines(job, o)); });
   }
-  r.content = out.str();
+  r.content = std::move(out).str();  // the file's bytes moved out, not copied
   report_progress(progress, 1.0);
   return r;
 }

@@ -179,18 +179,24 @@ DigitizedJob digitize_job(const Job& job, StepSink* sink, const Progress& progre
   if (job_lifts_tool(job)) return digitize_lifting(job, sink);
   DigitizedJob d;
   d.path = make_job_path(job);
-  d.track = job_polar_track(job, *d.path);
+  const double c = job.machine.coupling;
+  // a theta-rho polyline: one streamed track of the arm's motors (the polar track's pieces differ only in q0)
+  const ThetaRhoPath* trp = job_theta_rho_path(*d.path);
+  if (trp)
+    d.polyline.emplace(in_file(job.file, [&] { return PolylineTrack(*trp, c, job_timing_radius(job)); }));
+  else
+    d.track = job_polar_track(job, *d.path);
   try {
-    d.profile = make_job_profile(job, *d.path, d.track.length());
+    d.profile = make_job_profile(job, *d.path, trp ? d.polyline->length() : d.track.length());
     ProgressSink counted(sink, progress, d.profile->total_time());
     if (progress) sink = &counted;
-    const double c = job.machine.coupling;
-    if (c == 0.0) {
+    if (trp) {
+      d.result = digitize(*d.polyline, job.machine.grid, job.motion.rule, *d.profile, sink);
+    } else if (c == 0.0) {
       d.result = digitize(d.track, job.machine.grid, job.motion.rule, *d.profile, sink);
     } else {
       // the coupled arm's radial motor: its own track, the same arc length
-      const ThetaRhoPath* trp = job_theta_rho_path(*d.path);
-      const ThetaRhoTrack arm = trp ? ThetaRhoTrack::build(*trp, c, job_timing_radius(job)) : ThetaRhoTrack::build(*d.path, c);
+      const ThetaRhoTrack arm = ThetaRhoTrack::build(*d.path, c);
       d.result = digitize(arm, job.machine.grid, job.motion.rule, *d.profile, sink);
     }
   } catch (const InputError& e) {
@@ -212,6 +218,12 @@ PathRanges path_ranges(const DigitizedJob& d) {
   };
   if (d.lifted) {
     for (size_t k = 0; k < d.lifted->tracks.size(); ++k) take(d.lifted->tracks[k], d.lifted->shifts[k], k == 0);
+  } else if (d.polyline) {
+    const PolylineTrack& tr = *d.polyline;
+    pr.r_min = tr.r_min().value;
+    pr.r_max = tr.r_max().value;
+    pr.theta_min = tr.q_min(1).value + d.result.theta_shift;
+    pr.theta_max = tr.q_max(1).value + d.result.theta_shift;
   } else {
     take(d.track, d.result.theta_shift, true);
   }

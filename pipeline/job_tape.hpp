@@ -10,6 +10,7 @@
 #include "job/job.hpp"
 #include "cam/theta_rho_path.hpp"
 #include "digitizer/tape.hpp"
+#include "digitizer/theta_rho.hpp"
 
 namespace polarcam {
 
@@ -50,7 +51,11 @@ struct LiftedJob {
 
 struct DigitizedJob {
   ToolPathPtr path;                 // a lifting job: the first contour's
-  PolarTrack track;                 // a lifting job: the first contour's
+  PolarTrack track;                 // a lifting job: the first contour's; empty for a theta-rho polyline
+  // A theta-rho polyline (job_theta_rho_path): its track streamed from the path's vertices (the arm's, with the
+  // machine's coupling; PolylineTrack::for_each(f, true) gives the polar track's pieces), never held piece by
+  // piece, so digitizing a pattern takes memory that does not grow with its length. It refers to `path`.
+  std::optional<PolylineTrack> polyline;
   SpeedProfilePtr profile;          // a lifting job: the first contour's
   DigitizeResult result;            // the whole tape
   std::optional<LiftedJob> lifted;  // a job of several contours on a machine that lifts its tool
@@ -91,6 +96,9 @@ class ProgressSink final : public StepSink {
   }
   void tool(bool down, int64_t t_ns) override {
     if (inner_) inner_->tool(down, t_ns);
+  }
+  void begin(int64_t n, int64_t m) override {
+    if (inner_) inner_->begin(n, m);
   }
 
  private:

@@ -8,13 +8,13 @@ bool pattern_report_applies(const Job& job) { return !job.machine.dynamics || jo
 
 PatternStudy study_pattern(const Job& job) {
   PatternStudy s;
-  const DigitizedJob d = digitize_job(job, nullptr);
+  DigitizedJob d;
+  s.preview = preview_job(job, 0.05, &d);  // the one pass of the digitizer: the tape's summary comes with it
   s.dig = d.result;
   if (d.lifted) {
     s.rapid_time_s = d.lifted->rapid_time_s;
     s.rapid_length_m = d.lifted->rapid_length_m;
   }
-  s.preview = preview_job(job, 0.05);
   s.excess = step_rate_excess(job, s.dig);
   s.speed_mps = job.motion.speed;
   // the digitizer's path length is the timing length: a turn of the arm at the centre counts as the arc at the

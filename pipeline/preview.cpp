@@ -59,10 +59,12 @@ struct NodeMap {
   }
 };
 
+// Follows the nodes of a job's tape from its start (StepSink::begin) into the runs.
 class NodeSink : public StepSink {
  public:
-  NodeSink(const NodeMap& map, Runs& th, const int64_t start[2]) : map_(map), th_(th) {
-    node_[0] = start[0], node_[1] = start[1];
+  NodeSink(const NodeMap& map, Runs& th) : map_(map), th_(th) {}
+  void begin(int64_t n, int64_t m) override {
+    node_[0] = n, node_[1] = m;
     double x, y;
     map_.xy(node_, x, y);
     th_.add(x, y);
@@ -80,65 +82,87 @@ class NodeSink : public StepSink {
  private:
   const NodeMap& map_;
   Runs& th_;
-  int64_t node_[2];
+  int64_t node_[2] = {0, 0};
+};
+
+// Samples a track's pieces into the tool path's polyline (16 points a piece and the end) and the slowed stretches.
+class PathSampler {
+ public:
+  PathSampler(Preview& pv, double rc, size_t pieces) : pv_(pv), rc_(rc), path_(pv.path.emplace_back()) {
+    path_.x.reserve(16 * pieces + 1);
+    path_.y.reserve(16 * pieces + 1);
+  }
+  void piece(const TrackPiece& p) {
+    for (int k = 0; k < 16; ++k) {
+      const double t = -1.0 + 2.0 * k / 16.0;
+      const double r = p.q_a[0] + p.Q[0](t), theta = p.q_a[1] + p.Q[1](t);
+      const double x = r * std::cos(theta) * 1e3, y = r * std::sin(theta) * 1e3;
+      path_.x.push_back(x);
+      path_.y.push_back(y);
+      double dr, dth;
+      double f;
+      p.Q[0].eval2(t, f, dr);
+      p.Q[1].eval2(t, f, dth);
+      const double ds2 = dr * dr + r * r * dth * dth;
+      const bool slow = r < rc_ && ds2 < 0.99 * 0.99 * (dr * dr + rc_ * rc_ * dth * dth);
+      if (slow) {
+        if (!in_slow_) pv_.slowed.emplace_back();
+        pv_.slowed.back().x.push_back(x);
+        pv_.slowed.back().y.push_back(y);
+      }
+      in_slow_ = slow;
+    }
+    end_r_ = p.q_a[0] + p.Q[0](1.0);
+    end_theta_ = p.q_a[1] + p.Q[1](1.0);
+  }
+  void finish() {
+    path_.x.push_back(end_r_ * std::cos(end_theta_) * 1e3);
+    path_.y.push_back(end_r_ * std::sin(end_theta_) * 1e3);
+  }
+
+ private:
+  Preview& pv_;
+  double rc_;
+  Polyline& path_;
+  bool in_slow_ = false;
+  double end_r_ = 0.0, end_theta_ = 0.0;
 };
 
 }  // namespace
 
-Preview preview_job(const Job& job, double resolution_mm) {
+Preview preview_job(const Job& job, double resolution_mm, DigitizedJob* digitized) {
   Preview pv;
   pv.title = job.contour->name();
   pv.r_min_mm = job.machine.grid.r_min * 1e3;
   if (job.machine.grid.r_max) pv.r_max_mm = *job.machine.grid.r_max * 1e3;
-  // the tape once without a sink for its start node, then again into the node walk
-  const DigitizedJob first = digitize_job(job, nullptr);
+  // one pass of the digitizer into the node walk (its start node comes with StepSink::begin)
   const NodeMap map{job.machine.grid.dr, job.machine.grid.dtheta, job.machine.coupling};
   Runs th(pv, resolution_mm);
-  const int64_t start[2] = {first.result.start_n, first.result.start_m};
-  NodeSink sink(map, th, start);
-  digitize_job(job, &sink);
+  NodeSink sink(map, th);
+  DigitizedJob d = digitize_job(job, &sink);
   th.finish();
   pv.steps = sink.steps;
   // the tool path, and where the tool is slower than asked: the timing radius r_c near the centre of a theta-rho
   // path (docs/patterns.md) scales the speed by |P'| / sqrt(r'^2 + r_c^2 theta'^2) where r < r_c
-  const double rc = job_theta_rho_path(*first.path) ? job_timing_radius(job) : 0.0;
-  std::vector<const PolarTrack*> tracks;
-  if (first.lifted)
-    for (const PolarTrack& t : first.lifted->tracks) tracks.push_back(&t);
-  else
-    tracks.push_back(&first.track);
-  for (const PolarTrack* trp : tracks) {
-    const PolarTrack& tr = *trp;
-    Polyline& path = pv.path.emplace_back();
-    bool in_slow = false;
-    for (size_t i = 0; i < tr.pieces().size(); ++i) {
-      const TrackPiece& p = tr.pieces()[i];
-      for (int k = 0; k < 16; ++k) {
-        const double t = -1.0 + 2.0 * k / 16.0;
-        const double r = tr.r(i, t), theta = tr.theta(i, t);
-        const double x = r * std::cos(theta) * 1e3, y = r * std::sin(theta) * 1e3;
-        path.x.push_back(x);
-        path.y.push_back(y);
-        double dr, dth;
-        double f;
-        p.Q[0].eval2(t, f, dr);
-        p.Q[1].eval2(t, f, dth);
-        const double ds2 = dr * dr + r * r * dth * dth;
-        const bool slow = r < rc && ds2 < 0.99 * 0.99 * (dr * dr + rc * rc * dth * dth);
-        if (slow) {
-          if (!in_slow) pv.slowed.emplace_back();
-          pv.slowed.back().x.push_back(x);
-          pv.slowed.back().y.push_back(y);
-        }
-        in_slow = slow;
-      }
-    }
-    const double rb = tr.r(tr.pieces().size() - 1, 1.0), thb = tr.theta(tr.pieces().size() - 1, 1.0);
-    path.x.push_back(rb * std::cos(thb) * 1e3);
-    path.y.push_back(rb * std::sin(thb) * 1e3);
+  const double rc = job_theta_rho_path(*d.path) ? job_timing_radius(job) : 0.0;
+  auto draw = [&](const PolarTrack& tr) {
+    PathSampler ps(pv, rc, tr.pieces().size());
+    for (const TrackPiece& p : tr.pieces()) ps.piece(p);
+    ps.finish();
+  };
+  if (d.lifted) {
+    for (const PolarTrack& t : d.lifted->tracks) draw(t);
+  } else if (d.polyline) {
+    // the polar track's pieces (r, theta), made again from the vertices
+    PathSampler ps(pv, rc, d.polyline->size());
+    d.polyline->for_each([&](size_t, const TrackPiece& p) { ps.piece(p); }, true);
+    ps.finish();
+  } else {
+    draw(d.track);
   }
   pv.start[0] = pv.path.front().x.front(), pv.start[1] = pv.path.front().y.front();
   pv.end[0] = pv.path.back().x.back(), pv.end[1] = pv.path.back().y.back();
+  if (digitized) *digitized = std::move(d);
   return pv;
 }
 

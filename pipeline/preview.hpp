@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "job/job.hpp"
+#include "pipeline/job_tape.hpp"
 
 namespace polarcam {
 
@@ -31,8 +32,8 @@ struct Preview {
 };
 
 // A job: its tool path, and the tape digitizing it would write (not written); a lifting job's contours and its
-// rapid moves (pipeline/job_tape).
-Preview preview_job(const Job& job, double resolution_mm);
+// rapid moves (pipeline/job_tape). The job is digitized once; `digitized` (may be null) receives what that gave.
+Preview preview_job(const Job& job, double resolution_mm, DigitizedJob* digitized = nullptr);
 // A tape alone: the nodes its steps walk (a coupled arm's radial motor is taken back to the ball's radius with
 // the coupling its provenance records), split at its tool events into drawn runs and rapids.
 Preview preview_tape(const std::string& path, double resolution_mm);

@@ -321,7 +321,7 @@ GcodeStats write_program(std::ostream& out, const std::vector<std::vector<ThetaR
   w.line("G94");
   for (const std::string& l : spec.footer) w.line(l);
   w.line("M2");
-  out << buf.str();
+  out << std::move(buf).str();  // the program written at once (all or nothing), its string not copied first
   GcodeStats st = w.stats();
   st.pen_ups = lifts.pen_ups;
   st.pen_downs = lifts.pen_downs;

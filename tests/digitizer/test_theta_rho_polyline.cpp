@@ -92,13 +92,23 @@ std::vector<RefStep> reference(const std::vector<ThetaRho>& v, const Grid& g, do
   return out;
 }
 
-void expect_matches_reference(const std::vector<ThetaRho>& v, const Grid& g, double c, double r_floor, double speed) {
+// The steps of the pattern from the held track (ThetaRhoTrack) or, `streamed`, from the streamed one
+// (PolylineTrack, which makes each piece as it is walked).
+void expect_matches_reference(const std::vector<ThetaRho>& v, const Grid& g, double c, double r_floor, double speed,
+                              bool streamed = false) {
   auto curve = make_theta_rho_path(v, "test pattern");
   const auto& path = *as_theta_rho_path(*curve);
-  ThetaRhoTrack tr = ThetaRhoTrack::build(path, c, r_floor);
-  auto prof = make_constant_speed(speed, tr.length());
   RecordingSink sink;
-  DigitizeResult res = digitize(tr, g, StepRule::nearest, *prof, &sink);
+  DigitizeResult res;
+  if (streamed) {
+    const PolylineTrack tr(path, c, r_floor);
+    auto prof = make_constant_speed(speed, tr.length());
+    res = digitize(tr, g, StepRule::nearest, *prof, &sink);
+  } else {
+    ThetaRhoTrack tr = ThetaRhoTrack::build(path, c, r_floor);
+    auto prof = make_constant_speed(speed, tr.length());
+    res = digitize(tr, g, StepRule::nearest, *prof, &sink);
+  }
   int64_t n0, m0;
   std::vector<RefStep> ref = reference(v, g, c, r_floor, n0, m0);
   EXPECT_EQ(res.start_n, n0);
@@ -188,4 +198,115 @@ TEST(ThetaRhoPolyline, PolarTrackOfAPolylineIsRAndTheta) {
   const double b = 0.05 / std::numbers::pi, phi = std::numbers::pi;
   const double spiral = 0.5 * b * (phi * std::sqrt(1 + phi * phi) + std::asinh(phi));
   EXPECT_NEAR(tr.length(), 0.08 + spiral, 1e-15);
+}
+
+// The streamed track (PolylineTrack) makes each piece from its two vertices as the walk reaches it, so that a
+// pattern of any length digitizes in the memory of one piece: its steps against the independent walk.
+TEST(ThetaRhoPolyline, StreamedTrackMatchesTheWalk) {
+  expect_matches_reference(wild_pattern(), coarse_grid(), 0.0, 0.0, 0.04, true);
+  auto v = wild_pattern();
+  v.insert(v.begin() + 4, {v[3].theta + 2.5, 0.0});  // a turn of the arm at the centre: timed by r_floor
+  const double c = 0.2e-3 * 3200 / (2 * std::numbers::pi) * 0.01;
+  expect_matches_reference(v, coarse_grid(), c, 0.004, 0.04, true);
+  expect_matches_reference(v, coarse_grid(), -c, 0.004, 0.03, true);
+}
+
+// Tapes and summaries must not change when a pattern is streamed: the same steps at the same nanoseconds, the
+// same summary, as the held track's, on the thesis rule of a closed pattern too (its start node comes from a lap).
+TEST(ThetaRhoPolyline, StreamedTrackGivesTheHeldTracksTapeExactly) {
+  auto v = wild_pattern();
+  v.insert(v.begin() + 4, {v[3].theta + 2.5, 0.0});
+  std::vector<ThetaRho> closed = {{0.2, 0.05}, {1.0, 0.12}, {2.5, 0.0}, {4.0, 0.0}, {5.0, 0.09}};
+  closed.push_back({0.2 + 4 * std::numbers::pi, 0.05});  // back at the start, two turns on
+  const double c = 0.2e-3 * 3200 / (2 * std::numbers::pi) * 0.01;
+  for (const auto& [pattern, closes] : {std::pair{v, false}, std::pair{closed, true}})
+    for (double cc : {0.0, c, -c})
+      for (StepRule rule : {StepRule::nearest, StepRule::thesis}) {
+        SCOPED_TRACE(std::string(to_string(rule)) + " c " + std::to_string(cc));
+        auto curve = make_theta_rho_path(pattern, "p");
+        const auto& path = *as_theta_rho_path(*curve);
+        ASSERT_EQ(path.closed(), closes);
+        const ThetaRhoTrack held = ThetaRhoTrack::build(path, cc, 0.004);
+        const PolylineTrack streamed(path, cc, 0.004);
+        ASSERT_EQ(streamed.size(), held.pieces().size());
+        EXPECT_EQ(streamed.length(), held.length());
+        EXPECT_EQ(streamed.winding(), held.winding());
+        auto prof = make_constant_speed(0.03, held.length());
+        RecordingSink a, b;
+        const DigitizeResult ra = digitize(held, coarse_grid(), rule, *prof, &a);
+        const DigitizeResult rb = digitize(streamed, coarse_grid(), rule, *prof, &b);
+        ASSERT_GT(a.steps.size(), 1000u);
+        ASSERT_EQ(a.steps.size(), b.steps.size());
+        for (size_t i = 0; i < a.steps.size(); ++i) {
+          ASSERT_EQ(a.steps[i].axis, b.steps[i].axis) << "step " << i;
+          ASSERT_EQ(a.steps[i].dir, b.steps[i].dir) << "step " << i;
+          ASSERT_EQ(a.steps[i].t_ns, b.steps[i].t_ns) << "step " << i;
+        }
+        EXPECT_EQ(ra.start_n, rb.start_n);
+        EXPECT_EQ(ra.start_m, rb.start_m);
+        EXPECT_EQ(ra.end_n, rb.end_n);
+        EXPECT_EQ(ra.end_m, rb.end_m);
+        EXPECT_EQ(ra.duration_ns, rb.duration_ns);
+        EXPECT_EQ(ra.radial.max_rate_hz, rb.radial.max_rate_hz);
+        EXPECT_EQ(ra.angular.max_rate_hz, rb.angular.max_rate_hz);
+        EXPECT_EQ(ra.radial.min_interval_ns, rb.radial.min_interval_ns);
+        EXPECT_EQ(ra.angular.min_interval_ns, rb.angular.min_interval_ns);
+        EXPECT_EQ(ra.returns_to_start, rb.returns_to_start);
+        // the polar track's ranges (rho and theta) as polyline_polar_track has them
+        const PolarTrack polar = polyline_polar_track(path, 0.004);
+        EXPECT_EQ(streamed.r_min().value, polar.r_min().value);
+        EXPECT_EQ(streamed.r_max().value, polar.r_max().value);
+        EXPECT_EQ(streamed.q_min(1).value, polar.theta_min().value);
+        EXPECT_EQ(streamed.q_max(1).value, polar.theta_max().value);
+      }
+}
+
+// A sink that follows the nodes learns where the tape starts from StepSink::begin, once, before the first step.
+TEST(ThetaRhoPolyline, TheSinkIsToldTheStartNodeBeforeTheFirstStep) {
+  struct BeginSink : StepSink {
+    int begins = 0;
+    size_t steps_before = 0, steps = 0;
+    int64_t n = 0, m = 0;
+    void begin(int64_t a, int64_t b) override {
+      ++begins;
+      steps_before = steps;
+      n = a, m = b;
+    }
+    void step(int, int, int64_t) override { ++steps; }
+  };
+  const auto v = wild_pattern();
+  auto curve = make_theta_rho_path(v, "p");
+  const PolylineTrack tr(*as_theta_rho_path(*curve), 0.0, 0.0);
+  auto prof = make_constant_speed(0.04, tr.length());
+  BeginSink sink;
+  const DigitizeResult r = digitize(tr, coarse_grid(), StepRule::nearest, *prof, &sink);
+  EXPECT_EQ(sink.begins, 1);
+  EXPECT_EQ(sink.steps_before, 0u);
+  EXPECT_GT(sink.steps, 0u);
+  // the nearest nodes of the first vertex, worked out here
+  EXPECT_EQ(sink.n, static_cast<int64_t>(std::floor(v[0].rho / coarse_grid().dr + 0.5)));
+  EXPECT_EQ(sink.m, static_cast<int64_t>(std::floor(v[0].theta / coarse_grid().dtheta + 0.5)));
+  EXPECT_EQ(sink.n, r.start_n);
+  EXPECT_EQ(sink.m, r.start_m);
+}
+
+// A pattern that leaves the work area is refused with the same message, naming the same place, streamed or held.
+TEST(ThetaRhoPolyline, StreamedTrackRefusesWhatTheHeldTrackRefuses) {
+  const auto v = wild_pattern();
+  auto curve = make_theta_rho_path(v, "p");
+  const auto& path = *as_theta_rho_path(*curve);
+  Grid g = coarse_grid();
+  g.r_max = 0.15;  // the pattern reaches 0.19 m
+  auto message = [&](auto&& track) {
+    auto prof = make_constant_speed(0.04, track.length());
+    try {
+      (void)digitize(track, g, StepRule::nearest, *prof, nullptr);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string held = message(ThetaRhoTrack::build(path, 0.0, 0.0));
+  EXPECT_NE(held.find("r_max"), std::string::npos) << held;
+  EXPECT_EQ(message(PolylineTrack(path, 0.0, 0.0)), held);
 }
