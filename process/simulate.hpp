@@ -1,5 +1,5 @@
 #pragma once
-// Time-domain simulation of regenerative chatter (D. Dunckley (1978), Active Suppression of Machine Tool Chatter,
+// Time-domain simulation of regenerative chatter (A. B. Dunckley (1978), Active Suppression of Machine Tool Chatter,
 // Sec. 2.3 and the simulation program of App. B): the two masses of Eq. 2.2-2.3 driven by the cutting force
 // F_c = K_c U(t), U(t) = U0 - X_w(t) + mu X_w(t - T) (Eq. 2.8), from rest with an untouched surface (X_w = 0 before
 // t = 0), the cut of depth U0 starting at t = 0. Classical fourth-order Runge-Kutta with a step that divides T

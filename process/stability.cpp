@@ -187,3 +187,9 @@ std::vector<LobePoint> stability_lobes(const TransferFunction& g, double mu, dou
 }
 
 }  // namespace polarcam::process
+
+namespace polarcam::process {
+
+SpeedRange default_lobe_range(const Cut& c) { return {0.5 / c.revolution_period, 2.0 / c.revolution_period}; }
+
+}  // namespace polarcam::process

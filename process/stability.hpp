@@ -1,5 +1,5 @@
 #pragma once
-// Stability of regenerative chatter (D. Dunckley (1978), Active Suppression of Machine Tool Chatter, Sec. 2.2.4):
+// Stability of regenerative chatter (A. B. Dunckley (1978), Active Suppression of Machine Tool Chatter, Sec. 2.2.4):
 // the limiting cutting gain K_c and the chatter frequency of 1 + K_c H(s) G(s) = 0 (process/structure.hpp).
 //
 // Nyquist (Sec. 2.2.4.2-2.2.4.3): the open loop K_c H(j w) G(j w) passes through -1 where H G is real and negative,
@@ -48,5 +48,15 @@ struct LobePoint {
 };
 std::vector<LobePoint> stability_lobes(const TransferFunction& g, double overlap, double n_min, double n_max,
                                        int count, const StabilityOptions& o = {});
+
+}  // namespace polarcam::process
+
+namespace polarcam::process {
+
+// The spindle speeds a lobe table covers when none are asked: half to twice the cut's speed 1/T (rev/s).
+struct SpeedRange {
+  double n_min = 0.0, n_max = 0.0;  // rev/s
+};
+SpeedRange default_lobe_range(const Cut& c);
 
 }  // namespace polarcam::process

@@ -1,5 +1,5 @@
 #pragma once
-// The machine-workpiece structure of regenerative chatter (D. Dunckley (1978), Active Suppression of Machine Tool
+// The machine-workpiece structure of regenerative chatter (A. B. Dunckley (1978), Active Suppression of Machine Tool
 // Chatter, Sec. 2.1.2): two masses in series, the machine (M_m, C_m, K_m) on the bed and the workpiece (M_w, C_w,
 // K_w) on the machine, the cutting force F_c acting on the workpiece. G(s) = X_w / F_c (Eq. 2.4-2.5 with the
 // corrections of docs/chatter.md: the last denominator term is (C_w s + K_w)^2, B1 = C_w K_m + C_m K_w, as the

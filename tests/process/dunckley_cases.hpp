@@ -1,5 +1,5 @@
 #pragma once
-// D. Dunckley (1978), Active Suppression of Machine Tool Chatter, Sec. 2.2.1-2.2.4: the machine of every example
+// A. B. Dunckley (1978), Active Suppression of Machine Tool Chatter, Sec. 2.2.1-2.2.4: the machine of every example
 // (M_m = 0.03, C_m = 0.1, K_m = 120 000; C_w = 0.01 as in the program listings of App. B), the cut (mu = 1,
 // T = 0.2) and the systems 1, 2, 3, 4 and 7 of Sec. 2.2.4.2-2.2.4.3 with the limiting gains and chatter
 // frequencies the document reads off its polar plots. Typed from the document for the tests; the library never

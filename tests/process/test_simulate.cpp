@@ -1,5 +1,5 @@
 // The time-domain simulation of the delay-differential system: a gain a little under the Nyquist limit decays, a
-// little over grows at the Nyquist chatter frequency (D. Dunckley (1978), Sec. 2.3 found 8 % and 3 %); without
+// little over grows at the Nyquist chatter frequency (A. B. Dunckley (1978), Sec. 2.3 found 8 % and 3 %); without
 // regeneration the cut settles where the springs and the cutting stiffness balance.
 #include <gtest/gtest.h>
 
@@ -54,8 +54,8 @@ TEST(ChatterSimulation, WithoutOverlapTheCutSettles) {
   EXPECT_NEAR(r.samples.back().x_m, r.samples.back().force / 1e5, 1e-9);
 }
 
-TEST(ChatterSimulation, FreeVibrationOfOneModeAtItsDampedFrequency) {
-  // a nearly rigid machine and no cut after the first revolution's start: K_c = 0 leaves the structure at rest
+TEST(ChatterSimulation, NoCuttingGainNoMotion) {
+  // K_c = 0: no force ever acts, the structure stays at rest
   const process::TwoMassStructure p{0.03, 0.1, 120000.0, 0.09, 0.01, 12000.0};
   process::Cut cut;
   cut.revolution_period = 0.2;
