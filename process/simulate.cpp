@@ -25,7 +25,11 @@ SimulationResult simulate_chatter(const TwoMassStructure& p, const Cut& c, doubl
   const double T = c.revolution_period, mu = c.overlap, U0 = c.depth;
   const double w_top = undamped_frequencies(p)[1];
   long n = o.steps_per_revolution;
-  if (n <= 0) n = std::max(16L, static_cast<long>(std::ceil(T * w_top / 0.05)));
+  const long spr = std::max(1, o.samples_per_revolution);
+  if (n <= 0) {
+    n = std::max(16L, static_cast<long>(std::ceil(T * w_top / 0.05)));
+    n = (n + spr - 1) / spr * spr;  // a whole number of steps between kept samples
+  }
   const double duration = o.duration > 0.0 ? o.duration : 40.0 * T;
   const double revs = duration / T;
   if (!(revs >= 1.0) || revs * static_cast<double>(n) > 5e8)
@@ -34,7 +38,7 @@ SimulationResult simulate_chatter(const TwoMassStructure& p, const Cut& c, doubl
                      "--duration");
   const long total = static_cast<long>(std::llround(std::ceil(revs * static_cast<double>(n))));
   const double h = T / static_cast<double>(n);
-  const long every = std::max(1L, n / std::max(1, o.samples_per_revolution));
+  const long every = std::max(1L, n / spr);
 
   SimulationResult r;
   r.step = h;

@@ -13,7 +13,8 @@ namespace polarcam::process {
 
 struct SimulationOptions {
   double duration = 0.0;        // s; 0: 40 revolutions
-  // steps per revolution: 0 picks the smallest that keeps h w_top <= 0.05 (w_top the highest mode)
+  // steps per revolution: 0 picks the smallest multiple of samples_per_revolution that keeps h w_top <= 0.05
+  // (w_top the highest mode)
   int steps_per_revolution = 0;
   int samples_per_revolution = 400;  // rows kept for output (every k-th step)
 };
