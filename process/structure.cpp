@@ -91,9 +91,10 @@ void check(const TwoMassStructure& s, const Cut& c) {
     throw InputError("must be a fraction from 0 to 1", "cut.overlap");
   positive(c.revolution_period, "cut.revolution_period", "time");
   if (!(std::isfinite(c.depth) && c.depth > 0.0)) throw InputError("must be a positive length", "cut.depth_of_cut");
-  // the scale of the numbers: frequencies and gains far outside what doubles carry are refused, not computed
+  // the scale of the problem: the stability search samples the delay's period up to a few times the highest mode,
+  // about 30 w T points, so w T is kept below 1e6 (a second or two); far outside that is refused, not computed
   const double w_hi = undamped_frequencies(s)[1];
-  if (!(std::isfinite(w_hi) && w_hi < 1e9 && w_hi * c.revolution_period < 1e9 && w_hi * c.revolution_period > 1e-6))
+  if (!(std::isfinite(w_hi) && w_hi < 1e9 && w_hi * c.revolution_period < 1e6 && w_hi * c.revolution_period > 1e-6))
     throw InputError("the structure's resonances (" + std::to_string(w_hi) +
                          " rad/s) and the revolution period are too far apart to analyse",
                      "cut.revolution_period");

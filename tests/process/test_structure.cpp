@@ -115,6 +115,10 @@ TEST(ChatterStructure, CheckNamesTheKey) {
   c = cut;
   c.revolution_period = 0.0;
   EXPECT_EQ(place(good, c), "cut.revolution_period");
+  c.revolution_period = 1e4;  // 1.7 million cycles of the upper mode per revolution: too long a search
+  EXPECT_EQ(place(good, c), "cut.revolution_period");
+  c.revolution_period = 400.0;  // 840 000: still analysed
+  EXPECT_EQ(place(good, c), "accepted");
 }
 
 }  // namespace
