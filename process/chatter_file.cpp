@@ -1,0 +1,116 @@
+#include "process/chatter_file.hpp"
+
+#include <toml++/toml.h>
+
+#include <cmath>
+#include <fstream>
+#include <optional>
+#include <set>
+#include <sstream>
+
+#include "cam/error.hpp"
+#include "cam/units.hpp"
+
+namespace polarcam::process {
+namespace {
+
+std::string line_of(const std::string& file, const toml::node& n) {
+  return n.source().begin.line ? file + ":" + std::to_string(n.source().begin.line) : file;
+}
+
+struct Table {
+  const toml::table* t;
+  std::string file, name;
+  std::set<std::string> used;
+
+  std::string where(const std::string& key) const {
+    const toml::node* n = t ? t->get(key) : nullptr;
+    return (n ? line_of(file, *n) : file) + ": key '" + name + "." + key + "'";
+  }
+  std::optional<double> get(const std::string& key, const Dim& d) {
+    const toml::node* n = t ? t->get(key) : nullptr;
+    if (!n) return std::nullopt;
+    used.insert(key);
+    double v = 0.0;
+    if (n->is_integer()) {
+      v = static_cast<double>(*n->value<int64_t>());
+    } else if (n->is_floating_point()) {
+      v = *n->value<double>();
+    } else if (auto s = n->value<std::string>()) {
+      try {
+        v = parse_quantity_as(*s, d);
+      } catch (const InputError& e) {
+        throw InputError(e.message(), where(key));
+      }
+    } else {
+      throw InputError("must be a number in SI units or a quantity with units (\"0.2 s\")", where(key));
+    }
+    if (!std::isfinite(v)) throw InputError("must be a finite number", where(key));
+    return v;
+  }
+  double require(const std::string& key, const Dim& d, const char* what) {
+    if (auto v = get(key, d)) return *v;
+    throw InputError(std::string("missing: give ") + what, file + ": key '" + name + "." + key + "'");
+  }
+  void finish() const {
+    if (!t) return;
+    for (const auto& [k, v] : *t)
+      if (!used.count(std::string(k.str())))
+        throw InputError("unknown key '" + name + "." + std::string(k.str()) + "'", line_of(file, v));
+  }
+};
+
+}  // namespace
+
+ChatterProblem parse_chatter_toml(const std::string& text, const std::string& name) {
+  toml::table root;
+  try {
+    root = toml::parse(text, name);
+  } catch (const toml::parse_error& e) {
+    const auto& b = e.source().begin;
+    throw InputError(std::string(e.description()), name + ":" + std::to_string(b.line) + ":" + std::to_string(b.column));
+  }
+  for (const auto& [k, v] : root) {
+    const std::string key(k.str());
+    if (key != "structure" && key != "cut") throw InputError("unknown section [" + key + "] (expected [structure] and [cut])", line_of(name, v));
+    if (!v.is_table()) throw InputError("must be a table", line_of(name, v) + ": key '" + key + "'");
+  }
+  if (!root["structure"].as_table()) throw InputError("missing the [structure] table (M_m, C_m, K_m, M_w, C_w, K_w)", name);
+  if (!root["cut"].as_table()) throw InputError("missing the [cut] table (overlap, revolution_period)", name);
+  Table s{root["structure"].as_table(), name, "structure", {}};
+  Table c{root["cut"].as_table(), name, "cut", {}};
+  const Dim damping = dim::mass / dim::time, stiffness = dim::mass / (dim::time * dim::time);
+  ChatterProblem p;
+  p.structure.M_m = s.require("M_m", dim::mass, "the machine's mass (kg)");
+  p.structure.C_m = s.require("C_m", damping, "the machine's damping (N s/m)");
+  p.structure.K_m = s.require("K_m", stiffness, "the machine's stiffness (N/m)");
+  p.structure.M_w = s.require("M_w", dim::mass, "the workpiece's mass (kg)");
+  p.structure.C_w = s.require("C_w", damping, "the workpiece's damping (N s/m)");
+  p.structure.K_w = s.require("K_w", stiffness, "the workpiece's stiffness (N/m)");
+  p.cut.overlap = c.require("overlap", dim::none, "the overlap of successive cuts mu (0 to 1)");
+  p.cut.revolution_period = c.require("revolution_period", dim::time, "the revolution period T (s)");
+  if (auto d = c.get("depth_of_cut", dim::length)) p.cut.depth = *d;
+  s.finish();
+  c.finish();
+  try {
+    check(p.structure, p.cut);
+  } catch (const InputError& e) {
+    // the check names section.key: give the file and line of that key
+    const std::string& key = e.place();
+    Table& t = key.rfind("structure.", 0) == 0 ? s : c;
+    const std::string k = key.substr(key.find('.') + 1);
+    throw InputError(e.message(), t.where(k));
+  }
+  return p;
+}
+
+ChatterProblem read_chatter_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError("cannot open the file", path);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  if (in.bad()) throw InputError("cannot read the file", path);
+  return parse_chatter_toml(ss.str(), path);
+}
+
+}  // namespace polarcam::process
