@@ -2,7 +2,8 @@
 // Area-error throughput (steps per second, one core) on the Table 4.1 contours at the thesis's resolution
 // (0.001 in, 16000 steps per revolution), each at the thesis's optimum pole:
 //  - BM_AreaError: the meter alone, over a staircase recorded beforehand (reset, record every step, finish);
-//  - BM_AreaError/fine: the same contours on a grid 10x finer in both axes;
+//  - BM_AreaError/fine: the same contours on a grid 10x finer in both axes (the limacon also 100x);
+//  - BM_AreaErrorStreamed: the meter in its streamed mode (begin(), constant memory), the same staircases;
 //  - BM_DigitizeAndArea: what one evaluation of the optimiser costs (track, digitize into the meter, finish);
 //  - BM_CartesianAreaError: the Cartesian meter (metrics/cartesian_error.hpp) alone over the exact Cartesian
 //    generator's staircase of the same contours in their own frames, BLU = 0.001 in and 10x finer;
@@ -65,6 +66,37 @@ void BM_AreaError(benchmark::State& state) {
                  std::to_string(area * 1e6) + " mm^2");
 }
 BENCHMARK(BM_AreaError)->ArgsProduct({{0, 1, 2}, {1, 10}})->Unit(benchmark::kMillisecond);
+
+// The streamed meter (begin() with the start node, each sector measured once the staircase and the contour have
+// moved on): the same staircases, and the limacon on a grid 100x finer (2.2 M steps). The label gives the most
+// sectors held at once.
+void BM_AreaErrorStreamed(benchmark::State& state) {
+  const int which = static_cast<int>(state.range(0));
+  const double finer = static_cast<double>(state.range(1));
+  auto path = contour(which);
+  Grid g = thesis_grid(finer);
+  PolarTrack tr = PolarTrack::build(*path);
+  auto prof = make_constant_speed(0.0152, tr.length());
+  Recorder rec;
+  DigitizeResult d = digitize(tr, g, StepRule::nearest, *prof, &rec);
+  PolarAreaMeter meter;
+  double area = 0;
+  bool streamed = true;
+  for (auto _ : state) {
+    meter.reset(tr, g);
+    meter.begin(d.start_n, d.start_m);
+    for (const Step& s : rec.steps) meter.record(s.axis, s.dir);
+    area = meter.finish(d.start_n, d.start_m).area_m2;
+    streamed = streamed && meter.streamed();
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * static_cast<int64_t>(rec.steps.size()));
+  state.SetLabel(std::string(kNames[which]) + ", " + std::to_string(rec.steps.size()) + " steps, area " +
+                 std::to_string(area * 1e6) + " mm^2, " + std::to_string(meter.peak_window()) + " sectors held" +
+                 (streamed ? "" : ", NOT STREAMED"));
+}
+BENCHMARK(BM_AreaErrorStreamed)->ArgsProduct({{0, 1, 2}, {1, 10}})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_AreaErrorStreamed)->Args({1, 100})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_AreaError)->Args({1, 100})->Unit(benchmark::kMillisecond);
 
 void BM_DigitizeAndArea(benchmark::State& state) {
   const int which = static_cast<int>(state.range(0));

@@ -20,17 +20,13 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 std::string num(double v, int prec = 6) { return significant(v, prec); }
 
-struct Neumaier {
-  double s = 0.0, c = 0.0;
-  void add(double x) {
-    const double t = s + x;
-    c += std::abs(s) >= std::abs(x) ? (s - t) + x : (x - t) + s;
-    s = t;
-  }
-  double value() const { return s + c; }
-};
-
 }  // namespace
+
+void StairAreaMeter::Neumaier::add(double x) {
+  const double t = s + x;
+  c += std::abs(s) >= std::abs(x) ? (s - t) + x : (x - t) + s;
+  s = t;
+}
 
 void StairAreaMeter::reset(sweep::TrackView track, const StairGrid& grid) {
   track_ = std::move(track);
@@ -40,6 +36,20 @@ void StairAreaMeter::reset(sweep::TrackView track, const StairGrid& grid) {
   arcs_.clear();
   n_ = m_ = 0;
   nr_ = 0;
+  nrun_ = 0;
+  subs_out_ = 0;
+  stream_ = failed_ = false;
+  range_error_.clear();
+  slot_of_.clear();
+  free_slots_.clear();
+  for (uint32_t i = 0; i < slots_.size(); ++i) free_slots_.push_back(i);
+  order_.clear();
+  done_.clear();
+  pinned_.clear();
+  peak_slots_ = 0;
+  walk_.done = true;
+  open_ = -1;
+  open_key_ = -1;
 }
 
 uint32_t StairAreaMeter::key(int64_t j) const {
@@ -68,6 +78,16 @@ Vec2 StairAreaMeter::path_point(double h, double g) const {
 
 void StairAreaMeter::close_visit() {
   if (open_ < 0) return;
+  if (stream_) {
+    Slot& sl = slots_[slot_of_.at(static_cast<uint32_t>(open_key_))];
+    Visit& v = sl.visits[static_cast<size_t>(open_)];
+    const Sub& a = sl.subs[v.first];
+    const Sub& b = sl.subs[v.first + v.count - 1];
+    v.full = v.sigma != 0 && ((a.l0 == 0.0 && b.l1 == 1.0) || (a.l0 == 1.0 && b.l1 == 0.0));
+    open_ = -1;
+    open_key_ = -1;
+    return;
+  }
   Visit& v = visits_[static_cast<size_t>(open_)];
   const Sub& a = subs_[v.first];
   const Sub& b = subs_[v.first + v.count - 1];
@@ -81,6 +101,32 @@ void StairAreaMeter::close_visit() {
 void StairAreaMeter::add_sub(const Sub& s, int64_t j) {
   const int8_t sg = s.l1 > s.l0 ? 1 : -1;
   const double lo = s.h0 < s.h1 ? s.h0 : s.h1, hi = s.h0 < s.h1 ? s.h1 : s.h0;
+  ++subs_out_;
+  if (stream_) {
+    if (failed_) return;
+    const uint32_t k = key(j);
+    walk_key_ = k;
+    if (open_ >= 0) {
+      Slot& o = slots_[slot_of_.at(static_cast<uint32_t>(open_key_))];
+      Visit& v = o.visits[static_cast<size_t>(open_)];
+      if (v.j == j) {
+        if (v.sigma != sg) v.sigma = 0;
+        ++v.count;
+        if (lo < v.hmin) v.hmin = lo;
+        if (hi > v.hmax) v.hmax = hi;
+        o.subs.push_back(s);
+        return;
+      }
+      close_visit();
+    }
+    Slot* sl = slot(k);
+    if (!sl) return;
+    open_key_ = k;
+    open_ = static_cast<int>(sl->visits.size());
+    sl->visits.push_back(Visit{j, static_cast<uint32_t>(sl->subs.size()), 1, -1, sg, false, lo, hi});
+    sl->subs.push_back(s);
+    return;
+  }
   if (open_ >= 0) {
     Visit& v = visits_[static_cast<size_t>(open_)];
     if (v.j == j) {
@@ -98,76 +144,100 @@ void StairAreaMeter::add_sub(const Sub& s, int64_t j) {
   subs_.push_back(s);
 }
 
-void StairAreaMeter::walk_contour(const sweep::Frame& fr) {
-  struct Pt {
-    double t, g, h, A;
-  };
-  const auto& P = track_.pieces;
-  const auto& E = *track_.extrema;
-  const double inv = 1.0 / fr.width;
-  std::vector<double> ts;
-  for (size_t i = 0; i < P.size(); ++i) {
-    const sweep::PieceView& p = P[i];
-    const Cheb& G = *p.G;
-    const Cheb& H = *p.H;
-    const LongCheb& A = areas_[i];
-    const uint32_t piece = static_cast<uint32_t>(i);
-    auto at = [&](double t) -> Pt {
-      if (t == -1.0) return {t, (p.g_a + fr.shift) * inv, p.h_a, 0.0};
-      if (t == 1.0) return {t, (p.g_b + fr.shift) * inv, p.h_b, A(1.0)};
-      double h, a;
-      eval_rA(H, A, t, h, a);
-      return {t, (p.g_a + G(t) + fr.shift) * inv, p.h_a + h, a};
-    };
-    auto emit = [&](const Pt& a, const Pt& b) {
-      if (a.g == b.g) return;  // no extent in the abscissa (radial, or vertical)
-      const int64_t j = static_cast<int64_t>(std::floor(std::min(a.g, b.g)));
-      const double jd = static_cast<double>(j);
-      Sub s{piece, a.t, b.t, std::clamp(a.g - jd, 0.0, 1.0), std::clamp(b.g - jd, 0.0, 1.0), a.h, b.h, a.A, b.A};
-      add_sub(s, j);
-    };
-    ts.clear();
-    ts.push_back(-1.0);
-    for (uint32_t k = p.ext_begin; k < p.ext_end; ++k) ts.push_back(E[k]);
-    ts.push_back(1.0);
-    Pt cur = at(-1.0);
-    for (size_t k = 0; k + 1 < ts.size(); ++k) {
-      const Pt nxt = at(ts[k + 1]);
-      const int dir = nxt.g > cur.g ? 1 : (nxt.g < cur.g ? -1 : 0);
-      if (dir != 0) {
-        const double lo_g = std::min(cur.g, nxt.g), hi_g = std::max(cur.g, nxt.g);
-        const int64_t first = static_cast<int64_t>(std::floor(lo_g)) + 1, last = static_cast<int64_t>(std::ceil(hi_g)) - 1;
-        const int64_t count = last - first + 1;
-        double hist[3] = {0, 0, 0};
-        int nh = 0;
-        for (int64_t q = 0; q < count; ++q) {
-          const int64_t L = dir > 0 ? first + q : last - q;
-          const double Ld = static_cast<double>(L);
-          double guess;
-          if (nh >= 3)
-            guess = 3.0 * hist[0] - 3.0 * hist[1] + hist[2];
-          else if (nh == 2)
-            guess = 2.0 * hist[0] - hist[1];
-          else
-            guess = cur.t + (Ld - cur.g) / (nxt.g - cur.g) * (nxt.t - cur.t);
-          const double y = Ld * fr.width - fr.shift - p.g_a;
-          const double t = solve_level(G, y, cur.t, nxt.t, (cur.g - Ld) * fr.width, guess);
-          double h, a;
-          eval_rA(H, A, t, h, a);
-          const Pt lv{t, Ld, p.h_a + h, a};
-          emit(cur, lv);
-          cur = lv;
-          hist[2] = hist[1];
-          hist[1] = hist[0];
-          hist[0] = t;
-          if (nh < 3) ++nh;
-        }
-      }
-      emit(cur, nxt);
-      cur = nxt;
-    }
+StairAreaMeter::WalkPt StairAreaMeter::walk_at(double t) const {
+  const sweep::PieceView& p = track_.pieces[walk_.piece];
+  const double inv = 1.0 / frame_.width;
+  if (t == -1.0) return {t, (p.g_a + frame_.shift) * inv, p.h_a, 0.0};
+  const LongCheb& A = areas_[walk_.piece];
+  if (t == 1.0) return {t, (p.g_b + frame_.shift) * inv, p.h_b, A(1.0)};
+  double h, a;
+  eval_rA(*p.H, A, t, h, a);
+  return {t, (p.g_a + (*p.G)(t) + frame_.shift) * inv, p.h_a + h, a};
+}
+
+void StairAreaMeter::walk_emit(const WalkPt& a, const WalkPt& b) {
+  if (a.g == b.g) return;  // no extent in the abscissa (radial, or vertical)
+  const int64_t j = static_cast<int64_t>(std::floor(std::min(a.g, b.g)));
+  const double jd = static_cast<double>(j);
+  Sub s{static_cast<uint32_t>(walk_.piece), a.t, b.t, std::clamp(a.g - jd, 0.0, 1.0), std::clamp(b.g - jd, 0.0, 1.0),
+        a.h, b.h, a.A, b.A};
+  add_sub(s, j);
+}
+
+void StairAreaMeter::walk_segment_start() {
+  Walk& w = walk_;
+  w.nxt = walk_at(w.ts[w.seg + 1]);
+  w.dir = w.nxt.g > w.cur.g ? 1 : (w.nxt.g < w.cur.g ? -1 : 0);
+  w.q = w.count = 0;
+  w.nh = 0;
+  w.hist[0] = w.hist[1] = w.hist[2] = 0.0;
+  if (w.dir != 0) {
+    const double lo_g = std::min(w.cur.g, w.nxt.g), hi_g = std::max(w.cur.g, w.nxt.g);
+    w.first = static_cast<int64_t>(std::floor(lo_g)) + 1;
+    w.last = static_cast<int64_t>(std::ceil(hi_g)) - 1;
+    w.count = w.last - w.first + 1;
   }
-  close_visit();
+}
+
+void StairAreaMeter::walk_piece_start() {
+  Walk& w = walk_;
+  const sweep::PieceView& p = track_.pieces[w.piece];
+  const auto& E = *track_.extrema;
+  w.ts.clear();
+  w.ts.push_back(-1.0);
+  for (uint32_t k = p.ext_begin; k < p.ext_end; ++k) w.ts.push_back(E[k]);
+  w.ts.push_back(1.0);
+  w.seg = 0;
+  w.cur = walk_at(-1.0);
+  walk_segment_start();
+}
+
+void StairAreaMeter::walk_start() {
+  walk_.done = track_.pieces.empty();
+  walk_.piece = 0;
+  if (!walk_.done) walk_piece_start();
+}
+
+bool StairAreaMeter::walk_next() {
+  Walk& w = walk_;
+  if (w.done) return false;
+  if (w.q < w.count) {
+    const sweep::PieceView& p = track_.pieces[w.piece];
+    const int64_t L = w.dir > 0 ? w.first + w.q : w.last - w.q;
+    const double Ld = static_cast<double>(L);
+    double guess;
+    if (w.nh >= 3)
+      guess = 3.0 * w.hist[0] - 3.0 * w.hist[1] + w.hist[2];
+    else if (w.nh == 2)
+      guess = 2.0 * w.hist[0] - w.hist[1];
+    else
+      guess = w.cur.t + (Ld - w.cur.g) / (w.nxt.g - w.cur.g) * (w.nxt.t - w.cur.t);
+    const double y = Ld * frame_.width - frame_.shift - p.g_a;
+    const double t = solve_level(*p.G, y, w.cur.t, w.nxt.t, (w.cur.g - Ld) * frame_.width, guess);
+    double h, a;
+    eval_rA(*p.H, areas_[w.piece], t, h, a);
+    const WalkPt lv{t, Ld, p.h_a + h, a};
+    walk_emit(w.cur, lv);
+    w.cur = lv;
+    w.hist[2] = w.hist[1];
+    w.hist[1] = w.hist[0];
+    w.hist[0] = t;
+    if (w.nh < 3) ++w.nh;
+    ++w.q;
+    return true;
+  }
+  walk_emit(w.cur, w.nxt);
+  w.cur = w.nxt;
+  ++w.seg;
+  if (w.seg + 1 < w.ts.size()) {
+    walk_segment_start();
+  } else if (++w.piece < track_.pieces.size()) {
+    walk_piece_start();
+  } else {
+    w.done = true;
+    close_visit();
+  }
+  return true;
 }
 
 void StairAreaMeter::add_connector(Vec2 a, double ga, Vec2 b, double gb) {
@@ -187,6 +257,13 @@ void StairAreaMeter::add_connector(Vec2 a, double ga, Vec2 b, double gb) {
     s.a = a;
     s.b = b;
     const uint32_t k = key(j);
+    if (stream_) {
+      Slot* sl = slot(k);
+      if (!sl) return;
+      sl->extra.push_back(s);
+      sl->forced = true;
+      continue;
+    }
     extra_.push_back(s);
     extra_next_.push_back(extra_head_[k]);
     extra_head_[k] = static_cast<int32_t>(extra_.size() - 1);
@@ -194,12 +271,12 @@ void StairAreaMeter::add_connector(Vec2 a, double ga, Vec2 b, double gb) {
   }
 }
 
-double StairAreaMeter::fast_visit(const Visit& v, double rho) const {
+double StairAreaMeter::fast_visit(const Visit& v, double rho, const std::vector<Sub>& subs) const {
   double s = 0.0;
   const auto& P = track_.pieces;
   const bool polar = grid_.geo == sweep::Geometry::polar;
   for (uint32_t i = v.first; i < v.first + v.count; ++i) {
-    const Sub& b = subs_[i];
+    const Sub& b = subs[i];
     const sweep::PieceView& p = P[b.piece];
     const double ha = p.h_a;
     // the integral of the staircase's level minus the piece's base, per unit of lambda
@@ -217,8 +294,282 @@ double StairAreaMeter::fast_visit(const Visit& v, double rho) const {
   return s;
 }
 
+void StairAreaMeter::add_sector(SectorIn& in, StairAreaResult& res) {
+  const double dr = grid_.height;
+  auto& vs = in.vs;
+  auto& as = in.as;
+  const std::vector<Sub>& subs = *in.subs;
+  ++res.sectors;
+  if (!force_general_ && !in.forced && vs.size() == 1 && as.size() == 1) {
+    // the common case: one pass of the contour and one level strand
+    const Visit& v = *vs[0];
+    const ArcRec& a = *as[0];
+    if (v.full && v.sigma == a.dir) {
+      total_.add(fast_visit(v, static_cast<double>(a.n) * dr, subs));
+      return;
+    }
+  }
+  bool fast = !force_general_ && !in.forced && !vs.empty() && vs.size() == as.size();
+  for (size_t i = 0; fast && i < vs.size(); ++i) fast = vs[i]->full;
+  if (fast && vs.size() > 1) {
+    // several passes: pair them by height; exact when each pair's range of height is clear of the others
+    std::sort(vs.begin(), vs.end(), [](const Visit* x, const Visit* y) { return x->hmin < y->hmin; });
+    std::sort(as.begin(), as.end(), [](const ArcRec* x, const ArcRec* y) { return x->n < y->n; });
+    double prev_hi = -std::numeric_limits<double>::infinity();
+    for (size_t i = 0; fast && i < vs.size(); ++i) {
+      const Visit& v = *vs[i];
+      const double rho = static_cast<double>(as[i]->n) * dr;
+      const double lo = std::min(v.hmin, rho), hi = std::max(v.hmax, rho);
+      fast = lo > prev_hi;
+      prev_hi = hi;
+    }
+  }
+  for (size_t i = 0; fast && i < vs.size(); ++i) fast = vs[i]->sigma == as[i]->dir;
+  if (fast) {
+    for (size_t i = 0; i < vs.size(); ++i) total_.add(fast_visit(*vs[i], static_cast<double>(as[i]->n) * dr, subs));
+    return;
+  }
+  ++res.general_sectors;
+  std::vector<sweep::Strand>& strands = strands_;
+  strands.clear();
+  for (const Visit* vp : vs) {
+    const Visit& v = *vp;
+    for (uint32_t i = v.first; i < v.first + v.count; ++i) {
+      const Sub& b = subs[i];
+      if (b.l0 == b.l1) continue;
+      sweep::Strand s;
+      s.kind = sweep::Strand::contour;
+      s.j = v.j;
+      s.piece = b.piece;
+      if (b.l1 > b.l0) {
+        s.sigma = 1;
+        s.l0 = b.l0, s.l1 = b.l1, s.t0 = b.t0, s.t1 = b.t1, s.h0 = b.h0, s.h1 = b.h1;
+      } else {
+        s.sigma = -1;
+        s.l0 = b.l1, s.l1 = b.l0, s.t0 = b.t1, s.t1 = b.t0, s.h0 = b.h1, s.h1 = b.h0;
+      }
+      strands.push_back(s);
+    }
+  }
+  for (const ArcRec* ap : as) {
+    sweep::Strand s;
+    s.kind = sweep::Strand::level;
+    s.sigma = static_cast<int8_t>(-ap->dir);  // the cycle runs the staircase backwards
+    s.j = ap->m;
+    s.rho = static_cast<double>(ap->n) * dr;
+    strands.push_back(s);
+  }
+  for (const sweep::Strand* e : in.extra) strands.push_back(*e);
+  total_.add(solver_->area(strands));
+}
+
+void StairAreaMeter::set_shift(int64_t g0) {
+  const bool polar = grid_.geo == sweep::Geometry::polar;
+  const double dth = grid_.width;
+  // polar: the angular branch, whole turns that bring the path's start next to the start node
+  const double th0 = track_.pieces.front().g_a;
+  shift_ = polar ? kTwoPi * std::nearbyint((static_cast<double>(g0) * dth - th0) / kTwoPi) : 0.0;
+  frame_ = sweep::Frame{dth, shift_, grid_.geo};
+}
+
+void StairAreaMeter::set_range() {
+  const sweep::TrackView& tr = track_;
+  const bool polar = grid_.geo == sweep::Geometry::polar;
+  const double dth = grid_.width;
+  const int64_t N = polar ? grid_.steps_per_rev : 0;
+  // sectors: the path's abscissa range (plus a margin) in grid units
+  const double gmin = (tr.g_min + shift_) / dth, gmax = (tr.g_max + shift_) / dth;
+  if (!(std::abs(gmin) < 4e18 && std::abs(gmax) < 4e18)) throw InputError("the path is too far from the origin for this grid");
+  j_lo_ = static_cast<int64_t>(std::floor(gmin)) - 2;
+  j_hi_ = static_cast<int64_t>(std::floor(gmax)) + 2;
+  const int64_t span = j_hi_ - j_lo_ + 1;
+  if (N > 0 && span >= N) {
+    wrap_ = true;
+    nkeys_ = N;
+    key_lo_ = ((j_lo_ % N) + N) % N;
+  } else {
+    if (polar && N == 0 && static_cast<double>(span) * dth >= kTwoPi)
+      throw InputError("the area error of a path that turns about the machine pole needs a whole number of angular "
+                       "steps per revolution (the grid has " + num(kTwoPi / dth, 10) + ")");
+    if (span > (int64_t{1} << 31))
+      throw InputError("the path spans " + num(static_cast<double>(span), 4) +
+                       " grid cells; the area error needs fewer than 2^31");
+    wrap_ = false;
+    nkeys_ = span;
+  }
+}
+
+// ---- the streamed mode
+
+uint64_t StairAreaMeter::key_distance(uint32_t a, uint32_t b) const {
+  const uint64_t d = a > b ? a - b : b - a;
+  return wrap_ ? std::min<uint64_t>(d, static_cast<uint64_t>(nkeys_) - d) : d;
+}
+
+bool StairAreaMeter::pinned(uint32_t k) const {
+  for (uint32_t p : pins_)
+    if (key_distance(k, p) <= kStreamWindow) return true;
+  return false;
+}
+
+bool StairAreaMeter::finalized(uint32_t k) const {
+  auto it = done_.upper_bound(k);
+  if (it == done_.begin()) return false;
+  --it;
+  return k <= it->second;
+}
+
+void StairAreaMeter::mark_finalized(uint32_t k) {
+  auto next = done_.upper_bound(k);
+  if (next != done_.begin()) {
+    auto prev = std::prev(next);
+    if (prev->second + 1 == k) {  // extends the range before it
+      prev->second = k;
+      if (next != done_.end() && next->first == k + 1) {
+        prev->second = next->second;
+        done_.erase(next);
+      }
+      return;
+    }
+  }
+  if (next != done_.end() && next->first == k + 1) {
+    const uint32_t last = next->second;
+    done_.erase(next);
+    done_.emplace(k, last);
+    return;
+  }
+  done_.emplace(k, k);
+}
+
+StairAreaMeter::Slot* StairAreaMeter::slot(uint32_t k) {
+  auto it = slot_of_.find(k);
+  if (it != slot_of_.end()) return &slots_[it->second];
+  if (finalized(k)) {
+    failed_ = true;  // the staircase or the contour came back to a sector measured already
+    return nullptr;
+  }
+  uint32_t i;
+  if (!free_slots_.empty()) {
+    i = free_slots_.back();
+    free_slots_.pop_back();
+  } else {
+    i = static_cast<uint32_t>(slots_.size());
+    slots_.emplace_back();
+  }
+  Slot& sl = slots_[i];
+  sl.key = k;
+  sl.visits.clear();
+  sl.subs.clear();
+  sl.arcs.clear();
+  sl.extra.clear();
+  sl.forced = false;
+  slot_of_.emplace(k, i);
+  order_.push_back(k);
+  peak_slots_ = std::max(peak_slots_, slot_of_.size());
+  return &sl;
+}
+
+void StairAreaMeter::finalize(uint32_t i) {
+  Slot& sl = slots_[i];
+  SectorIn& in = sector_in_;
+  in.vs.clear();
+  in.as.clear();
+  in.extra.clear();
+  for (size_t v = sl.visits.size(); v-- > 0;) in.vs.push_back(&sl.visits[v]);
+  for (size_t a = sl.arcs.size(); a-- > 0;) in.as.push_back(&sl.arcs[a]);
+  for (size_t e = sl.extra.size(); e-- > 0;) in.extra.push_back(&sl.extra[e]);
+  in.subs = &sl.subs;
+  in.forced = sl.forced;
+  add_sector(in, sres_);
+  free_slots_.push_back(i);
+}
+
+void StairAreaMeter::evict(bool all) {
+  while (!order_.empty()) {
+    const uint32_t k = order_.front();
+    if (!all) {
+      if (pinned(k)) {  // near the start or the end: the connectors may add to it
+        pinned_.push_back(k);
+        order_.pop_front();
+        continue;
+      }
+      if (key_distance(k, stair_key_) <= kStreamWindow) break;
+      if (!walk_.done && key_distance(k, walk_key_) <= kStreamWindow) break;
+    }
+    auto it = slot_of_.find(k);
+    finalize(it->second);
+    slot_of_.erase(it);
+    order_.pop_front();
+    mark_finalized(k);
+  }
+  if (all) {
+    for (uint32_t k : pinned_) {
+      auto it = slot_of_.find(k);
+      finalize(it->second);
+      slot_of_.erase(it);
+    }
+    pinned_.clear();
+  }
+}
+
+void StairAreaMeter::begin(int64_t h0, int64_t g0) {
+  if (!bound_) throw std::logic_error("StairAreaMeter::begin before reset");
+  if (stream_ || nr_ > 0 || nrun_ > 0) throw std::logic_error("StairAreaMeter::begin after the first step");
+  set_shift(g0);
+  try {
+    set_range();
+  } catch (const InputError&) {
+    return;  // the recorded mode: finish() reports it, in its order
+  }
+  stream_ = true;
+  failed_ = false;
+  h0_ = h0;
+  g0_ = g0;
+  solver_ = std::make_unique<sweep::SectorSolver>(track_, areas_, frame_);
+  total_ = Neumaier{};
+  sres_ = StairAreaResult{};
+  const double dth = grid_.width;
+  auto key_near = [&](double g) {
+    const int64_t j = std::clamp(static_cast<int64_t>(std::floor(g)), j_lo_, j_hi_);
+    return key(j);
+  };
+  const auto& P = track_.pieces;
+  pins_[0] = key_near(static_cast<double>(g0));
+  pins_[1] = key_near((P.front().g_a + shift_) / dth);
+  pins_[2] = key_near((P.back().g_b + shift_) / dth);
+  stair_key_ = walk_key_ = pins_[0];
+  open_ = -1;
+  open_key_ = -1;
+  walk_start();
+}
+
+void StairAreaMeter::stream_run(int dir) {
+  if (failed_) return;
+  const int64_t n = h0_ + n_, mb = g0_ + m_;
+  const int64_t j = dir > 0 ? mb : mb - 1;  // the sector the level strand spans
+  if (j < j_lo_ || j > j_hi_) {
+    const bool polar = grid_.geo == sweep::Geometry::polar;
+    const std::string node = polar ? "(" + std::to_string(n) + ", " + std::to_string(mb) + ")"
+                                   : "(" + std::to_string(mb) + ", " + std::to_string(n) + ")";
+    range_error_ = std::string(polar ? "the" : "the Cartesian") + " tape does not follow this path: its " +
+                   std::string(polar ? "angular" : "x") + " step " + std::to_string(nrun_ + 1) + " leaves the path's " +
+                   (polar ? "angular" : "x") + " range (node " + node + ")";
+    failed_ = true;
+    return;
+  }
+  const uint32_t k = key(j);
+  Slot* sl = slot(k);
+  if (!sl) return;
+  sl->arcs.push_back({n, j, -1, static_cast<int8_t>(dir)});
+  stair_key_ = k;
+  // keep the contour's walk up with the staircase: about as many sectors walked as level strands stepped
+  while (!failed_ && !walk_.done && subs_out_ < nrun_ + 1 + kStreamWindow / 2) walk_next();
+  if (!failed_) evict(false);
+}
+
 StairAreaResult StairAreaMeter::finish(int64_t n0, int64_t m0) {
   if (!bound_) throw std::logic_error("StairAreaMeter::finish before reset");
+  if (stream_ && (n0 != h0_ || m0 != g0_)) throw std::logic_error("StairAreaMeter::finish: not the node given to begin()");
   const sweep::TrackView& tr = track_;
   const auto& P = tr.pieces;
   const bool polar = grid_.geo == sweep::Geometry::polar;
@@ -227,13 +578,10 @@ StairAreaResult StairAreaMeter::finish(int64_t n0, int64_t m0) {
 
   StairAreaResult res;
   res.rise_steps = nr_;
-  res.run_steps = arcs_.size();
-  // polar: the angular branch, whole turns that bring the path's start next to the start node
-  const double th0 = P.front().g_a;
-  const double shift = polar ? kTwoPi * std::nearbyint((static_cast<double>(m0) * dth - th0) / kTwoPi) : 0.0;
+  res.run_steps = nrun_;
+  set_shift(m0);
+  const double shift = shift_;
   res.shift = shift;
-  shift_ = shift;
-  const sweep::Frame fr{dth, shift, grid_.geo};
 
   auto node_text = [&](int64_t n, int64_t m) {
     return polar ? "(" + std::to_string(n) + ", " + std::to_string(m) + ")"
@@ -260,26 +608,37 @@ StairAreaResult StairAreaMeter::finish(int64_t n0, int64_t m0) {
   check_end("start", n0, m0, P.front().h_a, P.front().g_a);
   check_end("end", n1, m1, P.back().h_b, P.back().g_b);
 
-  // sectors: the path's abscissa range (plus a margin) in grid units
-  const double gmin = (tr.g_min + shift) / dth, gmax = (tr.g_max + shift) / dth;
-  if (!(std::abs(gmin) < 4e18 && std::abs(gmax) < 4e18)) throw InputError("the path is too far from the origin for this grid");
-  j_lo_ = static_cast<int64_t>(std::floor(gmin)) - 2;
-  j_hi_ = static_cast<int64_t>(std::floor(gmax)) + 2;
-  const int64_t span = j_hi_ - j_lo_ + 1;
-  if (N > 0 && span >= N) {
-    wrap_ = true;
-    nkeys_ = N;
-    key_lo_ = ((j_lo_ % N) + N) % N;
-  } else {
-    if (polar && N == 0 && static_cast<double>(span) * dth >= kTwoPi)
-      throw InputError("the area error of a path that turns about the machine pole needs a whole number of angular "
-                       "steps per revolution (the grid has " + num(kTwoPi / dth, 10) + ")");
-    if (span > (int64_t{1} << 31))
-      throw InputError("the path spans " + num(static_cast<double>(span), 4) +
-                       " grid cells; the area error needs fewer than 2^31");
-    wrap_ = false;
-    nkeys_ = span;
+  // connectors close the cycle unless both the path and the staircase close on themselves
+  const bool closes = tr.closed && n_ == 0 &&
+                      (N > 0 ? m_ == static_cast<int64_t>(tr.winding) * N : (m_ == 0 && tr.winding == 0));
+  auto connect = [&] {
+    if (closes) return;
+    // straight segments from the staircase's start node to the path's start, and from the path's end to the
+    // staircase's end node
+    add_connector(node_point(n0, m0), static_cast<double>(m0), path_point(P.front().h_a, P.front().g_a),
+                  (P.front().g_a + shift) / dth);
+    add_connector(path_point(P.back().h_b, P.back().g_b), (P.back().g_b + shift) / dth, node_point(n1, m1),
+                  static_cast<double>(m1));
+  };
+
+  if (stream_) {
+    if (!range_error_.empty()) throw InputError(range_error_);
+    while (!failed_ && walk_next()) {
+    }
+    if (!failed_) connect();
+    if (!failed_) evict(true);
+    stream_ = false;
+    n_ = m_ = 0;
+    nr_ = nrun_ = 0;
+    if (failed_) return res;  // streamed() is false: the caller replays the steps into a recording meter
+    res.sectors = sres_.sectors;
+    res.general_sectors = sres_.general_sectors;
+    res.area_m2 = total_.value();
+    if (!std::isfinite(res.area_m2)) throw std::logic_error("internal error: the area error is not finite");
+    return res;
   }
+
+  set_range();
   const size_t nk = static_cast<size_t>(nkeys_);
   arc_head_.assign(nk, -1);
   visit_head_.assign(nk, -1);
@@ -306,107 +665,32 @@ StairAreaResult StairAreaMeter::finish(int64_t n0, int64_t m0) {
     arc_head_[k] = static_cast<int32_t>(i);
   }
 
-  walk_contour(fr);
-
-  // connectors close the cycle unless both the path and the staircase close on themselves
-  const bool closes = tr.closed && n_ == 0 &&
-                      (N > 0 ? m_ == static_cast<int64_t>(tr.winding) * N : (m_ == 0 && tr.winding == 0));
-  if (!closes) {
-    // straight segments from the staircase's start node to the path's start, and from the path's end to the
-    // staircase's end node
-    add_connector(node_point(n0, m0), static_cast<double>(m0), path_point(P.front().h_a, P.front().g_a),
-                  (P.front().g_a + shift) / dth);
-    add_connector(path_point(P.back().h_b, P.back().g_b), (P.back().g_b + shift) / dth, node_point(n1, m1),
-                  static_cast<double>(m1));
+  walk_start();
+  while (walk_next()) {
   }
+  connect();
 
-  const sweep::SectorSolver solver(tr, areas_, fr);
-  Neumaier total;
-  std::vector<int32_t> vs, as;
-  std::vector<sweep::Strand> strands;
+  solver_ = std::make_unique<sweep::SectorSolver>(tr, areas_, frame_);
+  total_ = Neumaier{};
+  SectorIn& in = sector_in_;
+  in.subs = &subs_;
   for (size_t k = 0; k < nk; ++k) {
-    const int32_t vh = visit_head_[k], ah = arc_head_[k];
-    if (vh < 0 && ah < 0 && extra_head_[k] < 0) continue;
-    ++res.sectors;
-    if (!force_general_ && !forced_[k] && vh >= 0 && ah >= 0) {
-      // the common case: one pass of the contour and one level strand
-      const Visit& v = visits_[static_cast<size_t>(vh)];
-      const ArcRec& a = arcs_[static_cast<size_t>(ah)];
-      if (v.next < 0 && a.next < 0 && v.full && v.sigma == a.dir) {
-        total.add(fast_visit(v, static_cast<double>(a.n) * dr));
-        continue;
-      }
-    }
-    vs.clear();
-    as.clear();
-    for (int32_t v = visit_head_[k]; v >= 0; v = visits_[static_cast<size_t>(v)].next) vs.push_back(v);
-    for (int32_t a = arc_head_[k]; a >= 0; a = arcs_[static_cast<size_t>(a)].next) as.push_back(a);
-    bool fast = !force_general_ && !forced_[k] && !vs.empty() && vs.size() == as.size();
-    for (size_t i = 0; fast && i < vs.size(); ++i) fast = visits_[static_cast<size_t>(vs[i])].full;
-    if (fast && vs.size() > 1) {
-      // several passes: pair them by height; exact when each pair's range of height is clear of the others
-      std::sort(vs.begin(), vs.end(), [&](int32_t x, int32_t y) {
-        return visits_[static_cast<size_t>(x)].hmin < visits_[static_cast<size_t>(y)].hmin;
-      });
-      std::sort(as.begin(), as.end(), [&](int32_t x, int32_t y) {
-        return arcs_[static_cast<size_t>(x)].n < arcs_[static_cast<size_t>(y)].n;
-      });
-      double prev_hi = -std::numeric_limits<double>::infinity();
-      for (size_t i = 0; fast && i < vs.size(); ++i) {
-        const Visit& v = visits_[static_cast<size_t>(vs[i])];
-        const double rho = static_cast<double>(arcs_[static_cast<size_t>(as[i])].n) * dr;
-        const double lo = std::min(v.hmin, rho), hi = std::max(v.hmax, rho);
-        fast = lo > prev_hi;
-        prev_hi = hi;
-      }
-    }
-    for (size_t i = 0; fast && i < vs.size(); ++i)
-      fast = visits_[static_cast<size_t>(vs[i])].sigma == arcs_[static_cast<size_t>(as[i])].dir;
-    if (fast) {
-      for (size_t i = 0; i < vs.size(); ++i)
-        total.add(fast_visit(visits_[static_cast<size_t>(vs[i])],
-                             static_cast<double>(arcs_[static_cast<size_t>(as[i])].n) * dr));
-      continue;
-    }
-    ++res.general_sectors;
-    strands.clear();
-    for (int32_t vi : vs) {
-      const Visit& v = visits_[static_cast<size_t>(vi)];
-      for (uint32_t i = v.first; i < v.first + v.count; ++i) {
-        const Sub& b = subs_[i];
-        if (b.l0 == b.l1) continue;
-        sweep::Strand s;
-        s.kind = sweep::Strand::contour;
-        s.j = v.j;
-        s.piece = b.piece;
-        if (b.l1 > b.l0) {
-          s.sigma = 1;
-          s.l0 = b.l0, s.l1 = b.l1, s.t0 = b.t0, s.t1 = b.t1, s.h0 = b.h0, s.h1 = b.h1;
-        } else {
-          s.sigma = -1;
-          s.l0 = b.l1, s.l1 = b.l0, s.t0 = b.t1, s.t1 = b.t0, s.h0 = b.h1, s.h1 = b.h0;
-        }
-        strands.push_back(s);
-      }
-    }
-    for (int32_t ai : as) {
-      const ArcRec& a = arcs_[static_cast<size_t>(ai)];
-      sweep::Strand s;
-      s.kind = sweep::Strand::level;
-      s.sigma = static_cast<int8_t>(-a.dir);  // the cycle runs the staircase backwards
-      s.j = a.m;
-      s.rho = static_cast<double>(a.n) * dr;
-      strands.push_back(s);
-    }
-    for (int32_t e = extra_head_[k]; e >= 0; e = extra_next_[static_cast<size_t>(e)]) strands.push_back(extra_[static_cast<size_t>(e)]);
-    total.add(solver.area(strands));
+    if (visit_head_[k] < 0 && arc_head_[k] < 0 && extra_head_[k] < 0) continue;
+    in.vs.clear();
+    in.as.clear();
+    in.extra.clear();
+    for (int32_t v = visit_head_[k]; v >= 0; v = visits_[static_cast<size_t>(v)].next) in.vs.push_back(&visits_[static_cast<size_t>(v)]);
+    for (int32_t a = arc_head_[k]; a >= 0; a = arcs_[static_cast<size_t>(a)].next) in.as.push_back(&arcs_[static_cast<size_t>(a)]);
+    for (int32_t e = extra_head_[k]; e >= 0; e = extra_next_[static_cast<size_t>(e)]) in.extra.push_back(&extra_[static_cast<size_t>(e)]);
+    in.forced = forced_[k] != 0;
+    add_sector(in, res);
   }
-  res.area_m2 = total.value();
+  res.area_m2 = total_.value();
   if (!std::isfinite(res.area_m2)) throw std::logic_error("internal error: the area error is not finite");
   // the recorded steps are now absolute; the meter must be reset before it is used again
   arcs_.clear();
   n_ = m_ = 0;
-  nr_ = 0;
+  nr_ = nrun_ = 0;
   return res;
 }
 

@@ -5,13 +5,26 @@
 // contour is the digitizer's polar track, accurate to rounding; the sector integrals are exact series).
 //
 // Feed it the steps of any polar tape, whatever rule made it: as a StepSink during digitize(), or from a
-// TapeReader. Steps are recorded relative to the start node; finish() takes the start node and computes.
-// A meter can be reset and reused; it keeps its storage (about 140 bytes per angular step).
+// TapeReader. Two modes:
+//  - recorded: steps are recorded relative to the start node (about 140 bytes per angular step); finish() takes
+//    the start node and computes;
+//  - streamed (begin() with the start node before the first step): each sector is measured as soon as the
+//    staircase and the contour have both moved more than kStreamWindow sectors away from it (the contour is
+//    walked alongside the steps), so the state is a window of sectors, not the tape. Should the staircase or the
+//    contour come back to a sector already measured (a tape that wanders far from its path, a contour that covers
+//    the same angles again, as a spiral does), the meter stops streaming and finish() reports streamed() false:
+//    the caller replays the steps in the recorded mode. Both modes give the same numbers.
+// A meter can be reset and reused; it keeps its storage.
 //
 // The work is done by StairAreaMeter, which measures any staircase of steps of a height axis (radial, y) and an
 // abscissa axis (angular, x) against a track seen through sweep::TrackView; the Cartesian meter
 // (cartesian_error.hpp) is the same machine on strips of x instead of sectors of theta.
 #include <cstdint>
+#include <deque>
+#include <map>
+#include <memory>
+#include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "digitizer/digitize.hpp"
@@ -22,6 +35,9 @@
 #include "metrics/track_view.hpp"
 
 namespace polarcam {
+
+// Streamed area meters measure a sector once both the staircase and the contour are this many sectors away.
+inline constexpr uint32_t kStreamWindow = 64;
 
 // The grid of a staircase as the sweep sees it.
 struct StairGrid {
@@ -52,14 +68,29 @@ class StairAreaMeter {
     ++nr_;
   }
   void run(int dir) {  // a step of the abscissa axis: the staircase's level strand over one sector or strip
-    arcs_.push_back({n_, m_, -1, static_cast<int8_t>(dir)});
+    if (stream_)
+      stream_run(dir);
+    else
+      arcs_.push_back({n_, m_, -1, static_cast<int8_t>(dir)});
     m_ += dir;
+    ++nrun_;
   }
+
+  // Streams from here on: the staircase starts on node (h0, g0). Call after reset(), before the first step;
+  // finish() must then be given the same node. Without it, the meter records.
+  void begin(int64_t h0, int64_t g0);
 
   // The staircase starts on node (h0, g0) (height index, abscissa index). Throws InputError when it does not
   // follow the path (its start or end is more than two grid cells from the path's, or it leaves the path's
   // abscissa range).
   StairAreaResult finish(int64_t h0, int64_t g0);
+
+  // After finish() in the streamed mode: false when the staircase or the contour came back to a sector already
+  // measured, and the result is void; replay the steps into a recording meter.
+  bool streamed() const { return !failed_; }
+
+  // Sectors (or strips) held at once in the streamed mode, at most, so far (testing, benchmarks).
+  size_t peak_window() const { return peak_slots_; }
 
   // Testing: compute every sector with the general sweep.
   void set_force_general(bool on) { force_general_ = on; }
@@ -83,14 +114,68 @@ class StairAreaMeter {
     double hmin, hmax;
   };
 
+  struct Neumaier {
+    double s = 0.0, c = 0.0;
+    void add(double x);
+    double value() const { return s + c; }
+  };
+  // One sector's strands, in the order the recorded mode lists them (the latest first).
+  struct SectorIn {
+    std::vector<const Visit*> vs;
+    std::vector<const ArcRec*> as;
+    std::vector<const sweep::Strand*> extra;
+    const std::vector<Sub>* subs = nullptr;
+    bool forced = false;
+  };
+  // A sector being gathered in the streamed mode.
+  struct Slot {
+    uint32_t key = 0;
+    std::vector<Visit> visits;
+    std::vector<Sub> subs;
+    std::vector<ArcRec> arcs;
+    std::vector<sweep::Strand> extra;
+    bool forced = false;
+  };
+  // The walk of the contour sector by sector, resumable (the streamed mode walks it alongside the steps).
+  struct WalkPt {
+    double t, g, h, A;
+  };
+  struct Walk {
+    bool done = true;
+    size_t piece = 0, seg = 0;
+    std::vector<double> ts;
+    WalkPt cur{}, nxt{};
+    int dir = 0;
+    int64_t first = 0, last = 0, count = 0, q = 0;
+    double hist[3] = {0, 0, 0};
+    int nh = 0;
+  };
+
   uint32_t key(int64_t j) const;
-  void walk_contour(const sweep::Frame& fr);
+  void set_shift(int64_t g0);
+  void set_range();  // throws InputError
+  void walk_start();
+  bool walk_next();  // one sub (or none) further; false at the end
+  void walk_piece_start();
+  void walk_segment_start();
+  WalkPt walk_at(double t) const;
+  void walk_emit(const WalkPt& a, const WalkPt& b);
   void add_sub(const Sub& s, int64_t j);
   void close_visit();
   void add_connector(Vec2 a, double ga, Vec2 b, double gb);
-  double fast_visit(const Visit& v, double rho) const;
+  double fast_visit(const Visit& v, double rho, const std::vector<Sub>& subs) const;
+  void add_sector(SectorIn& in, StairAreaResult& res);
   Vec2 node_point(int64_t h, int64_t g) const;
   Vec2 path_point(double h, double g) const;
+  // streamed mode
+  void stream_run(int dir);
+  Slot* slot(uint32_t k);  // nullptr (and failed_) when the sector was measured already
+  bool pinned(uint32_t k) const;
+  void evict(bool all);
+  void finalize(uint32_t slot_index);
+  bool finalized(uint32_t k) const;
+  void mark_finalized(uint32_t k);
+  uint64_t key_distance(uint32_t a, uint32_t b) const;
 
   sweep::TrackView track_;
   bool bound_ = false;
@@ -112,6 +197,29 @@ class StairAreaMeter {
   std::vector<sweep::Strand> extra_;  // connector segments
   std::vector<int32_t> extra_head_, extra_next_;
   int open_ = -1;  // index of the visit being built
+  int64_t open_key_ = -1;  // streamed: the key of the slot holding the visit being built
+  Walk walk_;
+  std::unique_ptr<sweep::SectorSolver> solver_;
+  sweep::Frame frame_{};
+  Neumaier total_;
+  StairAreaResult sres_;  // streamed: sectors measured so far
+
+  // streamed mode
+  bool stream_ = false, failed_ = false;
+  int64_t h0_ = 0, g0_ = 0;
+  uint64_t nrun_ = 0, subs_out_ = 0;
+  std::string range_error_;  // the first angular step that left the path's range (thrown by finish())
+  std::unordered_map<uint32_t, uint32_t> slot_of_;
+  std::vector<Slot> slots_;
+  std::vector<uint32_t> free_slots_;
+  std::deque<uint32_t> order_;  // keys in the order their slots were opened
+  std::map<uint32_t, uint32_t> done_;  // measured keys: disjoint ranges [first, last]
+  std::vector<uint32_t> pinned_;  // keys about the start and end (connectors): measured at finish()
+  uint32_t pins_[3] = {0, 0, 0};
+  uint32_t stair_key_ = 0, walk_key_ = 0;
+  SectorIn sector_in_;
+  std::vector<sweep::Strand> strands_;
+  size_t peak_slots_ = 0;
 };
 
 // A StairAreaMeter fed by a tape: steps of the tape axis `rise_axis` are the staircase's rises (its height
@@ -149,6 +257,10 @@ class PolarAreaMeter final : public StairStepMeter {
   // The staircase starts on node (n0, m0). Throws InputError when the staircase does not follow the path (its
   // start or end is more than two grid cells from the path's, or it leaves the path's angular range).
   AreaErrorResult finish(int64_t n0, int64_t m0);
+  // Streams (StairAreaMeter::begin): the staircase starts on node (n0, m0).
+  void begin(int64_t n0, int64_t m0) { core_.begin(n0, m0); }
+  bool streamed() const { return core_.streamed(); }
+  size_t peak_window() const { return core_.peak_window(); }
 
  private:
   Grid grid_;

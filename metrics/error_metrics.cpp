@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "metrics/deviation.hpp"
 
@@ -13,58 +14,77 @@ void ErrorMeters::reset(const Curve& path, const PolarTrack& track, const Grid& 
   grid_ = grid;
   segments_ = std::max(1, segments);
   steps_.clear();
+  dev_.reset();
   area_.reset(track, grid);
+}
+
+Vec2 ErrorMeters::at(double n, double m) const {
+  const double rho = n * grid_.dr, phi = m * grid_.dtheta;
+  return Vec2{rho * std::cos(phi), rho * std::sin(phi)};
+}
+
+double ErrorMeters::reach(double n) const { return 3.0 * std::max(grid_.dr, n * grid_.dr * grid_.dtheta) + 1e-12; }
+
+int ErrorMeters::segment_of(double u) const {
+  const double u0 = path_->u_begin(), u1 = path_->u_end();
+  const int i = static_cast<int>(std::floor((u - u0) / (u1 - u0) * segments_));
+  return std::clamp(i, 0, segments_ - 1);
+}
+
+void ErrorMeters::start_following(int64_t n0, int64_t m0) {
+  dev_ = std::make_unique<DeviationMeter>(*path_);
+  nr_.assign(static_cast<size_t>(segments_), 0);
+  nt_.assign(static_cast<size_t>(segments_), 0);
+  n_ = static_cast<double>(n0);
+  m_ = static_cast<double>(m0);
+  dev_->start(at(n_, m_), reach(n_));
+}
+
+void ErrorMeters::follow(int axis, int dir) {
+  const double dr = grid_.dr, dth = grid_.dtheta;
+  double& n = n_;
+  double& m = m_;
+  StairPiece piece;
+  if (axis == kAxisRadial) {
+    piece.a = at(n, m);
+    piece.b = at(n + dir, m);
+  } else {
+    piece.arc = true;
+    piece.rho = n * dr;
+    piece.phi0 = m * dth;
+    piece.phi1 = (m + dir) * dth;
+  }
+  const double mn = axis == kAxisRadial ? n + 0.5 * dir : n;
+  const double u = dev_->piece(piece, reach(mn));  // foot point of the step's middle
+  (axis == kAxisRadial ? nr_ : nt_)[static_cast<size_t>(segment_of(u))] += 1;
+  (axis == kAxisRadial ? n : m) += dir;
+}
+
+void ErrorMeters::begin(int64_t n0, int64_t m0) {
+  if (!path_) throw std::logic_error("ErrorMeters::begin before reset");
+  start_following(n0, m0);
+  area_.begin(n0, m0);
 }
 
 ErrorMetrics ErrorMeters::finish(int64_t n0, int64_t m0) {
   ErrorMetrics out;
   out.area = area_.finish(n0, m0);  // checks that the staircase follows the path
-  const double dr = grid_.dr, dth = grid_.dtheta;
-  const Curve& c = *path_;
-  const double u0 = c.u_begin(), u1 = c.u_end();
-  auto at = [&](double n, double m) {
-    const double rho = n * dr, phi = m * dth;
-    return Vec2{rho * std::cos(phi), rho * std::sin(phi)};
-  };
-  auto reach = [&](double n) { return 3.0 * std::max(dr, n * dr * dth) + 1e-12; };
-
-  const int ns = segments_;
-  std::vector<long long> nr(static_cast<size_t>(ns), 0), nt(static_cast<size_t>(ns), 0);
-  auto segment_of = [&](double u) {
-    const int i = static_cast<int>(std::floor((u - u0) / (u1 - u0) * ns));
-    return std::clamp(i, 0, ns - 1);
-  };
-
-  DeviationMeter dev(c);
-  double n = static_cast<double>(n0), m = static_cast<double>(m0);
-  dev.start(at(n, m), reach(n));
-  for (uint8_t s : steps_) {
-    const int axis = s & 1, dir = (s & 2) ? 1 : -1;
-    StairPiece piece;
-    if (axis == kAxisRadial) {
-      piece.a = at(n, m);
-      piece.b = at(n + dir, m);
-    } else {
-      piece.arc = true;
-      piece.rho = n * dr;
-      piece.phi0 = m * dth;
-      piece.phi1 = (m + dir) * dth;
-    }
-    const double mn = axis == kAxisRadial ? n + 0.5 * dir : n;
-    const double u = dev.piece(piece, reach(mn));  // foot point of the step's middle
-    (axis == kAxisRadial ? nr : nt)[static_cast<size_t>(segment_of(u))] += 1;
-    (axis == kAxisRadial ? n : m) += dir;
+  if (!dev_) {
+    start_following(n0, m0);
+    for (uint8_t s : steps_) follow(s & 1, (s & 2) ? 1 : -1);
   }
-  out.deviation_max_m = dev.max();
-  out.deviation_at = dev.at();
+  const double dr = grid_.dr, dth = grid_.dtheta;
+  out.deviation_max_m = dev_->max();
+  out.deviation_at = dev_->at();
 
   const double rmax = track_->r_max().value, K = dr / dth;
   out.deviation_eq41_m = rmax <= K ? dr : rmax * dth;
-  out.segments = ns;
-  const std::vector<Vec2> pts = segment_points(c, ns);
-  out.f_counts = f1_counts(pts, nr, nt, dr, dth);
+  out.segments = segments_;
+  const std::vector<Vec2> pts = segment_points(*path_, segments_);
+  out.f_counts = f1_counts(pts, nr_, nt_, dr, dth);
   out.f_chords = f1_chords(pts, dr, dth);
   steps_.clear();
+  dev_.reset();
   return out;
 }
 

@@ -7,12 +7,16 @@
 //    path's largest r;
 //  - the thesis's F_sum, F_dif, F1 from the step counts of each segment (Eq. 4.5-4.6), each step counted in the
 //    segment where the foot point of its middle lies, and from the chords (Eq. 4.15).
-// Steps are recorded (one byte each) and measured by finish().
+// Steps are recorded (one byte each) and measured by finish(); or, after begin() with the start node, measured as
+// they come in a window of constant size (area_error.hpp: the streamed mode; the deviation and the step counts
+// are running values), with the same results.
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "cam/curve.hpp"
 #include "metrics/area_error.hpp"
+#include "metrics/deviation.hpp"
 #include "metrics/f1.hpp"
 
 namespace polarcam {
@@ -31,15 +35,32 @@ class ErrorMeters final : public StepSink {
  public:
   // path: the tool-centre path in the machine frame, track: its polar track (both must outlive finish()).
   void reset(const Curve& path, const PolarTrack& track, const Grid& grid, int segments);
+  // Streams from here on: the staircase starts on node (n0, m0) (call after reset(), before the first step).
+  void begin(int64_t n0, int64_t m0);
   void step(int axis, int dir, int64_t) override { record(axis, dir); }
   void record(int axis, int dir) {
-    steps_.push_back(static_cast<uint8_t>(axis | (dir > 0 ? 2 : 0)));
+    if (dev_)
+      follow(axis, dir);
+    else
+      steps_.push_back(static_cast<uint8_t>(axis | (dir > 0 ? 2 : 0)));
     area_.record(axis, dir);
   }
-  // Throws InputError when the staircase does not follow the path.
+  // Throws InputError when the staircase does not follow the path. After begin(): check streamed(); when it is
+  // false the result is void and the steps must be replayed into meters without begin().
   ErrorMetrics finish(int64_t n0, int64_t m0);
+  bool streamed() const { return area_.streamed(); }
+  size_t peak_window() const { return area_.peak_window(); }
 
  private:
+  void follow(int axis, int dir);  // the deviation and the step counts of one step
+  void start_following(int64_t n0, int64_t m0);
+  Vec2 at(double n, double m) const;
+  double reach(double n) const;
+  int segment_of(double u) const;
+  std::unique_ptr<DeviationMeter> dev_;
+  std::vector<long long> nr_, nt_;
+  double n_ = 0, m_ = 0;
+
   const Curve* path_ = nullptr;
   const PolarTrack* track_ = nullptr;
   Grid grid_;

@@ -4,6 +4,7 @@
 #include "optimize/placement.hpp"
 
 #include <nlopt.hpp>
+#include <utility>
 
 #include <algorithm>
 #include <cmath>
@@ -47,6 +48,9 @@ constexpr double kPi = std::numbers::pi;
 constexpr double kBig = 1e6;     // objective where nothing can be evaluated, before any value is known
 constexpr double kLambda = 1.0;  // penalty per mm outside the work area (mm^2 of area, or F1)
 constexpr int kStencil = 2;      // evaluations averaged per smoothed area value
+constexpr size_t kVertices = 1;  // area: vertex centres searched (vertex_centres)
+constexpr int kStarts = 2;       // area: local searches from the best separated cells of the coarse map
+constexpr double kAreaBudgetSteps = 2.7e6;  // area: default budget, digitized steps in all
 
 std::string mm(double v) {
   std::ostringstream os;
@@ -349,6 +353,61 @@ int best_feasible(const std::vector<PoleValue>& v, double below = std::numeric_l
   return bi;
 }
 
+// Where the contour osculates a circle best: at a vertex (a local extremum of the curvature, or a stretch of
+// constant curvature: an arc), the contour agrees with its circle of curvature to the fourth order. With the
+// machine pole at that circle's centre a long stretch of contour runs at one radius, the staircase draws it as
+// one arc, and the area error there depends on where that radius falls between two radial levels (period DeltaR
+// as the pole moves along the normal): the deepest pits of the area error lie near these centres, far narrower
+// than a global search's cells. Returns (centre, unit normal from the centre to the vertex) of up to `most`
+// vertices, the centres at least 1 mm apart, inside `box`, the longest contact first.
+std::vector<std::pair<Vec2, Vec2>> vertex_centres(const Curve& c, const SearchBox& box, size_t most) {
+  const int n = 2048;
+  const double u0 = c.u_begin(), u1 = c.u_end();
+  std::vector<double> k(n + 1);
+  std::vector<CurvePoint> pt(n + 1);
+  for (int i = 0; i <= n; ++i) {
+    pt[static_cast<size_t>(i)] = c.eval(u0 + (u1 - u0) * i / n, 2);
+    const CurvePoint& q = pt[static_cast<size_t>(i)];
+    const double sp = norm(q.d1);
+    k[static_cast<size_t>(i)] = sp > 0.0 ? (q.d1.x * q.d2.y - q.d1.y * q.d2.x) / (sp * sp * sp) : 0.0;
+  }
+  struct V {
+    double score;
+    Vec2 centre, normal;
+  };
+  std::vector<V> vs;
+  const double tol = 1e-9;
+  for (int i = 0; i <= n; ++i) {
+    const size_t I = static_cast<size_t>(i);
+    const int ip = i > 0 ? i - 1 : (c.closed() ? n - 1 : -1), in = i < n ? i + 1 : (c.closed() ? 1 : -1);
+    if (ip < 0 || in < 0) continue;
+    const double kp = k[static_cast<size_t>(ip)], kn = k[static_cast<size_t>(in)], ki = k[I];
+    if (!(std::abs(ki) > 0.0)) continue;
+    const double rel = tol * std::abs(ki);
+    const bool ext = (ki >= kp - rel && ki >= kn - rel) || (ki <= kp + rel && ki <= kn + rel);
+    if (!ext) continue;
+    const CurvePoint& q = pt[I];
+    const double sp = norm(q.d1);
+    const Vec2 nl{-q.d1.y / sp, q.d1.x / sp};  // left normal; the centre is at p + nl / kappa
+    const Vec2 centre = q.p + (1.0 / ki) * nl;
+    if (!(centre.x >= box.x0 && centre.x <= box.x1 && centre.y >= box.y0 && centre.y <= box.y1)) continue;
+    // the curvature's second derivative along the arc length over kappa^3: the smaller, the longer the contour
+    // stays on its circle of curvature
+    const double ds = sp * (u1 - u0) / n;
+    const double kss = std::abs(kp + kn - 2.0 * ki) / (ds * ds);
+    vs.push_back({kss / std::abs(ki * ki * ki), centre, (1.0 / norm(q.p - centre)) * (q.p - centre)});
+  }
+  std::stable_sort(vs.begin(), vs.end(), [](const V& a, const V& b) { return a.score < b.score; });
+  std::vector<std::pair<Vec2, Vec2>> out;
+  for (const V& v : vs) {
+    if (out.size() >= most) break;
+    bool apart = true;
+    for (const auto& o : out) apart = apart && norm(o.first - v.centre) >= 1e-3;
+    if (apart) out.push_back({v.centre, v.normal});
+  }
+  return out;
+}
+
 }  // namespace
 
 SearchBox search_box(const PoleProblem& p) {
@@ -357,16 +416,20 @@ SearchBox search_box(const PoleProblem& p) {
   for (const Vec2& v : pts) {
     x0 = std::min(x0, v.x), x1 = std::max(x1, v.x), y0 = std::min(y0, v.y), y1 = std::max(y1, v.y);
   }
-  SearchBox b;
+  // a pole farther from the contour than its size only makes the error larger (the angular step covers more
+  // length there): the contour's bounding box and its size again on every side, within r_max of all of it
+  const double s = std::max({x1 - x0, y1 - y0, 1e-3});
+  SearchBox b{x0 - s, x1 + s, y0 - s, y1 + s};
   if (p.grid.r_max) {
     const double R = *p.grid.r_max;
-    b = {x1 - R, x0 + R, y1 - R, y0 + R};
-    if (!(b.x1 > b.x0) || !(b.y1 > b.y0))
+    const SearchBox w{x1 - R, x0 + R, y1 - R, y0 + R};
+    if (!(w.x1 > w.x0) || !(w.y1 > w.y0))
       throw InputError("the contour cannot fit in the work area: it spans " + mm(x1 - x0) + " by " + mm(y1 - y0) +
                        ", more than twice r_max = " + mm(R));
-  } else {
-    const double s = std::max({x1 - x0, y1 - y0, 1e-3});
-    b = {x0 - s, x1 + s, y0 - s, y1 + s};
+    // (the torque objectives keep the whole work area: a far pole can balance the drives better)
+    b = is_torque_objective(p.objective)
+            ? w
+            : SearchBox{std::max(b.x0, w.x0), std::min(b.x1, w.x1), std::max(b.y0, w.y0), std::min(b.y1, w.y1)};
   }
   return b;
 }
@@ -552,9 +615,9 @@ PlacementResult optimize_placement(const PoleProblem& p, const Placement& start,
     // default budget: about 1.6e7 digitized steps in all (deterministic: it depends on the job only)
     int E = o.max_evaluations;
     if (E <= 0) {
-      E = area ? 720 : 600;
+      E = area ? 240 : 600;
       if (area && res.start.computed && res.start.steps > 0)
-        E = static_cast<int>(std::clamp(1.2e7 / static_cast<double>(res.start.steps), 200.0, 4000.0));
+        E = static_cast<int>(std::clamp(kAreaBudgetSteps / static_cast<double>(res.start.steps), 120.0, 4000.0));
     }
     s.set_budget(E);
     const int k = area ? kStencil : 1;
@@ -562,9 +625,55 @@ PlacementResult optimize_placement(const PoleProblem& p, const Placement& start,
     const int n2 = std::max(5, static_cast<int>(std::lround((area ? 0.15 : 0.4) * E / k)));
     const size_t dim = static_cast<size_t>(q.dim());
 
-    // global: DIRECT-L on the smoothed, penalised objective
+    // global: for the area, a coarse map of the exact area over the box, then the local stage from its best
+    // separated cells (a multistart: the area's basins are a few cells wide and DIRECT-L, on a large box, can
+    // settle in the wrong one); for F1, DIRECT-L on the smoothed, penalised objective
     NloptCtx g{&s, &p, true, {}, 0, 0, false, std::numeric_limits<double>::infinity(), {}};
-    {
+    std::vector<std::vector<double>> starts;
+    std::vector<double> cell(dim, 0.0);
+    if (area) {
+      const int G = dim == 2 ? std::clamp(static_cast<int>(std::sqrt(0.25 * E)), 3, 9)
+                             : std::clamp(static_cast<int>(0.3 * E), 3, 24);
+      for (size_t i = 0; i < dim; ++i) cell[i] = (q.hi[i] - q.lo[i]) / G;
+      std::vector<std::vector<double>> ts;
+      const int cells = dim == 2 ? G * G : G;
+      for (int c = 0; c < cells; ++c) {
+        if (dim == 2)
+          ts.push_back({q.lo[0] + cell[0] * ((c % G) + 0.5), q.lo[1] + cell[1] * ((c / G) + 0.5)});
+        else
+          ts.push_back({q.lo[0] + cell[0] * (c + 0.5)});
+      }
+      const int before = s.evaluations();
+      std::vector<PoleValue> v;  // row by row, so that the progress moves
+      for (size_t r0 = 0; r0 < ts.size(); r0 += static_cast<size_t>(G)) {
+        const size_t r1 = std::min(ts.size(), r0 + static_cast<size_t>(G));
+        const std::vector<PoleValue> row = s.exact({ts.begin() + static_cast<std::ptrdiff_t>(r0), ts.begin() + static_cast<std::ptrdiff_t>(r1)});
+        v.insert(v.end(), row.begin(), row.end());
+      }
+      // cells in increasing order of area (feasible ones), index as the tie-break
+      std::vector<int> order;
+      for (int c = 0; c < cells; ++c)
+        if (v[static_cast<size_t>(c)].feasible()) order.push_back(c);
+      std::sort(order.begin(), order.end(), [&](int a, int b) {
+        const double va = v[static_cast<size_t>(a)].value, vb = v[static_cast<size_t>(b)].value;
+        return va != vb ? va < vb : a < b;
+      });
+      // up to kStarts starts, each more than one cell from the others
+      for (int c : order) {
+        if (static_cast<int>(starts.size()) >= kStarts) break;
+        bool apart = true;
+        for (const auto& t : starts) {
+          bool near = true;
+          for (size_t i = 0; i < dim; ++i)
+            near = near && std::abs(t[i] - ts[static_cast<size_t>(c)][i]) < 1.5 * cell[i];
+          if (near) apart = false;
+        }
+        if (apart) starts.push_back(ts[static_cast<size_t>(c)]);
+      }
+      res.stages.push_back({"coarse map (" + std::to_string(cells) + " cells)", s.evaluations() - before,
+                            order.empty() ? 0.0 : Search::scaled(p, v[static_cast<size_t>(order.front())])});
+      if (starts.empty()) starts.push_back(t0);
+    } else {
       nlopt::opt opt(nlopt::GN_DIRECT_L, static_cast<unsigned>(dim));
       opt.set_lower_bounds(q.lo);
       opt.set_upper_bounds(q.hi);
@@ -575,31 +684,98 @@ PlacementResult optimize_placement(const PoleProblem& p, const Placement& start,
       const int before = s.evaluations();
       run_nlopt(opt, t);
       res.stages.push_back({"DIRECT-L (global)", s.evaluations() - before, g.best});
+      if (g.best_t.empty()) g.best_t = t0;
+      starts.push_back(g.best_t);
     }
-    if (g.best_t.empty()) g.best_t = t0;
 
-    // local: COBYLA from the best global point, the margin as constraint
-    NloptCtx l{&s, &p, false, {}, 0, 0, false, std::numeric_limits<double>::infinity(), {}};
-    std::vector<double> tl = g.best_t;
+    // local: COBYLA from each start, the margin as constraint; the best point of all of them goes on
+    std::vector<double> tl = starts.front();
     {
-      nlopt::opt opt(nlopt::LN_COBYLA, static_cast<unsigned>(dim));
-      opt.set_lower_bounds(q.lo);
-      opt.set_upper_bounds(q.hi);
-      opt.set_min_objective(nlopt_objective, &l);
-      opt.add_inequality_constraint(nlopt_constraint, &l, 0.0);
-      opt.set_maxeval(n2);
       double diag = 0.0;
       for (size_t i = 0; i < dim; ++i) diag += (q.hi[i] - q.lo[i]) * (q.hi[i] - q.lo[i]);
       diag = std::sqrt(diag);
-      const double step = q.hold == PoleHold::C ? std::clamp(diag / 30, q.scale(1e-3), q.scale(1e-2))
-                                                : std::clamp(diag / 30, 1e-3, 1e-2);
-      opt.set_initial_step(std::vector<double>(dim, step));
-      opt.set_xtol_abs(std::vector<double>(dim, q.scale(dr)));
-      for (size_t i = 0; i < dim; ++i) tl[i] = std::clamp(tl[i], q.lo[i], q.hi[i]);
+      double step = q.hold == PoleHold::C ? std::clamp(diag / 30, q.scale(1e-3), q.scale(1e-2))
+                                          : std::clamp(diag / 30, 1e-3, 1e-2);
+      if (area) step = std::min(step, 0.5 * *std::min_element(cell.begin(), cell.end()));
+      const int per = std::max(5, n2 / static_cast<int>(starts.size()));
+      double best = std::numeric_limits<double>::infinity();
       const int before = s.evaluations();
-      run_nlopt(opt, tl);
-      res.stages.push_back({"COBYLA (local)", s.evaluations() - before, l.best});
-      if (!l.best_t.empty()) tl = l.best_t;
+      for (const std::vector<double>& st : starts) {
+        NloptCtx l{&s, &p, false, {}, 0, 0, false, std::numeric_limits<double>::infinity(), {}};
+        std::vector<double> t = st;
+        nlopt::opt opt(nlopt::LN_COBYLA, static_cast<unsigned>(dim));
+        opt.set_lower_bounds(q.lo);
+        opt.set_upper_bounds(q.hi);
+        opt.set_min_objective(nlopt_objective, &l);
+        opt.add_inequality_constraint(nlopt_constraint, &l, 0.0);
+        opt.set_maxeval(per);
+        opt.set_initial_step(std::vector<double>(dim, step));
+        opt.set_xtol_abs(std::vector<double>(dim, q.scale(dr)));
+        for (size_t i = 0; i < dim; ++i) t[i] = std::clamp(t[i], q.lo[i], q.hi[i]);
+        run_nlopt(opt, t);
+        if (!l.best_t.empty() && l.best < best) {
+          best = l.best;
+          tl = l.best_t;
+        }
+      }
+      res.stages.push_back({starts.size() > 1 ? "COBYLA (local, " + std::to_string(starts.size()) + " starts)"
+                                              : std::string("COBYLA (local)"),
+                            s.evaluations() - before, best});
+    }
+
+    if (area && dim == 2) {
+      // the centres of curvature of the contour's vertices (vertex_centres): along each one's normal, 11 groups of
+      // 4 points DeltaR / 4 apart, 0.1 mm from group to group; then 8 points over +-DeltaR / 4 about the best
+      // point of them all and a compass search along its normal down to DeltaR / 1024
+      const SearchBox box{q.lo[0], q.hi[0], q.lo[1], q.hi[1]};
+      const std::vector<std::pair<Vec2, Vec2>> vc = vertex_centres(*p.path0, box, kVertices);
+      if (!vc.empty() && E - s.evaluations() >= 40) {
+        const int before = s.evaluations();
+        std::vector<std::vector<double>> ts;
+        std::vector<std::pair<size_t, double>> where;
+        for (size_t v = 0; v < vc.size(); ++v)
+          for (int i = -5; i <= 5; ++i)
+            for (int ph = 0; ph < 4; ++ph) {
+              const double t = 0.1e-3 * i + 0.25 * dr * ph;
+              ts.push_back({vc[v].first.x + t * vc[v].second.x, vc[v].first.y + t * vc[v].second.y});
+              where.push_back({v, t});
+            }
+        const std::vector<PoleValue> val = s.exact(ts);
+        const int bi = best_feasible(val);
+        if (bi >= 0) {
+          const Vec2 c = vc[where[static_cast<size_t>(bi)].first].first, u = vc[where[static_cast<size_t>(bi)].first].second;
+          double bt = where[static_cast<size_t>(bi)].second, bv = val[static_cast<size_t>(bi)].value;
+          auto at = [&](double t) { return std::vector<double>{c.x + t * u.x, c.y + t * u.y}; };
+          {
+            std::vector<std::vector<double>> fs;
+            std::vector<double> ss;
+            for (int i = 0; i < 8; ++i) {
+              ss.push_back(bt + 0.5 * dr * ((i + 0.5) / 8 - 0.5));
+              fs.push_back(at(ss.back()));
+            }
+            const std::vector<PoleValue> fv = s.exact(fs);
+            const int fi = best_feasible(fv, bv);
+            if (fi >= 0) {
+              bt = ss[static_cast<size_t>(fi)];
+              bv = fv[static_cast<size_t>(fi)].value;
+            }
+          }
+          double h = dr / 64.0;
+          while (h >= dr / 1024.0 && E - s.evaluations() >= 2) {
+            const std::vector<PoleValue> v = s.exact({at(bt - h), at(bt + h)});
+            const int k2 = best_feasible(v, bv);
+            if (k2 >= 0) {
+              bt += k2 == 0 ? -h : h;
+              bv = v[static_cast<size_t>(k2)].value;
+            } else {
+              h *= 0.5;
+            }
+          }
+        }
+        res.stages.push_back({"vertex centres (" + std::to_string(vc.size()) + ")", s.evaluations() - before,
+                              s.have() ? Search::scaled(p, s.best().v) : 0.0});
+        if (s.have()) tl = s.best().t;
+      }
     }
 
     if (area) {

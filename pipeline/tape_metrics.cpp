@@ -1,6 +1,7 @@
 #include "pipeline/tape_metrics.hpp"
 
 #include <algorithm>
+#include <optional>
 
 #include "pipeline/job_tape.hpp"
 #include "pipeline/job_cartesian.hpp"
@@ -34,18 +35,29 @@ PolarTapeMetrics polar_tape_metrics(const Job& job, const std::string& tape, int
   g.dtheta = h.res[1];
   g.steps_per_rev = h.steps_per_rev;
   in_file(tape, [&] { g.validate(); });
-  ErrorMeters em;
-  em.reset(*path, track, g, segments > 0 ? segments : job.optimize.segments);
-  StepRecord r;
+  // streamed: the meters measure each sector as the tape goes by, in a window of constant size; should the
+  // staircase or the contour come back to a sector measured already, the tape is read again into recording
+  // meters (same results, memory in proportion to the tape)
+  const int nseg = segments > 0 ? segments : job.optimize.segments;
   const double total = static_cast<double>(std::max<uint64_t>(h.record_count, 1));
-  while (rd.next(r)) {  // the reader checks totals and checksums at the end
-    em.record(r.axis, r.dir);
-    if ((rd.records_read() & 0xffff) == 0) report_progress(progress, static_cast<double>(rd.records_read()) / total);
-  }
-  try {
-    out.m = em.finish(h.start[0], h.start[1]);
-  } catch (const InputError& e) {
-    throw InputError(tape + " against " + job.file + ": " + e.what());
+  for (int pass = 0; pass < 2; ++pass) {
+    ErrorMeters em;
+    em.reset(*path, track, g, nseg);
+    if (pass == 0) em.begin(h.start[0], h.start[1]);
+    std::optional<TapeReader> again;
+    if (pass == 1) again.emplace(tape);
+    TapeReader& in = pass == 0 ? rd : *again;
+    StepRecord r;
+    while (in.next(r)) {  // the reader checks totals and checksums at the end
+      em.record(r.axis, r.dir);
+      if ((in.records_read() & 0xffff) == 0) report_progress(progress, static_cast<double>(in.records_read()) / total);
+    }
+    try {
+      out.m = em.finish(h.start[0], h.start[1]);
+    } catch (const InputError& e) {
+      throw InputError(tape + " against " + job.file + ": " + e.what());
+    }
+    if (pass == 1 || em.streamed()) break;
   }
   return out;
 }
