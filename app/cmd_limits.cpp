@@ -32,11 +32,11 @@ int run(const Opts& o) {
   process::ToolLimits l;
   try {
     l = process::tool_limits(t);
-  } catch (const InputError& e) {  // only an option can have made the file's tool wrong
+  } catch (const InputError& e) {  // the file's tool passed its checks: an option, or numbers out of range
     const std::string opt = e.place() == "tool.diameter" ? "--diameter"
                             : e.place() == "tool.length" ? "--length"
                             : e.place() == "tool.teeth"  ? "--teeth"
-                                                         : e.place();
+                                                         : o.file + ": [" + e.place() + "]";
     throw InputError(e.message(), opt);
   }
   const double eq18 = process::fussell_eq18_constant(1.0), eq18_printed = process::fussell_eq18_constant(2.0);

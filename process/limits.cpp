@@ -3,6 +3,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "cam/error.hpp"
+
 namespace polarcam::process {
 namespace {
 
@@ -78,6 +80,14 @@ ToolLimits tool_limits(const Tool& t) {
   }
   if (t.structure)
     r.chatter_limit_width_m = chatter_limit_width(t.structure->cutting_stiffness_N_per_m2, t.structure->re_g_min_m_per_N);
+  // Numbers that pass check_tool can still be too far apart for a double (a 1e-200 m overhang).
+  for (const std::optional<double>& v :
+       {std::optional<double>(r.second_moment_m4), std::optional<double>(r.breakage_force_N),
+        std::optional<double>(r.stiffness_N_per_m), std::optional<double>(r.rapid_feed_per_tooth_m),
+        std::optional<double>(r.shank_force_limit_N), r.deflection_force_limit_N, r.tooth_force_limit_N,
+        r.feed_per_tooth_limit_m, r.chatter_limit_width_m})
+    if (v && !(std::isfinite(*v) && *v > 0.0))
+      throw InputError("the tool's numbers give a limit that is zero or out of range: check their units", "tool");
   return r;
 }
 

@@ -55,7 +55,8 @@ struct ToolLimits {
   std::optional<double> chatter_limit_width_m;      // Eq. 6.2, with [structure]
 };
 
-// All the limits the tool's data allow; check_tool first (InputError naming the field).
+// All the limits the tool's data allow; check_tool first (InputError naming the field), and InputError (place
+// "tool") when the numbers give a limit that is zero or not finite.
 ToolLimits tool_limits(const Tool& t);
 
 }  // namespace polarcam::process

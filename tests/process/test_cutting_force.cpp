@@ -58,3 +58,9 @@ TEST(ProcessCuttingForce, BadInputIsRefused) {
   EXPECT_THROW(lumped_model_from_specific_force(-1, 0.03), InputError);
   EXPECT_THROW(lumped_forces(LumpedForceModel{1, 0.03}, {std::nan("")}, 0.02, 0.01), InputError);
 }
+
+TEST(ProcessCuttingForce, OutOfRangeNumbersAreRefusedNotInfinite) {
+  EXPECT_THROW(tooth_period(4, 1e-320), InputError);
+  EXPECT_THROW(calibrate_lumped_model(1e300, 1e-300, 1e-3, 1e-3, 1.0), InputError);
+  EXPECT_THROW(lumped_forces(LumpedForceModel{1e300, 0.03}, {1e200}, 1e200, 1.0), InputError);
+}

@@ -176,4 +176,7 @@ TEST(ProcessLimits, BadToolsAreRefusedNamingTheField) {
   t = fussell_tool();
   t.cut = Cut{200, 1e-3, 1e-3, 0.2};
   EXPECT_EQ(place(t), "cut");
+  t = fussell_tool();
+  t.length_m = 1e-200;  // positive, but L^3 underflows: no finite stiffness
+  EXPECT_EQ(place(t), "tool");
 }
