@@ -20,10 +20,8 @@ emit elbestawi.table_5_1.ftr_mm "[2.6,1.3,0.9,0.6,5.8,2.9,1.9,1.4,10.2,5.1,3.4,2
 
 sec44=$("$POLARCAM" cut-force --teeth 4 --spindle-speed "500 rpm" --radial-depth "20 mm" --axial-depth "10 mm" \
   --force "4200 N" --feed-per-tooth "0.1 mm" --json)
-emit elbestawi.sec4_4.K 6.3 "$(jq '.K_N_per_mm2_per_mm_per_s' <<<"$sec44")" "N/mm^2/(mm/s)" \
-  "the thesis rounds v = 0.1/0.030 mm/s to 3.33 mm/s"
-emit elbestawi.sec4_4.C 1260 "$(jq '.C_N_per_mm_per_s[0]' <<<"$sec44")" "N/(mm/s)" \
-  "the thesis rounds v = 0.1/0.030 mm/s to 3.33 mm/s"
+emit elbestawi.sec4_4.K 6.3 "$(jq '.K_N_per_mm2_per_mm_per_s' <<<"$sec44")" "N/mm^2/(mm/s)" ""
+emit elbestawi.sec4_4.C 1260 "$(jq '.C_N_per_mm_per_s[0]' <<<"$sec44")" "N/(mm/s)" ""
 emit elbestawi.sec4_4.tau_s 0.030 "$(jq '.tau_s' <<<"$sec44")" s ""
 
 casea=$("$POLARCAM" cut-force --teeth 4 --spindle-speed "500 rpm" --radial-depth "20 mm" --axial-depth "2.5 mm" \
