@@ -84,7 +84,7 @@ void BM_AreaErrorStreamed(benchmark::State& state) {
   bool streamed = true;
   for (auto _ : state) {
     meter.reset(tr, g);
-    meter.begin(d.start_n, d.start_m);
+    meter.stream_from(d.start_n, d.start_m);
     for (const Step& s : rec.steps) meter.record(s.axis, s.dir);
     area = meter.finish(d.start_n, d.start_m).area_m2;
     streamed = streamed && meter.streamed();

@@ -257,8 +257,9 @@ class PolarAreaMeter final : public StairStepMeter {
   // The staircase starts on node (n0, m0). Throws InputError when the staircase does not follow the path (its
   // start or end is more than two grid cells from the path's, or it leaves the path's angular range).
   AreaErrorResult finish(int64_t n0, int64_t m0);
-  // Streams (StairAreaMeter::begin): the staircase starts on node (n0, m0).
-  void begin(int64_t n0, int64_t m0) { core_.begin(n0, m0); }
+  // Streams (StairAreaMeter::begin): the staircase starts on node (n0, m0). Named apart from StepSink::begin,
+  // which the digitizer calls on every sink: a meter streams only when its owner asks it to.
+  void stream_from(int64_t n0, int64_t m0) { core_.begin(n0, m0); }
   bool streamed() const { return core_.streamed(); }
   size_t peak_window() const { return core_.peak_window(); }
 

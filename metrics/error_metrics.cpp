@@ -60,10 +60,10 @@ void ErrorMeters::follow(int axis, int dir) {
   (axis == kAxisRadial ? n : m) += dir;
 }
 
-void ErrorMeters::begin(int64_t n0, int64_t m0) {
-  if (!path_) throw std::logic_error("ErrorMeters::begin before reset");
+void ErrorMeters::stream_from(int64_t n0, int64_t m0) {
+  if (!path_) throw std::logic_error("ErrorMeters::stream_from before reset");
   start_following(n0, m0);
-  area_.begin(n0, m0);
+  area_.stream_from(n0, m0);
 }
 
 ErrorMetrics ErrorMeters::finish(int64_t n0, int64_t m0) {

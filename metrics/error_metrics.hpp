@@ -36,7 +36,8 @@ class ErrorMeters final : public StepSink {
   // path: the tool-centre path in the machine frame, track: its polar track (both must outlive finish()).
   void reset(const Curve& path, const PolarTrack& track, const Grid& grid, int segments);
   // Streams from here on: the staircase starts on node (n0, m0) (call after reset(), before the first step).
-  void begin(int64_t n0, int64_t m0);
+  // Not StepSink::begin, which the digitizer calls on every sink: the meters stream only when asked.
+  void stream_from(int64_t n0, int64_t m0);
   void step(int axis, int dir, int64_t) override { record(axis, dir); }
   void record(int axis, int dir) {
     if (dev_)

@@ -43,7 +43,7 @@ PolarTapeMetrics polar_tape_metrics(const Job& job, const std::string& tape, int
   for (int pass = 0; pass < 2; ++pass) {
     ErrorMeters em;
     em.reset(*path, track, g, nseg);
-    if (pass == 0) em.begin(h.start[0], h.start[1]);
+    if (pass == 0) em.stream_from(h.start[0], h.start[1]);
     std::optional<TapeReader> again;
     if (pass == 1) again.emplace(tape);
     TapeReader& in = pass == 0 ? rd : *again;

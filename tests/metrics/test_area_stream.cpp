@@ -25,7 +25,7 @@ AreaErrorResult streamed(const AreaRun& r, const Grid& g, const std::vector<Reco
                          size_t* window = nullptr) {
   PolarAreaMeter m;
   m.reset(r.track, g);
-  m.begin(r.dig.start_n, r.dig.start_m);
+  m.stream_from(r.dig.start_n, r.dig.start_m);
   for (const auto& s : steps) m.record(s.axis, s.dir);
   const AreaErrorResult a = m.finish(r.dig.start_n, r.dig.start_m);
   *ok = m.streamed();
@@ -89,7 +89,7 @@ TEST(AreaStream, SameAsRecordedInAWindowThatDoesNotGrow) {
           ErrorMeters rec, str;
           rec.reset(*c.path, r.track, g, 100);
           str.reset(*c.path, r.track, g, 100);
-          str.begin(r.dig.start_n, r.dig.start_m);
+          str.stream_from(r.dig.start_n, r.dig.start_m);
           for (const auto& s : r.steps) {
             rec.record(s.axis, s.dir);
             str.record(s.axis, s.dir);
