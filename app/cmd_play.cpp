@@ -110,8 +110,8 @@ void register_play(CLI::App& app, Action& action) {
                 "message of the stopped run gives N; use the same tape, scales and offset)");
   c->add_flag("--json", o->json, "print the result as one JSON object");
   c->add_flag("--quiet", o->quiet, "no progress bar (shown on a terminal only)");
-  c->callback([o, c, &action] {
-    action = [o, c] {
+  c->callback([o, &action] {
+    action = [o] {
       if (!o->simulate && o->port.empty()) throw InputError("play: give --port DEV (a controller) or --simulate");
       if (!o->log.empty()) check_output_path(o->log);  // before any work
       if (!o->simulate) check_baud(o->baud);

@@ -46,7 +46,7 @@ process::Tool load_tool_file(const std::string& path) {
     t.tooth = tg;
   }
   if (Section& c = sections.at("cut"); c.present()) {
-    process::Cut cut;
+    process::MillingCut cut;
     cut.spindle_speed_rad_s = c.require_quantity("spindle_speed", dim::angular_speed);
     cut.axial_depth_m = c.require_quantity("axial_depth", dim::length);
     cut.radial_depth_m = c.require_quantity("radial_depth", dim::length);

@@ -46,7 +46,7 @@ double tooth_force_limit(const ToothGeometry& g, double axial_depth, double S_y,
   return S_y * a * a * l / (6.0 * b * n * std::sqrt(1.0 + m * m));
 }
 
-double feed_per_tooth_limit(double F_tooth, double D, int teeth, const Cut& cut) {
+double feed_per_tooth_limit(double F_tooth, double D, int teeth, const MillingCut& cut) {
   const double F_lb = F_tooth / kPoundForce;
   const double rpm = cut.spindle_speed_rad_s * 60.0 / (2.0 * kPi);
   const double V_ft_min = rpm * kPi * (D / kInch) / 12.0;          // Eq. 15 with the circumference pi D

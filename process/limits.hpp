@@ -35,7 +35,7 @@ double tooth_force_limit(const ToothGeometry& g, double axial_depth, double S_y,
 // Fussell & Gagne Eq. 14-18: the feed per tooth at which the power the tooth force F_tooth delivers at the
 // tooth speed (Eq. 14, 15 with the circumference pi D) equals the power of material removal K Q^(3/4)
 // (Eq. 16, 17). Computed in the document's units (lbf, ft/min, in^3/min, hp); returns metres.
-double feed_per_tooth_limit(double F_tooth, double D, int teeth, const Cut& cut);
+double feed_per_tooth_limit(double F_tooth, double D, int teeth, const MillingCut& cut);
 // The constant of Eq. 18, (c / (6 * 12 * 33000))^(4/3) in the document's units: c = 1 with the circumference
 // pi D (3.15e-9), c = 2 with Eq. 15's printed 2 pi D (7.95e-9, the value printed in Eq. 18).
 double fussell_eq18_constant(double circumference_factor);

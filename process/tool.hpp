@@ -16,7 +16,7 @@ struct ToothGeometry {
 };
 
 // A cut, for the feed-per-tooth limit (Fussell & Gagne Eq. 14-18).
-struct Cut {
+struct MillingCut {
   double spindle_speed_rad_s = 0.0;   // Omega
   double axial_depth_m = 0.0;         // d
   double radial_depth_m = 0.0;        // W
@@ -42,7 +42,7 @@ struct Tool {
   double safety_factor = 1.0;
   std::optional<double> deflection_tolerance_m;  // y_tol of Eq. 21
   std::optional<ToothGeometry> tooth;
-  std::optional<Cut> cut;
+  std::optional<MillingCut> cut;
   std::optional<Structure> structure;
 };
 

@@ -121,7 +121,7 @@ TEST(ProcessLimits, Eq18Constant) {
 // constant: f = c / (N Omega d W) (S_y a^2 l Omega D pi / (K b n sqrt(...)))^(4/3).
 TEST(ProcessLimits, FeedPerToothLimitIsEq18InInches) {
   const ToothGeometry g{0.08 * kInch, 0.15 * kInch, 1.0 * kInch};
-  Cut c;
+  MillingCut c;
   c.spindle_speed_rad_s = 2000 * 2 * kPi / 60;
   c.axial_depth_m = 0.25 * kInch;
   c.radial_depth_m = 0.25 * kInch;
@@ -174,7 +174,7 @@ TEST(ProcessLimits, BadToolsAreRefusedNamingTheField) {
   t.structure = Structure{1e-8, 2000e6};
   EXPECT_EQ(place(t), "structure.re_g_min");
   t = fussell_tool();
-  t.cut = Cut{200, 1e-3, 1e-3, 0.2};
+  t.cut = MillingCut{200, 1e-3, 1e-3, 0.2};
   EXPECT_EQ(place(t), "cut");
   t = fussell_tool();
   t.length_m = 1e-200;  // positive, but L^3 underflows: no finite stiffness
