@@ -307,6 +307,7 @@ void prevalidate(const std::string& file) {
   std::string section;        // the section being read
   bool in_section = false, expect_section_name = false, eof = false;
   std::optional<EntityCheck> ent;
+  std::string record;  // the name of the record being read (group code 0)
   auto close_entity = [&] {
     if (ent) check_entity(*ent, file);
     ent.reset();
@@ -353,16 +354,22 @@ void prevalidate(const std::string& file) {
       // Codes 72-79 and 90-99 of an entity count its vertices, knots, control points or edges, and dxflib makes
       // arrays of that size before it reads them (also of an entity outside any section): no count exceeds the
       // lines of the file.
-      if ((ent || !in_section) && ((code >= 72 && code <= 79) || (code >= 90 && code <= 99)) &&
+      // dxflib reads an entity by its name in whatever section it stands (a misspelt ENTITIES too), so the
+      // entities that carry counts are checked everywhere.
+      const bool counted_kind = record == "LWPOLYLINE" || record == "POLYLINE" || record == "SPLINE" ||
+                                record == "HATCH" || record == "LEADER" || record == "MLINE" || record == "MTEXT";
+      if ((ent || !in_section || counted_kind) && ((code >= 72 && code <= 79) || (code >= 90 && code <= 99)) &&
           (v > bytes / 2 || v < INT_MIN))
         throw InputError("'" + value.substr(0, 40) + "' (group code " + std::to_string(code) + " of the " +
-                             (ent ? ent->kind : std::string("record")) + ") is a count larger than this file of " +
+                             (ent ? ent->kind : counted_kind ? record : std::string("record")) +
+                             ") is a count larger than this file of " +
                              std::to_string(bytes) + " bytes can hold: the entity is damaged",
                          where);
       if (ent && ent->kind == "LWPOLYLINE" && code == 90) ent->vertices = v;
     }
     if (code == 0) {
       close_entity();
+      record = value;
       if (value == "EOF") {
         eof = true;
         break;
@@ -387,6 +394,15 @@ void prevalidate(const std::string& file) {
   }
   if (!eof)
     throw InputError("the file ends at line " + std::to_string(line) + " without the EOF record: it is truncated", file);
+  // dxflib does not stop at the EOF record: it reads on to the end of the file, unchecked. Only white space (and
+  // an old editor's end-of-file mark, Ctrl-Z) may follow it.
+  for (std::string rest; std::getline(in, rest);) {
+    ++line;
+    for (char c : rest)
+      if (!std::isspace(static_cast<unsigned char>(c)) && c != '\x1a')
+        throw InputError("text after the EOF record: remove everything after the line 'EOF'",
+                         file + ":" + std::to_string(line));
+  }
 }
 
 PathSegment reversed(PathSegment s) {

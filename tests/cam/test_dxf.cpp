@@ -233,4 +233,13 @@ TEST(Dxf, VertexCountsThatDisagreeWithTheVerticesAreRefused) {
   e = read_error("nosection.dxf", "0\nLWPOLYLINE\n8\n0\n90\n37309503\n10\n0\n20\n0\n0\nEOF\n");
   EXPECT_NE(e.find("nosection.dxf:6"), std::string::npos) << e;
   EXPECT_NE(e.find("group code 90"), std::string::npos) << e;
+  // in a section that is not ENTITIES (a misspelt name; dxflib reads the entity all the same: 2.8 GB before)
+  e = read_error("misspelt.dxf",
+                 "0\nSECTION\n2\nENTITIDS\n0\nLWPOLYLINE\n8\n0\n90\n87309503\n10\n0\n20\n0\n0\nENDSEC\n0\nEOF\n");
+  EXPECT_NE(e.find("misspelt.dxf:10"), std::string::npos) << e;
+  EXPECT_NE(e.find("group code 90 of the LWPOLYLINE"), std::string::npos) << e;
+  // after the EOF record, which dxflib reads past (3.1 GB before)
+  e = read_error("aftereof.dxf", "0\nEOF\n0\nLWPOLYLINE\n8\n0\n90\n97309503\n10\n0\n20\n0\n0\nEOF\n");
+  EXPECT_NE(e.find("aftereof.dxf:3"), std::string::npos) << e;
+  EXPECT_NE(e.find("after the EOF record"), std::string::npos) << e;
 }
