@@ -45,15 +45,26 @@ class Recorder : public StepSink {
   std::vector<Step> steps;
 };
 
+// The staircase the benchmarks measure: contour `which` digitized on the thesis grid `finer` times finer at
+// 0.0152 m/s, its steps recorded (the track and grid the meter binds to kept beside them).
+struct Staircase {
+  ToolPathPtr path;
+  Grid g;
+  PolarTrack tr;
+  DigitizeResult d;
+  Recorder rec;
+};
+Staircase staircase(int which, double finer) {
+  Staircase s{contour(which), thesis_grid(finer), {}, {}, {}};
+  s.tr = PolarTrack::build(*s.path);
+  auto prof = make_constant_speed(0.0152, s.tr.length());
+  s.d = digitize(s.tr, s.g, StepRule::nearest, *prof, &s.rec);
+  return s;
+}
+
 void BM_AreaError(benchmark::State& state) {
   const int which = static_cast<int>(state.range(0));
-  const double finer = static_cast<double>(state.range(1));
-  auto path = contour(which);
-  Grid g = thesis_grid(finer);
-  PolarTrack tr = PolarTrack::build(*path);
-  auto prof = make_constant_speed(0.0152, tr.length());
-  Recorder rec;
-  DigitizeResult d = digitize(tr, g, StepRule::nearest, *prof, &rec);
+  const auto [path, g, tr, d, rec] = staircase(which, static_cast<double>(state.range(1)));
   PolarAreaMeter meter;
   double area = 0;
   for (auto _ : state) {
@@ -72,13 +83,7 @@ BENCHMARK(BM_AreaError)->ArgsProduct({{0, 1, 2}, {1, 10}})->Unit(benchmark::kMil
 // sectors held at once.
 void BM_AreaErrorStreamed(benchmark::State& state) {
   const int which = static_cast<int>(state.range(0));
-  const double finer = static_cast<double>(state.range(1));
-  auto path = contour(which);
-  Grid g = thesis_grid(finer);
-  PolarTrack tr = PolarTrack::build(*path);
-  auto prof = make_constant_speed(0.0152, tr.length());
-  Recorder rec;
-  DigitizeResult d = digitize(tr, g, StepRule::nearest, *prof, &rec);
+  const auto [path, g, tr, d, rec] = staircase(which, static_cast<double>(state.range(1)));
   PolarAreaMeter meter;
   double area = 0;
   bool streamed = true;

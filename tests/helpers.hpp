@@ -2,6 +2,7 @@
 // Small helpers shared by the tests.
 #include <algorithm>
 #include <cstdint>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -14,7 +15,11 @@ namespace polarcam::test {
 struct Recorded {
   int axis, dir;
   int64_t t_ns;
+  bool operator==(const Recorded&) const = default;
 };
+inline std::ostream& operator<<(std::ostream& os, const Recorded& s) {
+  return os << "{" << s.axis << ", " << s.dir << ", " << s.t_ns << "}";
+}
 
 class RecordingSink : public StepSink {
  public:

@@ -12,21 +12,15 @@
 #include "capture/capture.hpp"
 #include "capture/csv_levels.hpp"
 #include "capture/vcd.hpp"
+#include "tests/helpers.hpp"
 #include "tests/quadrature_writer.hpp"
 
 namespace polarcam {
 namespace {
 
-struct Step {
-  int axis, dir;
-  int64_t t_ns;
-  bool operator==(const Step&) const = default;
-};
-
-struct Recorder final : StepSink {
-  std::vector<Step> steps;
-  void step(int axis, int dir, int64_t t_ns) override { steps.push_back({axis, dir, t_ns}); }
-};
+// The steps a decoder emits, with their times (tests/helpers.hpp).
+using Step = test::Recorded;
+using Recorder = test::RecordingSink;
 
 // Feeds (A, B) pairs to a decoder; returns the counts' directions (0 for no change, 9 for illegal).
 std::vector<int> feed(QuadratureDecoder& d, const std::vector<std::pair<int, int>>& ab) {

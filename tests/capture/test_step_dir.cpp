@@ -14,26 +14,16 @@
 #include "capture/capture.hpp"
 #include "capture/tape_compare.hpp"
 #include "capture/vcd.hpp"
+#include "tests/helpers.hpp"
 #include "digitizer/tape.hpp"
 #include "tests/temp_path.hpp"
 
 namespace polarcam {
 namespace {
 
-struct Step {
-  int axis, dir;
-  int64_t t_ns;
-  bool operator==(const Step&) const = default;
-};
-
-std::ostream& operator<<(std::ostream& os, const Step& s) {
-  return os << "{" << s.axis << ", " << s.dir << ", " << s.t_ns << "}";
-}
-
-struct Recorder final : StepSink {
-  std::vector<Step> steps;
-  void step(int axis, int dir, int64_t t_ns) override { steps.push_back({axis, dir, t_ns}); }
-};
+// The steps a decoder emits, with their times (tests/helpers.hpp).
+using Step = test::Recorded;
+using Recorder = test::RecordingSink;
 
 // ---- the decoder ----------------------------------------------------------------------------------------------
 

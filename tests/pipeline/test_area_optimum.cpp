@@ -12,6 +12,7 @@
 
 #include "job/job.hpp"
 #include "optimize/placement.hpp"
+#include "tests/dense_pole_search.hpp"
 #include "pipeline/job_placement.hpp"
 
 using namespace polarcam;
@@ -20,27 +21,9 @@ namespace {
 
 std::string example(const std::string& name) { return std::string(POLARCAM_SOURCE_DIR) + "/examples/" + name + ".toml"; }
 
-[[maybe_unused]] bool long_tests() {
-  const char* e = std::getenv("POLARCAM_LONG_TESTS");
-  return e && std::string(e) == "1";
-}
-
-struct Best {
-  double value = std::numeric_limits<double>::infinity();
-  Vec2 pole{};
-};
-
-// n x n poles over the box, corners included: the least exact area error among the feasible ones
-Best dense(const PoleProblem& p, const SearchBox& b, int n) {
-  std::vector<Vec2> poles;
-  for (int iy = 0; iy < n; ++iy)
-    for (int ix = 0; ix < n; ++ix)
-      poles.push_back({b.x0 + (b.x1 - b.x0) * ix / (n - 1), b.y0 + (b.y1 - b.y0) * iy / (n - 1)});
-  const std::vector<PoleValue> v = evaluate_poles(p, poles, 2);
-  Best best;
-  for (size_t i = 0; i < v.size(); ++i)
-    if (v[i].feasible() && v[i].area_m2 < best.value) best = {v[i].area_m2, poles[i]};
-  return best;
+// The exact area error at a pole (feasible points only), +inf elsewhere.
+double area_at(const PoleValue& v) {
+  return v.feasible() ? v.area_m2 : std::numeric_limits<double>::infinity();
 }
 
 PlacementOptions area_options(const Job& job) {
@@ -58,7 +41,7 @@ class AreaOptimum : public ::testing::TestWithParam<const char*> {};
 TEST_P(AreaOptimum, NoDenseSearchFindsMoreThanHalfAPercentBetter) {
   const std::string name = GetParam();
 #ifdef POLARCAM_SANITIZED
-  if (!long_tests() && name != "testpiece_square") GTEST_SKIP() << "checked in the normal build";
+  if (!test::long_tests() && name != "testpiece_square") GTEST_SKIP() << "checked in the normal build";
 #endif
   const Job job = load_job(example(name));
   const PlacementOptions o = area_options(job);
@@ -70,10 +53,11 @@ TEST_P(AreaOptimum, NoDenseSearchFindsMoreThanHalfAPercentBetter) {
   // the independent search: 15 x 15 over the search box, then 9 x 9 over +-1 cell around the best
   const SearchBox box = search_box(p);
   const int n = 15;
-  const Best coarse = dense(p, box, n);
+  const test::DenseBest coarse = test::dense_search(p, box, n, area_at);
   ASSERT_TRUE(std::isfinite(coarse.value));
   const double hx = (box.x1 - box.x0) / (n - 1), hy = (box.y1 - box.y0) / (n - 1);
-  const Best fine = dense(p, {coarse.pole.x - hx, coarse.pole.x + hx, coarse.pole.y - hy, coarse.pole.y + hy}, 9);
+  const test::DenseBest fine = test::dense_search(
+      p, {coarse.pole.x - hx, coarse.pole.x + hx, coarse.pole.y - hy, coarse.pole.y + hy}, 9, area_at);
   const double best = std::min(coarse.value, fine.value);
   EXPECT_GE(best, 0.995 * found) << name << ": optimize " << found * 1e6 << " mm^2 at (" << r.pole.x << ", "
                                  << r.pole.y << "), dense " << best * 1e6 << " mm^2";
@@ -91,7 +75,7 @@ INSTANTIATE_TEST_SUITE_P(Examples, AreaOptimum,
 // example's work area lifted (r_min 0, no angular range, r_max 33.02 cm) and with no work area at all.
 TEST(AreaOptimum, TheWorkAreaBeyondTheContourDoesNotMatter) {
 #ifdef POLARCAM_SANITIZED
-  if (!long_tests()) GTEST_SKIP() << "checked in the normal build";
+  if (!test::long_tests()) GTEST_SKIP() << "checked in the normal build";
 #endif
   const Job job = load_job(example("limacon"));
   ASSERT_TRUE(job.machine.grid.r_max.has_value());

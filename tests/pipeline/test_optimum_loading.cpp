@@ -17,6 +17,7 @@
 #include "pipeline/job_capacity.hpp"
 #include "pipeline/job_placement.hpp"
 #include "optimize/placement.hpp"
+#include "tests/dense_pole_search.hpp"
 
 using namespace polarcam;
 
@@ -24,32 +25,10 @@ namespace {
 
 std::string example(const std::string& name) { return std::string(POLARCAM_SOURCE_DIR) + "/examples/ch6/" + name + ".toml"; }
 
-[[maybe_unused]] bool long_tests() {
-  const char* e = std::getenv("POLARCAM_LONG_TESTS");
-  return e && std::string(e) == "1";
-}
-
 // The balanced objective's value at a pole (feasible points only), +inf elsewhere.
 double balanced_at(const PoleValue& v) {
   if (!v.feasible() || !v.torque_computed || !v.torque.computed) return std::numeric_limits<double>::infinity();
   return v.torque.balanced;
-}
-
-struct Best {
-  double value = std::numeric_limits<double>::infinity();
-  Vec2 pole{};
-};
-
-Best dense(const PoleProblem& p, const SearchBox& b, int n) {
-  std::vector<Vec2> poles;
-  for (int iy = 0; iy < n; ++iy)
-    for (int ix = 0; ix < n; ++ix)
-      poles.push_back({b.x0 + (b.x1 - b.x0) * ix / (n - 1), b.y0 + (b.y1 - b.y0) * iy / (n - 1)});
-  const std::vector<PoleValue> v = evaluate_poles(p, poles, 2);
-  Best best;
-  for (size_t i = 0; i < v.size(); ++i)
-    if (balanced_at(v[i]) < best.value) best = {balanced_at(v[i]), poles[i]};
-  return best;
 }
 
 class BalancedOptimum : public ::testing::TestWithParam<const char*> {};
@@ -59,7 +38,7 @@ class BalancedOptimum : public ::testing::TestWithParam<const char*> {};
 TEST_P(BalancedOptimum, NoDenseSearchFindsMoreThanOnePercentBetter) {
   const std::string name = GetParam();
 #ifdef POLARCAM_SANITIZED
-  if (!long_tests() && name != "circle_inertial") GTEST_SKIP() << "checked in the normal build";
+  if (!test::long_tests() && name != "circle_inertial") GTEST_SKIP() << "checked in the normal build";
 #endif
   const Job job = load_job(example(name));
   PlacementOptions o = job.optimize;  // as `polarcam optimize` starts (the job's [optimize] section)
@@ -73,10 +52,10 @@ TEST_P(BalancedOptimum, NoDenseSearchFindsMoreThanOnePercentBetter) {
   // the independent search: 33 x 33 over the whole search box, then 21 x 21 over +-1 cell around the best
   const SearchBox box = search_box(p);
   const int n = 33;
-  const Best coarse = dense(p, box, n);
+  const test::DenseBest coarse = test::dense_search(p, box, n, balanced_at);
   ASSERT_TRUE(std::isfinite(coarse.value));
   const double hx = (box.x1 - box.x0) / (n - 1), hy = (box.y1 - box.y0) / (n - 1);
-  const Best fine = dense(p, {coarse.pole.x - hx, coarse.pole.x + hx, coarse.pole.y - hy, coarse.pole.y + hy}, 21);
+  const test::DenseBest fine = test::dense_search(p, {coarse.pole.x - hx, coarse.pole.x + hx, coarse.pole.y - hy, coarse.pole.y + hy}, 21, balanced_at);
   const double best = std::min(coarse.value, fine.value);
   EXPECT_GE(best, 0.99 * found) << name << ": optimize " << found << " at (" << r.pole.x << ", " << r.pole.y
                                 << "), dense " << best;
