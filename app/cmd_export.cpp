@@ -22,13 +22,13 @@ struct Opts {
 };
 
 nlohmann::ordered_json summary_json(const Job& job, const ExportOptions& eo, const ExportResult& r,
-                                    const std::string& out) {
+                                    const std::string& out, uint64_t bytes) {
   nlohmann::ordered_json j;
   j["job"] = job.file;
   j["contour"] = job.contour->name();
   j["format"] = to_string(eo.format);
   j["output"] = out;
-  j["bytes"] = r.content.size();
+  j["bytes"] = bytes;
   j["tolerance_m"] = eo.tolerance;
   j["path_length_m"] = r.path_length_m;
   j["rho_max_m"] = r.rho_max_m;
@@ -62,7 +62,8 @@ nlohmann::ordered_json summary_json(const Job& job, const ExportOptions& eo, con
   return j;
 }
 
-std::string summary_text(const Job& job, const ExportOptions& eo, const ExportResult& r, const std::string& out) {
+std::string summary_text(const Job& job, const ExportOptions& eo, const ExportResult& r, const std::string& out,
+                         uint64_t bytes) {
   std::ostringstream os;
   os << "polarcam export " << job.file << "\n";
   os << "  contour    " << job.contour->name() << ", " << significant(r.path_length_m * 1e3, 6) << " mm long, up to "
@@ -82,7 +83,7 @@ std::string summary_text(const Job& job, const ExportOptions& eo, const ExportRe
        << " mm/s; largest error " << significant(g.max_speed_error_pct, 3) << " % on moves not limited)\n";
   }
   os << "  " << to_string(eo.format) << std::string(9 - std::string(to_string(eo.format)).size(), ' ') << "  " << out
-     << " (" << thousands(r.content.size()) << " bytes)\n";
+     << " (" << thousands(bytes) << " bytes)\n";
   return os.str();
 }
 
@@ -102,15 +103,17 @@ int run(const Opts& o) {
   }
   check_output_path(o.out);
   const Job job = load_job_input(o.input, o.pattern, eo.tolerance);
+  OutputStream file(o.out);  // written as it is made, put in place when whole
   const ExportResult r = [&] {
     TerminalBar bar("export", o.quiet);  // erased before the output
-    return export_job(job, eo, bar.callback());
+    return export_job(job, eo, file.stream(), bar.callback());
   }();
-  write_file_atomic(o.out, r.content);
+  const uint64_t bytes = file.bytes();
+  file.commit();
   if (o.json)
-    std::cout << summary_json(job, eo, r, o.out).dump(2) << "\n";
+    std::cout << summary_json(job, eo, r, o.out, bytes).dump(2) << "\n";
   else
-    std::cout << summary_text(job, eo, r, o.out);
+    std::cout << summary_text(job, eo, r, o.out, bytes);
   return 0;
 }
 

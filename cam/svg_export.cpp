@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <ostream>
+#include <sstream>
 
 #include "cam/error.hpp"
 #include "cam/format.hpp"
@@ -11,7 +13,8 @@
 namespace polarcam {
 namespace {
 
-constexpr int kStartPieces = 16;   // every piece starts as this many chords
+constexpr int kStartPieces = 16;   // a piece starts as up to this many chords,
+constexpr int kStartBudget = 4096; // and the whole curve as about this many (a polyline of 10^5 pieces: one each)
 constexpr int kChecks = 15;        // interior points checked against each chord
 constexpr int kMaxDepth = 30;
 
@@ -53,13 +56,13 @@ std::string mm(double m) {
   return s;
 }
 
-void polyline(std::string& s, const std::vector<Vec2>& pts) {
-  s += "    <polyline points=\"";
+void polyline(std::ostream& s, const std::vector<Vec2>& pts) {
+  s << "    <polyline points=\"";
   for (size_t i = 0; i < pts.size(); ++i) {
-    if (i > 0) s += (i % 8 == 0) ? "\n      " : " ";
-    s += mm(pts[i].x) + "," + mm(pts[i].y);
+    if (i > 0) s << ((i % 8 == 0) ? "\n      " : " ");
+    s << mm(pts[i].x) << ',' << mm(pts[i].y);
   }
-  s += "\"/>\n";
+  s << "\"/>\n";
 }
 
 }  // namespace
@@ -71,10 +74,12 @@ std::vector<Vec2> sample_curve(const Curve& c, double chord_tol) {
     if (b > cuts.back()) cuts.push_back(b);
   if (c.u_end() > cuts.back()) cuts.push_back(c.u_end());
   std::vector<Vec2> out{c.eval(c.u_begin(), 0).p};
+  const size_t pieces = cuts.size() - 1;
+  const int start = static_cast<int>(std::clamp<size_t>(kStartBudget / std::max<size_t>(pieces, 1), 1, kStartPieces));
   for (size_t i = 0; i + 1 < cuts.size(); ++i)
-    for (int k = 0; k < kStartPieces; ++k) {
-      const double ua = cuts[i] + (cuts[i + 1] - cuts[i]) * k / kStartPieces;
-      const double ub = k + 1 == kStartPieces ? cuts[i + 1] : cuts[i] + (cuts[i + 1] - cuts[i]) * (k + 1) / kStartPieces;
+    for (int k = 0; k < start; ++k) {
+      const double ua = cuts[i] + (cuts[i + 1] - cuts[i]) * k / start;
+      const double ub = k + 1 == start ? cuts[i + 1] : cuts[i] + (cuts[i + 1] - cuts[i]) * (k + 1) / start;
       refine(c, ua, out.back(), ub, c.eval(ub, 0).p, chord_tol, 0, out);
     }
   return out;
@@ -86,6 +91,12 @@ std::vector<Vec2> sample_theta_rho(const std::vector<ThetaRho>& v, double chord_
 }
 
 std::string svg_document(const std::vector<SvgPolyline>& lines, const SvgOptions& o) {
+  std::ostringstream s;
+  write_svg_document(s, lines, o);
+  return std::move(s).str();
+}
+
+void write_svg_document(std::ostream& s, const std::vector<SvgPolyline>& lines, const SvgOptions& o) {
   // extent in metres
   double x0 = 0, x1 = 0, y0 = 0, y1 = 0;  // the pole is always shown
   for (const SvgPolyline& l : lines)
@@ -100,25 +111,24 @@ std::string svg_document(const std::vector<SvgPolyline>& lines, const SvgOptions
   x0 -= o.margin, x1 += o.margin, y0 -= o.margin, y1 += o.margin;
   const double size = std::max(x1 - x0, y1 - y0);
   const double stroke = std::max(size * 1.5e-3, 1e-5);  // m
-  std::string s;
-  s += "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
+  s << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
   // y up: the content is drawn in a group flipped about the x axis, so the viewBox spans -y1 .. -y0
-  s += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + mm(x1 - x0) + "mm\" height=\"" + mm(y1 - y0) +
+  s << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + mm(x1 - x0) + "mm\" height=\"" + mm(y1 - y0) +
        "mm\" viewBox=\"" + mm(x0) + " " + mm(-y1) + " " + mm(x1 - x0) + " " + mm(y1 - y0) + "\">\n";
-  if (!o.title.empty()) s += "  <title>" + xml_escape(o.title) + "</title>\n";
-  s += "  <g transform=\"scale(1,-1)\" fill=\"none\" stroke-linecap=\"round\" stroke-linejoin=\"round\">\n";
-  s += "  <g id=\"work-area\" stroke=\"#9e9e9e\" stroke-width=\"" + mm(stroke) + "\">\n";
-  if (o.work_radius) s += "    <circle cx=\"0\" cy=\"0\" r=\"" + mm(*o.work_radius) + "\"/>\n";
-  if (o.work_radius_min > 0.0) s += "    <circle cx=\"0\" cy=\"0\" r=\"" + mm(o.work_radius_min) + "\"/>\n";
+  if (!o.title.empty()) s << "  <title>" + xml_escape(o.title) + "</title>\n";
+  s << "  <g transform=\"scale(1,-1)\" fill=\"none\" stroke-linecap=\"round\" stroke-linejoin=\"round\">\n";
+  s << "  <g id=\"work-area\" stroke=\"#9e9e9e\" stroke-width=\"" + mm(stroke) + "\">\n";
+  if (o.work_radius) s << "    <circle cx=\"0\" cy=\"0\" r=\"" + mm(*o.work_radius) + "\"/>\n";
+  if (o.work_radius_min > 0.0) s << "    <circle cx=\"0\" cy=\"0\" r=\"" + mm(o.work_radius_min) + "\"/>\n";
   const std::string c = mm(4 * stroke), mc = mm(-4 * stroke);
-  s += "    <path d=\"M " + mc + ",0 H " + c + " M 0," + mc + " V " + c + "\"/>\n";
-  s += "  </g>\n";
-  s += "  <g id=\"connecting\" stroke=\"#e65100\" stroke-width=\"" + mm(stroke) + "\" stroke-dasharray=\"" +
+  s << "    <path d=\"M " + mc + ",0 H " + c + " M 0," + mc + " V " + c + "\"/>\n";
+  s << "  </g>\n";
+  s << "  <g id=\"connecting\" stroke=\"#e65100\" stroke-width=\"" + mm(stroke) + "\" stroke-dasharray=\"" +
        mm(4 * stroke) + " " + mm(3 * stroke) + "\">\n";
   for (const SvgPolyline& l : lines)
     if (!l.drawn && l.points.size() >= 2) polyline(s, l.points);
-  s += "  </g>\n";
-  s += "  <g id=\"path\" stroke=\"#0d47a1\" stroke-width=\"" + mm(2 * stroke) + "\">\n";
+  s << "  </g>\n";
+  s << "  <g id=\"path\" stroke=\"#0d47a1\" stroke-width=\"" + mm(2 * stroke) + "\">\n";
   const SvgPolyline* first = nullptr;
   const SvgPolyline* last = nullptr;
   for (const SvgPolyline& l : lines)
@@ -127,18 +137,17 @@ std::string svg_document(const std::vector<SvgPolyline>& lines, const SvgOptions
       if (!first) first = &l;
       last = &l;
     }
-  s += "  </g>\n";
-  s += "  <g id=\"markers\" stroke=\"none\">\n";
+  s << "  </g>\n";
+  s << "  <g id=\"markers\" stroke=\"none\">\n";
   if (first) {
     const Vec2 a = first->points.front(), b = last->points.back();
-    s += "    <circle id=\"start\" fill=\"#2e7d32\" cx=\"" + mm(a.x) + "\" cy=\"" + mm(a.y) + "\" r=\"" + mm(4 * stroke) + "\"/>\n";
-    s += "    <rect id=\"end\" fill=\"#c62828\" x=\"" + mm(b.x - 3 * stroke) + "\" y=\"" + mm(b.y - 3 * stroke) +
+    s << "    <circle id=\"start\" fill=\"#2e7d32\" cx=\"" + mm(a.x) + "\" cy=\"" + mm(a.y) + "\" r=\"" + mm(4 * stroke) + "\"/>\n";
+    s << "    <rect id=\"end\" fill=\"#c62828\" x=\"" + mm(b.x - 3 * stroke) + "\" y=\"" + mm(b.y - 3 * stroke) +
          "\" width=\"" + mm(6 * stroke) + "\" height=\"" + mm(6 * stroke) + "\"/>\n";
   }
-  s += "  </g>\n";
-  s += "  </g>\n";
-  s += "</svg>\n";
-  return s;
+  s << "  </g>\n";
+  s << "  </g>\n";
+  s << "</svg>\n";
 }
 
 }  // namespace polarcam

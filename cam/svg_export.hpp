@@ -4,6 +4,7 @@
 // the spirals the table draws, so it is sampled as those spirals), the moves that connect drawn parts, the work
 // area circle, the pole, and markers at the start and the end. y points up (the drawing is flipped by a
 // transform), the machine pole is the origin. The output depends only on the input: fixed decimals, no dates.
+#include <iosfwd>
 #include <optional>
 #include <string>
 #include <vector>
@@ -28,8 +29,9 @@ struct SvgOptions {
 };
 
 // Points along the curve, its ends and breakpoints included, such that every chord lies within `chord_tol` (m)
-// of the curve piece it replaces (each chord is bisected until 15 points of the piece lie within the tolerance
-// of it and it turns by less than a sixteenth of a turn). Throws InputError for a tolerance that is not positive.
+// of the curve piece it replaces (each piece starts as 16 chords, or fewer when the curve has more than 256
+// pieces (a long polyline: down to one each); each chord is bisected until 15 points of the piece lie within the
+// tolerance of it and it turns by less than a sixteenth of a turn). Throws InputError for a tolerance that is not positive.
 std::vector<Vec2> sample_curve(const Curve& c, double chord_tol);
 
 // The same for a theta-rho polyline (rho in metres): each segment sampled as the spiral piece it is.
@@ -39,5 +41,7 @@ std::vector<Vec2> sample_theta_rho(const std::vector<ThetaRho>& v, double chord_
 // "markers" (start: a filled circle, end: a square, both at the ends of the drawn parts; the pole: a cross).
 // Coordinates are written in mm with 4 decimals.
 std::string svg_document(const std::vector<SvgPolyline>& lines, const SvgOptions& o);
+// The same written to a stream (a large drawing is never held whole).
+void write_svg_document(std::ostream& out, const std::vector<SvgPolyline>& lines, const SvgOptions& o);
 
 }  // namespace polarcam

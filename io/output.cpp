@@ -14,6 +14,8 @@
 #include <cstring>
 #include <filesystem>
 #include <sstream>
+#include <streambuf>
+#include <vector>
 
 #include "cam/error.hpp"
 #include "cam/units.hpp"
@@ -155,6 +157,55 @@ void OutputFile::commit() {
     throw DeviceError("cannot move the finished file into place" + reason(errno), path_);
   tmp_->keep();
   tmp_.reset();
+}
+
+// A stream buffer over the OutputFile's FILE*: writes in blocks of 64 KiB; a short write fails the stream.
+class OutputStream::Buffer : public std::streambuf {
+ public:
+  explicit Buffer(std::FILE* f) : f_(f), block_(1 << 16) { setp(block_.data(), block_.data() + block_.size()); }
+  uint64_t bytes() const { return written_ + static_cast<uint64_t>(pptr() - pbase()); }
+  int error() const { return errno_; }
+
+ protected:
+  int_type overflow(int_type ch) override {
+    if (!drain()) return traits_type::eof();
+    if (traits_type::eq_int_type(ch, traits_type::eof())) return traits_type::not_eof(ch);
+    *pptr() = traits_type::to_char_type(ch);
+    pbump(1);
+    return ch;
+  }
+  int sync() override { return drain() ? 0 : -1; }
+
+ private:
+  bool drain() {
+    const size_t n = static_cast<size_t>(pptr() - pbase());
+    if (n > 0 && std::fwrite(pbase(), 1, n, f_) != n) {
+      if (!errno_) errno_ = errno ? errno : EIO;
+      return false;
+    }
+    written_ += n;
+    setp(block_.data(), block_.data() + block_.size());
+    return true;
+  }
+  std::FILE* f_;
+  std::vector<char> block_;
+  uint64_t written_ = 0;
+  int errno_ = 0;
+};
+
+OutputStream::OutputStream(std::string path)
+    : file_(std::move(path)), buf_(std::make_unique<Buffer>(file_.stream())), os_(std::make_unique<std::ostream>(buf_.get())) {}
+
+OutputStream::~OutputStream() = default;
+
+std::ostream& OutputStream::stream() { return *os_; }
+
+uint64_t OutputStream::bytes() const { return buf_->bytes(); }
+
+void OutputStream::commit() {
+  os_->flush();
+  if (!*os_) throw DeviceError("cannot write the file" + (buf_->error() ? reason(buf_->error()) : std::string()), file_.path());
+  file_.commit();
 }
 
 void copy_to_output(const std::string& from, const std::string& path) {

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <memory>
 #include <optional>
+#include <ostream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -46,6 +47,27 @@ class OutputFile {
   bool through_ = false;
   std::unique_ptr<TempFile> tmp_;
   std::FILE* f_ = nullptr;
+};
+
+// An output written as a stream (an export of any size): the bytes go through a buffer straight into an
+// OutputFile, so nothing holds the whole. commit() flushes, checks every write and puts the file in place;
+// destroyed without commit(), the output is untouched. A failed write sets the stream's badbit and commit()
+// throws the DeviceError.
+class OutputStream {
+ public:
+  explicit OutputStream(std::string path);
+  ~OutputStream();
+  OutputStream(const OutputStream&) = delete;
+  OutputStream& operator=(const OutputStream&) = delete;
+  std::ostream& stream();
+  uint64_t bytes() const;  // written so far
+  void commit();
+
+ private:
+  class Buffer;
+  OutputFile file_;
+  std::unique_ptr<Buffer> buf_;
+  std::unique_ptr<std::ostream> os_;
 };
 
 // Copies the file `from` into the output `path` (as OutputFile does).

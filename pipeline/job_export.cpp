@@ -68,7 +68,7 @@ std::vector<std::vector<ThetaRho>> lifting_strokes(const Job& job, double tolera
   return out;
 }
 
-ExportResult export_lifting(const Job& job, const ExportOptions& o) {
+ExportResult export_lifting(const Job& job, const ExportOptions& o, std::ostream& out) {
   ExportResult r;
   if (o.format == ExportFormat::thr)
     throw InputError("a theta-rho file cannot lift the tool, and this machine lifts it between the drawing's " +
@@ -79,7 +79,6 @@ ExportResult export_lifting(const Job& job, const ExportOptions& o) {
   std::vector<ToolPathPtr> paths;
   const std::vector<std::vector<ThetaRho>> strokes = lifting_strokes(job, o.tolerance, paths);
   for (const ToolPathPtr& p : paths) r.path_length_m += arc_length(*p, p->u_begin(), p->u_end());
-  std::ostringstream out;
   if (o.format == ExportFormat::svg) {
     std::vector<SvgPolyline> lines;
     for (size_t k = 0; k < paths.size(); ++k) {
@@ -94,7 +93,7 @@ ExportResult export_lifting(const Job& job, const ExportOptions& o) {
     so.work_radius = job.machine.grid.r_max;
     so.work_radius_min = job.machine.grid.r_min;
     so.title = job.contour->name();
-    r.content = svg_document(lines, so);
+    write_svg_document(out, lines, so);
     return r;
   }
   for (const auto& v : strokes) {
@@ -103,7 +102,6 @@ ExportResult export_lifting(const Job& job, const ExportOptions& o) {
   }
   const GcodeSpec spec = export_gcode_spec(job, o, r.rho_max_m);
   r.gcode = in_file(job.file, [&] { return write_gcode_lifting(out, strokes, spec, job.motion.speed, source_lines(job, o)); });
-  r.content = out.str();
   return r;
 }
 
@@ -119,14 +117,20 @@ const char* to_string(ExportFormat f) {
 }
 
 ExportResult export_job(const Job& job, const ExportOptions& o, const Progress& progress) {
+  std::ostringstream out;
+  ExportResult r = export_job(job, o, out, progress);
+  r.content = std::move(out).str();
+  return r;
+}
+
+ExportResult export_job(const Job& job, const ExportOptions& o, std::ostream& out, const Progress& progress) {
   if (!(o.tolerance > 0.0) || !std::isfinite(o.tolerance)) throw InputError("must be a positive length", "--tolerance");
-  if (job_lifts_tool(job)) return export_lifting(job, o);
+  if (job_lifts_tool(job)) return export_lifting(job, o, out);
   report_progress(progress, 0.0);
   const ToolPathPtr path = make_job_path(job);
   ExportResult r;
   r.path_length_m = arc_length(*path, path->u_begin(), path->u_end());
   report_progress(progress, 0.2);
-  std::ostringstream out;
   if (o.format == ExportFormat::svg) {
     const std::vector<Vec2> pts = sample_curve(*path, 0.25 * o.tolerance);
     for (Vec2 p : pts) r.rho_max_m = std::max(r.rho_max_m, norm(p));
@@ -136,7 +140,7 @@ ExportResult export_job(const Job& job, const ExportOptions& o, const Progress& 
     so.title = job.contour->name();
     r.points = pts.size();
     report_progress(progress, 0.7);
-    r.content = svg_document({{pts, true}}, so);
+    write_svg_document(out, {{pts, true}}, so);
     report_progress(progress, 1.0);
     return r;
   }
@@ -165,7 +169,6 @@ ExportResult export_job(const Job& job, const ExportOptions& o, const Progress& 
     const GcodeSpec spec = export_gcode_spec(job, o, r.rho_max_m);
     r.gcode = in_file(job.file, [&] { return write_gcode(out, v, spec, job.motion.speed, source_lines(job, o)); });
   }
-  r.content = std::move(out).str();  // the file's bytes moved out, not copied
   report_progress(progress, 1.0);
   return r;
 }

@@ -1,7 +1,8 @@
 #pragma once
 // A job's tool path for sand tables and viewers: the theta-rho file (.thr, rho normalised to the machine's r_max),
 // G-code (machine/gcode, from the machine file's [gcode] table) and an SVG drawing of the path (cam/svg_export).
-// The content is returned; the caller writes it (all or nothing).
+// The file is written to a stream (the caller's all-or-nothing output), never held whole.
+#include <iosfwd>
 #include <optional>
 #include <string>
 
@@ -20,7 +21,7 @@ struct ExportOptions {
 };
 
 struct ExportResult {
-  std::string content;                  // the file's bytes
+  std::string content;                  // the file's bytes (the overload without a stream only)
   size_t vertices = 0;                  // theta-rho vertices (thr, gcode)
   size_t points = 0;                    // polyline points (svg)
   double path_length_m = 0.0;           // the tool path's length
@@ -32,6 +33,9 @@ struct ExportResult {
 // [gcode] table (gcode), a path that leaves r_max or the table radius, a speed profile (gcode: a constant speed
 // is needed), or a bad tolerance.
 // `progress`: the stages done (the path, its vertices or points, the file), 0 to 1.
+// The file is written to `out` (the caller checks the stream).
+ExportResult export_job(const Job& job, const ExportOptions& o, std::ostream& out, const Progress& progress = {});
+// The same with the file's bytes in the result's `content` (small files, tests).
 ExportResult export_job(const Job& job, const ExportOptions& o, const Progress& progress = {});
 
 // "thr", "gcode", "svg"

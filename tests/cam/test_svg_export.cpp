@@ -2,9 +2,11 @@
 // spiral's own equation), the document's frame, groups, markers and determinism.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <vector>
 
 #include "cam/curves.hpp"
 #include "cam/error.hpp"
@@ -51,6 +53,37 @@ TEST(SvgExport, ThetaRhoSegmentsAreSampledAsTheirSpirals) {
     EXPECT_NEAR(norm(pts[k]), 0.01 + 0.005 * theta, 1e-14) << k;
   }
   EXPECT_NEAR(theta, 6.0, 1e-12);
+}
+
+TEST(SvgExport, ALongPolylineIsSampledWithinTheToleranceWithoutSixteenChordsASegment) {
+  // 5000 spiral segments of 0.05 rad each, rho from 10 to 100 mm: every chord within the tolerance of its spiral
+  // (checked at 64 points of the spiral between the chord's ends, found by their angles), and no more chords than
+  // a short segment needs: a segment of 0.05 rad at 100 mm has a sagitta of 100 mm (1 - cos 0.025) = 0.031 mm,
+  // so at 0.025 mm a segment takes one or two chords, not sixteen.
+  std::vector<ThetaRho> v;
+  const int n = 5000;
+  for (int i = 0; i <= n; ++i) v.push_back({0.05 * i, 0.01 + 0.09 * i / n});
+  const double tol = 2.5e-5;
+  const auto pts = sample_theta_rho(v, tol);
+  EXPECT_LE(pts.size(), static_cast<size_t>(3 * n));
+  EXPECT_GE(pts.size(), static_cast<size_t>(n));
+  const auto rho_at = [&](double theta) {  // the spiral through the vertices, linear in theta per segment
+    const double i = std::clamp(theta / 0.05, 0.0, static_cast<double>(n));
+    return 0.01 + 0.09 * i / n;
+  };
+  double theta = 0, worst = 0;
+  for (size_t k = 1; k < pts.size(); ++k) {
+    const double a0 = theta;
+    theta += std::remainder(std::atan2(pts[k].y, pts[k].x) - std::atan2(pts[k - 1].y, pts[k - 1].x), 2 * std::numbers::pi);
+    for (int j = 1; j < 64; ++j) {
+      const double t = a0 + (theta - a0) * j / 64.0, r = rho_at(t);
+      const Vec2 p{r * std::cos(t), r * std::sin(t)}, a = pts[k - 1], b = pts[k], d = b - a;
+      const double u = std::clamp(dot(p - a, d) / dot(d, d), 0.0, 1.0);
+      worst = std::max(worst, norm(p - (a + u * d)));
+    }
+  }
+  EXPECT_LE(worst, tol);
+  EXPECT_NEAR(theta, 0.05 * n, 1e-9);
 }
 
 TEST(SvgExport, DocumentInMillimetresWithYUp) {

@@ -113,6 +113,14 @@ TEST(CliRobust, OutputIntoAFifoIsWrittenIntoIt) {
   EXPECT_EQ(c.code, 0) << c.err;
   EXPECT_TRUE(is_fifo(fifo));
   EXPECT_EQ(csv_reader.finish(), read_file(sc.path("m.csv")));
+
+  // an export (written as a stream) the same way
+  ASSERT_EQ(run_cli("export " + job + " --format svg -o " + sc.path("p.svg")).code, 0);
+  FifoReader svg_reader(fifo);
+  const CliResult e = run_cli("export " + job + " --format svg -o " + fifo);
+  EXPECT_EQ(e.code, 0) << e.err;
+  EXPECT_TRUE(is_fifo(fifo));
+  EXPECT_EQ(svg_reader.finish(), read_file(sc.path("p.svg")));
 }
 
 TEST(CliRobust, DevicesAreWrittenThroughNotReplaced) {
@@ -132,6 +140,9 @@ TEST(CliRobust, DevicesAreWrittenThroughNotReplaced) {
   expect_one_line_error(r, full, 3);
   EXPECT_TRUE(fs::is_symlink(full)) << "the output replaced the link to /dev/full";
   r = run_cli("optimize " + job + " --max-evaluations 30 --map-size 3 --map " + full);
+  expect_one_line_error(r, full, 3);
+  EXPECT_TRUE(fs::is_symlink(full));
+  r = run_cli("export " + job + " --format svg -o " + full);  // written as a stream
   expect_one_line_error(r, full, 3);
   EXPECT_TRUE(fs::is_symlink(full));
   expect_no_partial(sc);
