@@ -15,14 +15,14 @@
 namespace polarcam::process {
 
 struct MillingSignalOptions {
-  double duration_s = 4.0;
-  double sample_rate_hz = 1000.0;
+  double duration_s = 6.0;
+  double sample_rate_hz = 500.0;
   double spindle_rev_per_s = 10.0;
   int teeth = 4;
   double engagement = 0.25;      // fraction of a revolution each tooth cuts (0.25: a quarter, half immersion)
   double peak_force_N = 500.0;   // K f_z: the peak force of a tooth cutting one feed per tooth
   double runout = 0.1;           // r_j amplitude as a fraction of the feed per tooth
-  double noise_N = 5.0;          // standard deviation of the added noise
+  double noise_N = 10.0;         // standard deviation of the added noise
   uint64_t seed = 1;
   std::optional<double> break_at_s;
   int broken_tooth = 0;          // 0 .. teeth-1: the tooth that breaks

@@ -9,6 +9,7 @@
 #include <unsupported/Eigen/FFT>
 
 #include "cam/error.hpp"
+#include "process/force_estimator.hpp"
 
 namespace polarcam::process {
 namespace {
@@ -39,6 +40,50 @@ void add_event(std::vector<MonitorEvent>& events, EventKind kind, double start, 
 }
 
 }  // namespace
+
+MonitorSignal select_signal(const SignalRecord& r, const std::string& file, const std::string& column,
+                            bool estimate, double friction) {
+  MonitorSignal s;
+  s.start_s = r.start_s;
+  s.sample_rate_hz = 1.0 / r.period_s;
+  auto quantity = [](const std::string& name) {
+    auto ends = [&](const char* suffix) {
+      const std::string u(suffix);
+      return name.size() >= u.size() && name.compare(name.size() - u.size(), u.size(), u) == 0;
+    };
+    return ends("_N") ? "force" : ends("_A") ? "current" : "";
+  };
+  if (estimate) {
+    if (!column.empty()) throw InputError("--signal and --estimate-force exclude each other", "--estimate-force");
+    const auto* I = r.find("current_A");
+    const auto* W = r.find("speed_rad_per_s");
+    if (!I || !W)
+      throw InputError("--estimate-force needs the columns current_A and speed_rad_per_s (the feed motor's current "
+                       "and speed)",
+                       file);
+    if (!(std::isfinite(friction) && friction > 0.0))
+      throw InputError("must be a positive friction, e.g. \"0.196 N m s/rad\"", "--friction");
+    FeedDrive d = peng1989_drive();
+    d.B = friction;
+    d.T = r.period_s;
+    s.name = "estimated_force_N";
+    s.quantity = "force";
+    s.x = estimate_force(d, *I, *W);
+    return s;
+  }
+  std::string name = column;
+  if (name.empty()) name = r.find("force_N") ? "force_N" : r.find("current_A") ? "current_A" : r.names.front();
+  const auto* x = r.find(name);
+  if (!x) {
+    std::string have;
+    for (const auto& n : r.names) have += (have.empty() ? "" : ", ") + n;
+    throw InputError("the file has no column " + name + " (it has " + have + ")", "--signal");
+  }
+  s.name = name;
+  s.quantity = quantity(name);
+  s.x = *x;
+  return s;
+}
 
 const char* to_string(EventKind k) {
   switch (k) {

@@ -13,7 +13,23 @@
 #include <string>
 #include <vector>
 
+#include "process/signal_file.hpp"
+
 namespace polarcam::process {
+
+// The signal a monitor watches, taken from a signal file.
+struct MonitorSignal {
+  std::string name;        // the column, or "estimated_force_N"
+  std::string quantity;    // "force", "current" or "" (a column of another unit)
+  double start_s = 0.0, sample_rate_hz = 0.0;
+  std::vector<double> x;
+};
+// The column `column` of `r` (empty: force_N if the file has it, else current_A, else the first column). With
+// `estimate_force`, the feeding force estimated from the columns current_A and speed_rad_per_s by Peng's Eq. 3.40
+// (process/force_estimator.hpp: Appendix A's drive with the friction `friction_N_m_s` and the file's sample
+// period), one sample shorter. InputError naming the file or the option when a column is missing.
+MonitorSignal select_signal(const SignalRecord& r, const std::string& file, const std::string& column,
+                            bool estimate_force, double friction_N_m_s = 0.196);
 
 // The average of the signal over each tooth period: the samples are taken as constant over their sample period
 // (sample k covers [k, k+1) sample periods), and tooth period i, P = f_s / (n Z) samples long (f_s the sample
