@@ -238,3 +238,41 @@ TEST(Monitor, RefusesTooShortARecord) {
 
 }  // namespace
 }  // namespace polarcam::test
+
+namespace polarcam::test {
+namespace {
+
+TEST(SelectSignal, DefaultColumnQuantityAndEstimate) {
+  process::SignalRecord r;
+  r.period_s = 1e-3;
+  r.names = {"speed_rad_per_s", "current_A"};
+  r.columns = {{2, 2, 2}, {5, 5, 5}};
+  auto s = process::select_signal(r, "f.csv", "", false);
+  EXPECT_EQ(s.name, "current_A");  // no force_N: the current
+  EXPECT_EQ(s.quantity, "current");
+  EXPECT_DOUBLE_EQ(s.sample_rate_hz, 1000.0);
+  s = process::select_signal(r, "f.csv", "speed_rad_per_s", false);
+  EXPECT_EQ(s.quantity, "");
+  // Eq. 3.36 in a steady state: F = 1058 (K_t I_a - B W), one sample shorter
+  s = process::select_signal(r, "f.csv", "", true, 0.196);
+  EXPECT_EQ(s.name, "estimated_force_N");
+  ASSERT_EQ(s.x.size(), 2u);
+  EXPECT_NEAR(s.x[0], 1058.0 * (0.3 * 5 - 0.196 * 2), 1e-6);
+  try {
+    process::select_signal(r, "f.csv", "force_N", false);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.place(), "--signal");
+  }
+  r.names = {"force_N", "x"};
+  EXPECT_EQ(process::select_signal(r, "f.csv", "", false).name, "force_N");
+  try {
+    process::select_signal(r, "f.csv", "", true);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.place(), "f.csv");
+  }
+}
+
+}  // namespace
+}  // namespace polarcam::test
