@@ -12,6 +12,7 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 secs="${1:-5}"
 dir="${FUZZ_BUILD_DIR:-build-asan}"
 all="tape job_toml machine_toml thr svg dxf csv_points units expr options protocol_host protocol_controller image vcd"
+all="$all signal_csv"
 read -r -a targets <<< "${FUZZ_TARGETS:-$all}"
 
 bash scripts/configure-sanitized.sh "$dir"
