@@ -184,12 +184,19 @@ void register_controller_sim(CLI::App& app, Action& action) {
           if (n > 0) out.erase(0, static_cast<size_t>(n));
           else ::usleep(1000);
         }
-        // closing the pseudo-terminal discards what the host has not read yet: up to a second for it to read
-        // (the kernel moves the bytes to the host's side asynchronously: they are counted after a moment)
+        // closing the pseudo-terminal discards what the host has not read yet. The kernel moves the bytes to the
+        // host's side asynchronously (later still on a loaded machine), so they are counted only after a moment:
+        // wait until they have been seen there and read (up to 5 s), or, never seen, half a second (a host
+        // blocked in its read takes them at once)
         ::usleep(50000);
-        int queued = 1;
-        for (int tries = 0; tries < 950 && keep >= 0 && ::ioctl(keep, FIONREAD, &queued) == 0 && queued > 0; ++tries)
+        bool seen = false;
+        for (int tries = 0; tries < 5000 && keep >= 0; ++tries) {
+          int queued = 0;
+          if (::ioctl(keep, FIONREAD, &queued) != 0) break;
+          if (queued > 0) seen = true;
+          else if (seen || tries >= 450) break;
           ::usleep(1000);
+        }
       }
       std::fclose(log);
       if (keep >= 0) ::close(keep);
