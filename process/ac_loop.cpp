@@ -230,6 +230,18 @@ std::vector<std::complex<double>> closed_loop_poles(const Eq521& e) {
   return roots;
 }
 
+std::optional<Eq521> eq521_of(const AcLoopSettings& s) {
+  if (!s.spindle_stiffness) return std::nullopt;
+  Eq521 e;
+  e.servo = s.servo;
+  e.K_ac = s.K_ac;
+  e.B = s.B;
+  e.F_nom = s.F_nom;
+  e.K_S = *s.spindle_stiffness;
+  e.K_C_rate = s.cutting_stiffness * 2.0 * std::numbers::pi / (s.teeth * s.spindle_speed_rad_s);
+  return e;
+}
+
 std::optional<double> dominant_damping(const std::vector<std::complex<double>>& poles) {
   for (const auto& p : poles)  // slowest first
     if (p.imag() > 1e-9 * std::abs(p)) return -p.real() / std::abs(p);

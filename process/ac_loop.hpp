@@ -100,6 +100,9 @@ struct Eq521 {
   double K_C_rate = 224.25e3;     // K'_C, N s/m
 };
 std::vector<std::complex<double>> closed_loop_poles(const Eq521& e);
+// Eq. 5.21 for a simulated loop: its servo, gains and F_nom, K_S its spindle stiffness, K'_C = K_C tau; nullopt
+// for a rigid spindle (Eq. 5.21 needs K_S).
+std::optional<Eq521> eq521_of(const AcLoopSettings& s);
 // The damping ratio -Re/|p| of the dominant (slowest) complex pair; nullopt when all the poles are real.
 std::optional<double> dominant_damping(const std::vector<std::complex<double>>& poles);
 

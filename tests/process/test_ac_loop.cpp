@@ -8,6 +8,7 @@
 
 #include "cam/error.hpp"
 #include "process/ac_loop.hpp"
+#include "process/sim_file.hpp"
 
 using namespace polarcam;
 using namespace polarcam::process;
@@ -189,4 +190,43 @@ TEST(ProcessAcLoop, BadSettingsAreRefused) {
   s.F_nom = std::nan("");
   EXPECT_THROW(simulate_ac_loop(s), InputError);
   EXPECT_THROW(closed_loop_poles(sec57(-1, 224.25)), InputError);
+}
+
+// The simulation file: quantities with units into SI, the defaults of the thesis where a key is left out, and an
+// error naming the file, line and key.
+TEST(ProcessAcLoop, SimulationFile) {
+  const std::string text = R"([control]
+K_ac = "25.4 mm/s^2"
+B = "1.0 mm/s"
+F_nom = "1320 N"
+rapid_feed = "750 mm/min"
+strategy = "B"
+[cut]
+teeth = 4
+spindle_speed = "600 rpm"
+cutting_stiffness = "8970 N/mm"
+spindle_stiffness = "7030 N/mm"
+[simulation]
+duration = "1 s"
+[limit]
+force = "3 kN"
+)";
+  const AcProblem p = parse_ac_toml(text, "ac.toml");
+  EXPECT_NEAR(p.settings.K_ac, 0.0254, 1e-15);
+  EXPECT_NEAR(p.settings.B, 0.001, 1e-15);
+  EXPECT_NEAR(p.settings.rapid_feed, 0.0125, 1e-15);
+  EXPECT_NEAR(p.settings.spindle_speed_rad_s, 20 * std::numbers::pi, 1e-12);
+  EXPECT_NEAR(p.settings.cutting_stiffness, 8.97e6, 1e-6);
+  EXPECT_NEAR(*p.settings.spindle_stiffness, 7.03e6, 1e-6);
+  EXPECT_EQ(p.settings.strategy, ImpactStrategy::B);
+  EXPECT_NEAR(p.settings.dda_rate_hz, 5000, 0);
+  EXPECT_NEAR(p.settings.blu_m, 2.54e-6, 1e-18);
+  EXPECT_NEAR(*p.force_limit, 3000, 1e-9);
+  try {
+    parse_ac_toml(std::string(text).replace(text.find("\"1320 N\""), 8, "-5"), "ac.toml");
+    FAIL() << "a negative F_nom was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.place(), "ac.toml:4: key 'control.F_nom'");
+  }
+  EXPECT_THROW(parse_ac_toml("[control]\nK_ac = 1\n", "ac.toml"), InputError);
 }

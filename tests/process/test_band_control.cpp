@@ -6,6 +6,7 @@
 
 #include "cam/error.hpp"
 #include "process/band_control.hpp"
+#include "process/sim_file.hpp"
 
 using namespace polarcam;
 using namespace polarcam::process;
@@ -129,4 +130,49 @@ TEST(ProcessBandControl, BadSettingsAreRefused) {
   EXPECT_THROW(simulate_band_control(s), InputError);
   s = cut(200, 150, 0.0030, 0.0035, 100, 130, 0.25, 0.25, 0.5, 0.7, 30);
   EXPECT_THROW(simulate_band_control(s), InputError);
+}
+
+// The simulation file: the report's units (in/min, lbf, in) into SI, the bands in their order, the tool file
+// relative to the simulation file's folder.
+TEST(ProcessBandControl, SimulationFile) {
+  const std::string text = R"([controller]
+programmed_feed = "30 in/min"
+[cut]
+teeth = 4
+spindle_speed = "2000 rpm"
+specific_force = "180 N/mm^3"
+radial_depth = "0.25 in"
+axial_depth = "0.25 in"
+[simulation]
+duration = "3 s"
+[tool]
+file = "tool.toml"
+[[band]]
+event = "shank failure"
+quantity = "total_force"
+lower = "150 lbf"
+upper = "200 lbf"
+[[band]]
+event = "tooth failure"
+quantity = "feed_per_tooth"
+lower = "0.0030 in"
+upper = "0.0035 in"
+)";
+  const BandProblem p = parse_band_toml(text, "dir/bands.toml");
+  EXPECT_NEAR(p.settings.programmed_feed, 30 * kInPerMin, 1e-15);
+  EXPECT_NEAR(p.settings.cut.specific_force, 1.8e11, 1e-3);
+  ASSERT_EQ(p.settings.bands.size(), 2u);
+  EXPECT_EQ(p.settings.bands[0].event, "shank failure");
+  EXPECT_NEAR(p.settings.bands[0].upper, 200 * kLbf, 1e-9);
+  EXPECT_EQ(p.settings.bands[1].quantity, BandQuantity::feed_per_tooth);
+  EXPECT_NEAR(p.settings.bands[1].lower, 0.003 * kIn, 1e-15);
+  EXPECT_EQ(*p.tool_file, "dir/tool.toml");
+  EXPECT_EQ(p.settings.rate_hz, 100.0);         // the report's defaults
+  EXPECT_EQ(p.settings.step_fraction, 0.01);
+  try {
+    parse_band_toml(std::string(text).replace(text.find("feed_per_tooth"), 14, "torque"), "b.toml");
+    FAIL() << "an unknown quantity was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.place(), "b.toml:20: key 'band.tooth failure.quantity'");
+  }
 }
