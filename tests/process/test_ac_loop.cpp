@@ -151,6 +151,9 @@ TEST(ProcessAcLoop, AlgorithmASettlesAtTheNominalForce) {
   EXPECT_NEAR(r.final_feed, v_expected, 0.01 * v_expected);
   EXPECT_NEAR(r.final_force, 1340, 0.01 * 1340);
   EXPECT_NEAR(ac_steady_feed(sec55(ImpactStrategy::A)), v_expected, 1e-12);
+  // the thesis's feed settles at 365 mm/min (Sec. 5.5) with its tooth-level force model: 3.3 % above the
+  // lumped model's
+  EXPECT_NEAR(r.final_feed, 365 * kMm * kPerMin, 0.035 * 365 * kMm * kPerMin);
 }
 
 // Algorithm B: at the impact the drive's command is held at zero and the table stops on the drive's own pole
