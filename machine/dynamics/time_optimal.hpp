@@ -1,7 +1,7 @@
 #pragma once
 // The fastest safe speed along a path: a time-optimal, torque-limited speed schedule V(s) (docs/time-optimal.md).
-// A. Fahim's thesis (1983), Ch. 6, raises one constant speed until the worst torque ratio reaches 1/SF; its
-// future-work section asks for the speed to follow the path instead. This is the phase-plane method of
+// A. Fahim's thesis (1983), Ch. 6, raises one constant speed until the worst torque ratio reaches 1/SF; Sec. 8.2
+// proposes modifying the timing of the control data for higher speeds and loads. This is the phase-plane method of
 // J. E. Bobrow, S. Dubowsky and J. S. Gibson, "Time-optimal control of robotic manipulators along specified paths"
 // (1985), and K. G. Shin and N. D. McKay (1985), on a grid in s: with x = V^2 and a_t = x'/2, each motor's torque
 // (Eq. 5.15, 5.16) is, at a point, affine in a_t for a given V; its pull-out torque depends on V through the step

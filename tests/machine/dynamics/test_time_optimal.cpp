@@ -83,7 +83,9 @@ TEST(TimeOptimal, CircleAboutThePoleByHand) {
   const double T_hand = t_up + t_dn + (L - s_up - s_dn) / V_cap;
 
   const TimeOptimalSchedule s = time_optimal_speed(c.placed(), m, c.rig.load, c.limits());
-  EXPECT_NEAR(s.total_time(), T_hand, 2e-4 * T_hand);
+  // never faster than the optimum; slower by the planner's margin under each limit (2e-4) and the grid
+  EXPECT_GE(s.total_time(), T_hand * (1 - 1e-5));
+  EXPECT_LE(s.total_time(), T_hand * (1 + 6e-4));
   // the ramp: V^2 at 2 mm along the path against V(s) integrated by hand (ds = V dV / a_up)
   const double s_probe = 0.002;
   ASSERT_LT(s_probe, s_up);
@@ -150,7 +152,9 @@ TEST(TimeOptimal, MaxAccelerationCapsTheRamp) {
   lim.max_acceleration = 0.01;
   const TimeOptimalSchedule s = time_optimal_speed(c.placed(), c.rig.machine, c.rig.load, lim);
   const double s_probe = 0.05;
-  EXPECT_NEAR(s.profile->speed_at(s_probe), std::sqrt(2 * 0.01 * s_probe), 1e-9);
+  const double v_hand = std::sqrt(2 * 0.01 * s_probe);
+  EXPECT_LE(s.profile->speed_at(s_probe), v_hand);
+  EXPECT_NEAR(s.profile->speed_at(s_probe), v_hand, 2e-4 * v_hand);  // the planner's margin under each limit
   EXPECT_EQ(s.stretches.front().binding, Binding::acceleration);
   for (const auto& x : s.check.series) ASSERT_LE(std::abs(x.st.a_t), 0.01 * (1 + 1e-9));
 }
