@@ -211,7 +211,8 @@ class Planner {
     for (size_t i = 1; i < n; ++i)
       if (!(v[i] + v[i - 1] > 0.0))
         throw InputError("the time-optimal schedule stops " + significant(s_[i] * 1e3, 6) +
-                         " mm along the path: no speed there keeps every torque ratio within 1/SF");
+                         " mm along the path: no speed there keeps every torque ratio within 1/SF; lower the load or the "
+                         "safety factor");
     return v;
   }
 
@@ -240,8 +241,13 @@ class Planner {
       } else if (i + 2 == size() && v[i + 1] == 0.0) {
         st.phase = Phase::brake;
         st.binding = Binding::rest;
-      } else {
+      } else if (near(v[i], mvc_[i]) || near(v[i + 1], mvc_[i + 1])) {
+        // riding the limit curve where it rises: alternately on it and accelerating back to it (the grid's
+        // version of following it)
+        st.phase = Phase::limit;
         st.binding = near(v[i], mvc_[i]) ? mvc_by_[i] : mvc_by_[i + 1];
+      } else {
+        st.binding = mvc_by_[i + 1];
       }
       if (!out.empty() && out.back().phase == st.phase && out.back().binding == st.binding) {
         out.back().s1 = st.s1;

@@ -40,6 +40,8 @@ enum class Binding {
 };
 const char* to_string(Binding b);
 
+// limit: on the velocity limit curve (at least one end of each interval on it); accelerate / brake: the acceleration
+// at its bound; transition: neither (within the passes' tolerance).
 enum class Phase { limit, accelerate, brake, transition };
 const char* to_string(Phase p);
 
