@@ -17,7 +17,7 @@ const char* to_string(Binding b) {
 }
 
 const char* to_string(Phase p) {
-  static constexpr const char* kNames[] = {"at the speed limit", "accelerating", "braking", "transition"};
+  static constexpr const char* kNames[] = {"steady", "accelerating", "braking"};
   return kNames[static_cast<int>(p)];
 }
 
@@ -216,43 +216,53 @@ class Planner {
     return v;
   }
 
+  // The constraint closest to its limit at station i with speed V and acceleration a: value / limit.
+  std::pair<double, Binding> tightest(size_t i, double V, double a) const {
+    std::pair<double, Binding> best{0.0, Binding::rest};
+    auto offer = [&](double t, Binding b) {
+      if (t > best.first) best = {t, b};
+    };
+    PointDynamics d;
+    try {
+      d = point_dynamics(path_state(cp_[i], V, a), s_[i], m_, load_, p_.side, FrictionMode::moving);
+    } catch (const OutsideCurveError&) {
+      return {kInf, cap_by_[i]};
+    }
+    offer(std::abs(d.radial.torque) / (d.radial.pullout * limit_), Binding::radial_torque);
+    offer(std::abs(d.angular.torque) / (d.angular.pullout * limit_), Binding::angular_torque);
+    if (std::isfinite(cap_[i]) && cap_[i] > 0.0) offer(V / cap_[i], cap_by_[i]);
+    if (lim_.max_acceleration) offer(std::abs(a) / (*lim_.max_acceleration * (1.0 - kMargin)), Binding::acceleration);
+    return best;
+  }
+
+  // Stretches of the schedule with the same binding constraint (the one closest to its limit on each interval);
+  // a stretch is steady when its speed changes by less than 1 % from end to end.
   std::vector<ScheduleStretch> stretches(const std::vector<double>& v) const {
     std::vector<ScheduleStretch> out;
+    std::vector<std::pair<double, double>> speeds;  // V at the ends of each stretch
     for (size_t i = 0; i + 1 < size(); ++i) {
-      ScheduleStretch st{s_[i], s_[i + 1], Phase::transition, Binding::rest};
       const double h = s_[i + 1] - s_[i];
       const double a = (v[i + 1] * v[i + 1] - v[i] * v[i]) / (2.0 * h);
-      const auto near = [](double x, double y) { return std::abs(x - y) <= 1e-4 * std::max(std::abs(y), 1e-9); };
-      const Bounds b0 = bounds(i, v[i]), b1 = bounds(i + 1, v[i + 1]);
-      // the acceleration of the interval against the extreme one at either end (the passes bisect, so "at the bound"
-      // is to a small fraction of it)
-      const double up = std::min(b0.ok ? b0.hi : kInf, b1.ok ? b1.hi : kInf);
-      const double down = std::max(b0.ok ? b0.lo : -kInf, b1.ok ? b1.lo : -kInf);
-      const double tol_a = 2e-3 * std::max(std::abs(up), std::abs(down)) + 1e-12;
-      if (near(v[i], mvc_[i]) && near(v[i + 1], mvc_[i + 1])) {
-        st.phase = Phase::limit;
-        st.binding = mvc_by_[i];
-      } else if (a > 0.0 && std::isfinite(up) && a >= up - tol_a) {
-        st.phase = Phase::accelerate;
-        st.binding = b0.ok && b0.hi <= up + tol_a ? b0.hi_by : b1.hi_by;
-      } else if (a < 0.0 && std::isfinite(down) && a <= down + tol_a) {
-        st.phase = Phase::brake;
-        st.binding = b1.ok && b1.lo >= down - tol_a ? b1.lo_by : b0.lo_by;
-      } else if (i + 2 == size() && v[i + 1] == 0.0) {
-        st.phase = Phase::brake;
-        st.binding = Binding::rest;
-      } else if (near(v[i], mvc_[i]) || near(v[i + 1], mvc_[i + 1])) {
-        // riding the limit curve where it rises: alternately on it and accelerating back to it (the grid's
-        // version of following it)
-        st.phase = Phase::limit;
-        st.binding = near(v[i], mvc_[i]) ? mvc_by_[i] : mvc_by_[i + 1];
+      const auto t0 = tightest(i, v[i], a), t1 = tightest(i + 1, v[i + 1], a);
+      const Binding b = (i + 2 == size() && v[i + 1] == 0.0 && t0.first < 0.999 && t1.first < 0.999)
+                            ? Binding::rest
+                            : (t0.first >= t1.first ? t0.second : t1.second);
+      if (!out.empty() && out.back().binding == b) {
+        out.back().s1 = s_[i + 1];
+        speeds.back().second = v[i + 1];
       } else {
-        st.binding = mvc_by_[i + 1];
+        out.push_back({s_[i], s_[i + 1], Phase::limit, b});
+        speeds.emplace_back(v[i], v[i + 1]);
       }
-      if (!out.empty() && out.back().phase == st.phase && out.back().binding == st.binding) {
-        out.back().s1 = st.s1;
+    }
+    for (size_t k = 0; k < out.size(); ++k) {
+      const auto [va, vb] = speeds[k];
+      if (vb > 1.01 * va) {
+        out[k].phase = Phase::accelerate;
+      } else if (va > 1.01 * vb) {
+        out[k].phase = Phase::brake;
       } else {
-        out.push_back(st);
+        out[k].phase = Phase::limit;
       }
     }
     return out;

@@ -40,11 +40,12 @@ enum class Binding {
 };
 const char* to_string(Binding b);
 
-// limit: on the velocity limit curve (at least one end of each interval on it); accelerate / brake: the acceleration
-// at its bound; transition: neither (within the passes' tolerance).
-enum class Phase { limit, accelerate, brake, transition };
+// How the speed changes over a stretch: limit ("steady"), by less than 1 % from end to end; accelerate, brake.
+enum class Phase { limit, accelerate, brake };
 const char* to_string(Phase p);
 
+// A stretch of intervals whose binding constraint (the one closest to its limit, as value / limit at the ends of
+// each interval) is the same.
 struct ScheduleStretch {
   double s0 = 0.0, s1 = 0.0;  // m
   Phase phase = Phase::limit;

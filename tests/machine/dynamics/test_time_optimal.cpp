@@ -133,7 +133,6 @@ TEST(TimeOptimal, PassesTheTorqueAnalysisAndIsLocallyOptimal) {
   };
   int tried = 0;
   for (const ScheduleStretch& st : s.stretches) {
-    if (st.phase == Phase::transition) continue;
     for (double f : {0.25, 0.5, 0.75}) {
       const double at = st.s0 + f * (st.s1 - st.s0);
       const size_t j = static_cast<size_t>(std::lround(at / s.profile->length() * (s.stations.size() - 1)));
