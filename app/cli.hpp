@@ -36,18 +36,17 @@ double option_quantity(const std::string& text, const Dim& d, const std::string&
 // Adds one subcommand to `app`; when it is chosen, stores what to run in `action`.
 using Register = void(CLI::App& app, Action& action);
 Register register_digitize, register_inspect, register_dda, register_play, register_controller_sim, register_error,
-    register_optimize, register_analyze, register_motor, register_compare, register_capacity, register_report,
-    register_check, register_preview, register_export, register_trace, register_template_speed, register_capture,
-    register_chatter, register_identify,
-    register_limits, register_cut_force,
-    register_monitor, register_simulate;
+    register_optimize, register_optimize_speed, register_analyze, register_motor, register_compare, register_capacity,
+    register_report, register_check, register_preview, register_export, register_trace, register_template_speed,
+    register_capture, register_chatter, register_identify, register_limits, register_cut_force, register_monitor,
+    register_simulate;
 
 // The subcommands, in the order `polarcam --help` lists them.
 inline constexpr Register* kCommands[] = {
-    register_digitize, register_inspect, register_dda,     register_play,    register_controller_sim, register_error,
-    register_optimize, register_analyze, register_motor,   register_compare, register_capacity,       register_report,
-    register_check,    register_preview,    register_export,  register_trace,
-    register_template_speed, register_capture, register_chatter, register_identify, register_limits, register_cut_force,
-    register_monitor, register_simulate};
+    register_digitize, register_inspect, register_dda, register_play, register_controller_sim, register_error,
+    register_optimize, register_optimize_speed, register_analyze, register_motor, register_compare, register_capacity,
+    register_report, register_check, register_preview, register_export, register_trace, register_template_speed,
+    register_capture, register_chatter, register_identify, register_limits, register_cut_force, register_monitor,
+    register_simulate};
 
 }  // namespace polarcam::cli

@@ -112,6 +112,51 @@ class Table final : public SpeedProfile {
   double t0_ = 0.0;
 };
 
+// V^2 linear in s between stations: constant acceleration on each interval.
+class SquaredTable final : public SpeedProfile {
+ public:
+  SquaredTable(std::vector<SpeedStation> st, double L) : SpeedProfile(L), st_(std::move(st)) {
+    cum_.assign(st_.size(), 0.0);
+    for (size_t i = 1; i < st_.size(); ++i)
+      cum_[i] = cum_[i - 1] + 2.0 * (st_[i].s - st_[i - 1].s) / (st_[i].v + st_[i - 1].v);
+  }
+  double time_at(double s) const override {
+    if (s <= st_.front().s) return 0.0;
+    if (s >= st_.back().s) return cum_.back();
+    const size_t i = seg(s);
+    const double ds = s - st_[i].s;
+    if (!(ds > 0.0)) return cum_[i];
+    return cum_[i] + 2.0 * ds / (st_[i].v + speed_at(s));
+  }
+  double speed_at(double s) const override {
+    if (s <= st_.front().s) return st_.front().v;
+    if (s >= st_.back().s) return st_.back().v;
+    const size_t i = seg(s);
+    const double x0 = st_[i].v * st_[i].v, x1 = st_[i + 1].v * st_[i + 1].v;
+    const double f = (s - st_[i].s) / (st_[i + 1].s - st_[i].s);
+    return std::sqrt(std::max(0.0, x0 + f * (x1 - x0)));
+  }
+  double accel_at(double s) const override {
+    if (s < st_.front().s || s >= st_.back().s) return 0.0;
+    const size_t i = seg(s);
+    return (st_[i + 1].v * st_[i + 1].v - st_[i].v * st_[i].v) / (2.0 * (st_[i + 1].s - st_[i].s));
+  }
+  std::vector<double> kinks() const override {
+    std::vector<double> k;
+    for (const auto& p : st_)
+      if (p.s > 0.0 && p.s < length()) k.push_back(p.s);
+    return k;
+  }
+
+ private:
+  size_t seg(double s) const {
+    auto it = std::upper_bound(st_.begin(), st_.end(), s, [](double v, const SpeedStation& p) { return v < p.s; });
+    return std::min(static_cast<size_t>(it - st_.begin()) - 1, st_.size() - 2);
+  }
+  std::vector<SpeedStation> st_;
+  std::vector<double> cum_;
+};
+
 void check_speed(double v, const char* what) {
   if (!(v > 0.0) || !std::isfinite(v)) throw InputError(std::string(what) + " must be a positive speed");
 }
@@ -161,6 +206,29 @@ SpeedProfilePtr make_table_speed(std::vector<SpeedStation> st, double length) {
   double slowest = st[0].v;
   for (const auto& x : st) slowest = std::min(slowest, x.v);
   return checked(std::make_shared<Table>(std::move(st), length), slowest);
+}
+
+}  // namespace polarcam
+
+namespace polarcam {
+
+SpeedProfilePtr make_table_speed_sq(std::vector<SpeedStation> st, double length) {
+  if (st.size() < 2) throw InputError("a squared-speed table needs at least two stations");
+  if (!(std::abs(st.front().s) == 0.0) || !(st.back().s == length))
+    throw InputError("a squared-speed table must run from arc length 0 to the path's length");
+  for (size_t i = 0; i < st.size(); ++i) {
+    const std::string row = "squared-speed table station " + std::to_string(i + 1);
+    if (!std::isfinite(st[i].s)) throw InputError(row + ": the arc length is not finite");
+    if (!(st[i].v >= 0.0) || !std::isfinite(st[i].v)) throw InputError(row + ": the speed must be zero or positive");
+    if (i > 0 && !(st[i].s > st[i - 1].s)) throw InputError(row + ": arc lengths must increase");
+    if (i > 0 && !(st[i].v + st[i - 1].v > 0.0)) throw InputError(row + ": two neighbouring stations at rest");
+  }
+  double slowest = 0.0;
+  for (size_t i = 1; i < st.size(); ++i) {
+    const double m = 0.5 * (st[i].v + st[i - 1].v);
+    if (slowest == 0.0 || m < slowest) slowest = m;
+  }
+  return checked(std::make_shared<SquaredTable>(std::move(st), length), slowest);
 }
 
 }  // namespace polarcam

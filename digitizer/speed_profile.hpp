@@ -5,7 +5,10 @@
 //  - trapezoid: from rest to V at acceleration a, cruise, and back to rest at the end (triangle when the path
 //    is too short to reach V);
 //  - table: V given at arc-length stations, linear in s between them, held constant beyond the ends
-//    (t is integrated exactly: ds / (V0 + k s) gives a logarithm).
+//    (t is integrated exactly: ds / (V0 + k s) gives a logarithm);
+//  - squared table: V^2 given at stations, linear in s between them (constant tangential acceleration
+//    a = (V1^2 - V0^2) / (2 h) on each interval, the natural output of a phase-plane speed planner); a station may be
+//    at rest, t over an interval is exactly 2 h / (V0 + V1).
 #include <memory>
 #include <vector>
 
@@ -42,5 +45,8 @@ struct SpeedStation {
   double s, v;
 };
 SpeedProfilePtr make_table_speed(std::vector<SpeedStation> stations, double length);
+// Stations (s, V) from s = 0 to s = length, s increasing, V >= 0 and never two neighbours both at rest; V^2 linear in s
+// between them. Throws InputError naming the first offending station.
+SpeedProfilePtr make_table_speed_sq(std::vector<SpeedStation> stations, double length);
 
 }  // namespace polarcam

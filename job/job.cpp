@@ -104,6 +104,14 @@ Machine parse_machine(Section& machine, const jobfile::MachineTables& tables, js
     m.max_angular_speed = *w;
     pm["max_angular_speed_rad_s"] = *w;
   }
+  if (auto a = machine.quantity("max_acceleration", dim::acceleration)) {
+    if (!(*a > 0.0) || !std::isfinite(*a)) machine.fail("max_acceleration", "must be a positive acceleration (e.g. \"0.5 m/s^2\")");
+    m.max_acceleration = *a;
+    pm["max_acceleration_mps2"] = *a;
+  }
+  if (machine.has("max_jerk"))
+    machine.fail("max_jerk", "is not supported: the time-optimal schedule limits the acceleration (max_acceleration), "
+                             "not its rate of change; remove the key");
   if (auto n = machine.integer("counts_per_step")) {
     if (*n < 1 || *n > (int64_t{1} << 20)) machine.fail("counts_per_step", "must be a whole number of encoder counts from 1 to 2^20 (1048576)");
     m.counts_per_step = *n;
@@ -219,10 +227,22 @@ Job load_job(const std::string& path) {
   if (!mo.present()) throw InputError("the [motion] section is missing", path);
   json& pmo = prov["motion"];
   const toml::node* table = mo.node("speed_profile");
-  const bool templ = table && table->is_string();
-  if (templ) {
+  const bool named = table && table->is_string();
+  const bool topt = named && table->value<std::string>() == "time-optimal";
+  const bool templ = named && !topt;
+  if (topt) {
+    // the fastest schedule the dynamics allow, never above `speed`
+    if (!job.machine.dynamics)
+      mo.fail("speed_profile", "\"time-optimal\" needs a machine with dynamics (mechanics and [machine.motor])");
+    job.motion.speed = mo.require_quantity("speed", dim::speed);
+    if (!(job.motion.speed > 0.0)) mo.fail("speed", "must be positive (the top speed the schedule may reach)");
+    job.motion.time_optimal = true;
+    pmo["speed_mps"] = job.motion.speed;
+    pmo["speed_profile"] = "time-optimal";
+    table = nullptr;
+  } else if (templ) {
     if (table->value<std::string>() != "template")
-      mo.fail("speed_profile", "must be \"template\" or a list of [\"arc length\", \"speed\"] pairs");
+      mo.fail("speed_profile", "must be \"template\", \"time-optimal\" or a list of [\"arc length\", \"speed\"] pairs");
     job.motion.speed = mo.require_quantity("speed", dim::speed);
     if (!(job.motion.speed > 0.0)) mo.fail("speed", "must be positive");
     pmo["speed_mps"] = job.motion.speed;
@@ -255,6 +275,7 @@ Job load_job(const std::string& path) {
   if (auto a = mo.quantity("accel", dim::acceleration)) {
     if (!(*a > 0.0)) mo.fail("accel", "must be positive");
     if (table || templ) mo.fail("accel", "cannot be combined with 'speed_profile'");
+    if (topt) mo.fail("accel", "cannot be combined with speed_profile = \"time-optimal\"; give the machine's max_acceleration");
     job.motion.accel = *a;
     pmo["accel_mps2"] = *a;
   }
@@ -354,6 +375,9 @@ SpeedProfilePtr make_job_profile(const Job& job, const ToolPath& path, double le
 }
 
 SpeedProfilePtr make_job_profile(const Job& job, double length) {
+  if (job.motion.time_optimal)
+    throw InputError("[motion] speed_profile = \"time-optimal\" is not available here: it needs the dynamics of the "
+                     "whole path; give 'speed'", job.file);
   if (job.motion.rollers)
     throw InputError("[motion] speed_profile = \"template\" is not available here: it follows the curvature of the "
                      "tool path; give 'speed'", job.file);

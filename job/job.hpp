@@ -31,6 +31,9 @@ struct MotionSpec {
   std::optional<double> accel;           // m/s^2: ramp from rest and back to rest
   std::vector<SpeedStation> table;       // V(s) stations (overrides speed when given)
   std::optional<TemplateRollers> rollers;  // the template digitizer's speed, v = V_t v*(rho / H) (Eq. 3.3)
+  // speed_profile = "time-optimal": the fastest schedule within the torque ratios 1/SF, the machine's step rates,
+  // max_angular_speed and max_acceleration, from rest to rest, never above `speed` (docs/time-optimal.md)
+  bool time_optimal = false;
   StepRule rule = StepRule::nearest;
   TravelSpec travel;
 };
@@ -56,6 +59,8 @@ struct Machine {
   // The arm's top angular speed (rad/s), when given: near the centre, where a turn of the arm hardly moves the
   // ball, steps are timed so that the arm does not turn faster (docs/patterns.md, "The centre").
   std::optional<double> max_angular_speed;
+  // The largest tangential acceleration of the tool (m/s^2), when given: the time-optimal schedule keeps within it.
+  std::optional<double> max_acceleration;
   // Encoder counts per tape step of a captured run (`polarcam capture`, docs/capture.md): a step each time an
   // axis's quadrature count crosses a multiple of it. 1 when not given.
   int64_t counts_per_step = 1;

@@ -184,6 +184,7 @@ Job load_job_or_pattern(const std::string& path, const PatternOptions& o) {
     job.motion.table.clear();
     job.motion.accel.reset();
     job.motion.rollers.reset();
+    job.motion.time_optimal = false;
     job.provenance.erase("template");
     job.provenance["motion"].erase("speed_profile");
     job.provenance["motion"].erase("accel_mps2");

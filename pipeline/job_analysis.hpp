@@ -7,6 +7,7 @@
 #include "io/progress.hpp"
 #include "job/job.hpp"
 #include "machine/dynamics/dynamics_case.hpp"
+#include "machine/dynamics/time_optimal.hpp"
 
 namespace polarcam {
 
@@ -27,6 +28,27 @@ struct DynamicsCase {
   LoadSpec load;
 };
 
+// The time-optimal schedule of a job (docs/time-optimal.md) against the largest constant speed that passes at the
+// same safety factor (the Ch. 6 way: one speed for the whole path, raised until the worst ratio reaches 1/SF).
+struct SpeedPlan {
+  TimeOptimalSchedule schedule;
+  std::optional<double> speed_cap;       // m/s: a time-optimal job's `speed`
+  std::optional<double> constant_speed;  // m/s: the largest passing constant speed; nullopt when none passes
+  bool constant_capped = false;          // that speed is the cap (or 100 times the schedule's top speed)
+  double constant_time = 0.0;            // s: length / constant_speed (+inf when none passes)
+  double time() const { return schedule.total_time(); }
+  double saving() const { return constant_time - time(); }  // s
+};
+
+// The limits of a job's schedule: its safety factor, the machine's max_acceleration and max_angular_speed (step-rate
+// limits come with the motors) and, for a time-optimal job, its speed as the top speed.
+TimeOptimalLimits time_optimal_limits(const Job& job);
+// Throws InputError naming the job file.
+SpeedPlan plan_speed(const Job& job, const PreparedDynamics& prep, const LoadSpec& load,
+                     const AnalysisOptions& check = {});
+// The profile `digitize` follows for a time-optimal job: the schedule of its own path and load.
+SpeedProfilePtr time_optimal_job_profile(const Job& job);
+
 struct CaseResult {
   DynamicsCase spec;
   std::optional<double> speed;  // m/s: the cruise speed (none for a speed table)
@@ -34,6 +56,7 @@ struct CaseResult {
   TorqueAnalysis analysis;
   Verdict verdict;
   SpeedSearch search;  // the largest factor on the speed at which the job passes
+  std::optional<SpeedPlan> plan;  // a time-optimal job: the schedule analysed, and the constant speed it beats
 };
 
 // The motion of the job (a constant-speed or ramp job at `speed` when given; a speed table refuses it), the load

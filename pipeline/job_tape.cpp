@@ -1,5 +1,7 @@
 #include "pipeline/job_tape.hpp"
 
+#include "pipeline/job_analysis.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -187,7 +189,11 @@ DigitizedJob digitize_job(const Job& job, StepSink* sink, const Progress& progre
   else
     d.track = job_polar_track(job, *d.path);
   try {
-    d.profile = make_job_profile(job, *d.path, trp ? d.polyline->length() : d.track.length());
+    if (job.motion.time_optimal && (trp || c != 0.0))
+      throw InputError("[motion] speed_profile = \"time-optimal\" needs a plain polar machine and path (no coupling, "
+                       "no theta-rho pattern)", job.file);
+    d.profile = job.motion.time_optimal ? time_optimal_job_profile(job)
+                                        : make_job_profile(job, *d.path, trp ? d.polyline->length() : d.track.length());
     ProgressSink counted(sink, progress, d.profile->total_time());
     if (progress) sink = &counted;
     if (trp) {

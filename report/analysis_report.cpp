@@ -108,7 +108,7 @@ std::string axis_text(const char* name, const AxisExtremes& e, const AxisDemand 
 }  // namespace
 
 std::string case_label(const CaseResult& c) {
-  std::string s = c.speed ? "V = " + cms(*c.speed) : "speed table";
+  std::string s = c.speed ? "V = " + cms(*c.speed) : (c.plan ? "time-optimal" : "speed table");
   const LoadSpec& l = c.spec.load;
   if (l.kind == LoadKind::inertial || l.mass > 0.0) s += ", M = " + g(l.mass) + " kg";
   if (l.kind == LoadKind::grinding) s += ", d = " + mm(l.grinding.depth);
@@ -167,6 +167,72 @@ std::string verdict_line(const Job& job, const CaseResult& c) {
   return s;
 }
 
+json speed_plan_json(const SpeedPlan& p) {
+  json j;
+  j["time_optimal_s"] = p.time();
+  j["constant_speed_mps"] = p.constant_speed ? json(*p.constant_speed) : json(nullptr);
+  j["constant_speed_capped"] = p.constant_capped;
+  j["constant_time_s"] = num(p.constant_time);
+  j["saving_s"] = num(p.saving());
+  j["saving_percent"] = num(std::isfinite(p.constant_time) ? 100.0 * p.saving() / p.constant_time : p.constant_time);
+  j["speed_cap_mps"] = p.speed_cap ? json(*p.speed_cap) : json(nullptr);
+  double top = 0.0;
+  for (const SpeedStation& st : p.schedule.stations) top = std::max(top, st.v);
+  j["top_speed_mps"] = top;
+  j["stations"] = p.schedule.stations.size();
+  j["worst_torque_ratio"] = num(p.schedule.worst_ratio);
+  j["check_rounds"] = p.schedule.rounds;
+  j["stretches"] = json::array();
+  for (const ScheduleStretch& st : p.schedule.stretches)
+    j["stretches"].push_back({{"s0_m", st.s0}, {"s1_m", st.s1}, {"phase", to_string(st.phase)},
+                              {"binding", to_string(st.binding)}});
+  return j;
+}
+
+std::string speed_plan_text(const SpeedPlan& p) {
+  std::string s;
+  double top = 0.0;
+  for (const SpeedStation& st : p.schedule.stations) top = std::max(top, st.v);
+  s += fmt::format("  {:<10} time-optimal schedule: {} s, top speed {}, from rest to rest ({} stations)\n", "schedule",
+                   g(p.time(), 6), cms(top), p.schedule.stations.size());
+  if (p.constant_speed)
+    s += fmt::format("  {:<10} {} s at the best constant speed {}{} (same safety factor): {} s saved ({} %)\n",
+                     "constant", g(p.constant_time, 6), cms(*p.constant_speed),
+                     p.constant_capped ? (p.speed_cap ? " (the job's speed)" : " (or more)") : "", g(p.saving(), 4),
+                     g(100.0 * p.saving() / p.constant_time, 3));
+  else
+    s += fmt::format("  {:<10} no constant speed passes at this safety factor\n", "constant");
+  // the binding constraints, by share of the path
+  std::map<std::string, double> share;
+  for (const ScheduleStretch& st : p.schedule.stretches)
+    share[std::string(to_string(st.phase)) + ": " + to_string(st.binding)] += st.s1 - st.s0;
+  std::vector<std::pair<double, std::string>> by(share.size());
+  std::transform(share.begin(), share.end(), by.begin(), [](const auto& kv) { return std::pair{-kv.second, kv.first}; });
+  std::sort(by.begin(), by.end());
+  const double L = p.schedule.profile->length();
+  std::string list;
+  for (const auto& [len, what] : by) list += (list.empty() ? "" : "; ") + what + " " + g(-100.0 * len / L, 3) + " %";
+  s += fmt::format("  {:<10} {}\n", "binding", list);
+  return s;
+}
+
+std::string speed_plan_csv(const SpeedPlan& p) {
+  const auto& st = p.schedule.stations;
+  const SpeedProfile& prof = *p.schedule.profile;
+  std::string out = "s_m,t_s,speed_mps,accel_mps2,phase,binding\n";
+  auto it = std::back_inserter(out);
+  size_t k = 0;
+  const auto& stretches = p.schedule.stretches;
+  for (size_t i = 0; i < st.size(); ++i) {
+    while (k + 1 < stretches.size() && st[i].s >= stretches[k].s1) ++k;
+    const double a = i + 1 < st.size() ? (st[i + 1].v * st[i + 1].v - st[i].v * st[i].v) / (2.0 * (st[i + 1].s - st[i].s)) : 0.0;
+    const bool last = i + 1 == st.size() || stretches.empty();
+    fmt::format_to(it, "{:.10g},{:.10g},{:.10g},{:.10g},{},{}\n", st[i].s, prof.time_at(st[i].s), st[i].v, a,
+                   last ? "end" : to_string(stretches[k].phase), last ? "rest" : to_string(stretches[k].binding));
+  }
+  return out;
+}
+
 json case_json(const Job& job, const CaseResult& c) {
   const MachineModel& m = *job.machine.dynamics;
   const TorqueAnalysis& a = c.analysis;
@@ -202,6 +268,7 @@ json case_json(const Job& job, const CaseResult& c) {
                             {"turn_rad", k.turn},
                             {"radial_step_rate_jump_hz", k.radial_rate_jump},
                             {"angular_step_rate_jump_hz", k.angular_rate_jump}});
+  if (c.plan) j["time_optimal"] = speed_plan_json(*c.plan);
   j["message"] = verdict_line(job, c);
   return j;
 }
@@ -210,7 +277,9 @@ std::string case_text(const Job& job, const CaseResult& c) {
   const MachineModel& m = *job.machine.dynamics;
   const TorqueAnalysis& a = c.analysis;
   std::string s;
-  s += fmt::format("  {:<10} {}, load {}\n", "motion", c.speed ? cms(*c.speed) : "speed table", load_text(c));
+  s += fmt::format("  {:<10} {}, load {}\n", "motion", c.speed ? cms(*c.speed) : (c.plan ? "time-optimal" : "speed table"),
+                   load_text(c));
+  if (c.plan) s += speed_plan_text(*c.plan);
   s += axis_text("radial", a.radial, &TorqueSample::radial, m.radial);
   s += axis_text("angular", a.angular, &TorqueSample::angular, m.angular);
   s += fmt::format("  {:<10} max |T_R| + |T_theta| = {} N m at theta = {} rad; max sum of ratios {}\n", "total",

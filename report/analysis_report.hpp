@@ -18,6 +18,13 @@ std::string case_text(const Job& job, const CaseResult& c);
 // One-line verdict, e.g. "GO" or "NO-GO: radial axis needs 1.26 x ...".
 std::string verdict_line(const Job& job, const CaseResult& c);
 
+// A time-optimal schedule against the best constant speed (docs/time-optimal.md): total times, saving, the binding
+// constraint of each stretch; the text is one line per item, indented as case_text.
+nlohmann::ordered_json speed_plan_json(const SpeedPlan& p);
+std::string speed_plan_text(const SpeedPlan& p);
+// The schedule at its stations: s_m,t_s,speed_mps,accel_mps2 (the acceleration up to the next station),phase,binding.
+std::string speed_plan_csv(const SpeedPlan& p);
+
 // The series of every case; a leading `case` column when there are several.
 std::string series_csv(const Job& job, const std::vector<CaseResult>& cases);
 
