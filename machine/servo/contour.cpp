@@ -1,0 +1,256 @@
+#include "machine/servo/contour.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "cam/error.hpp"
+
+namespace polarcam::servo {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kSide = 50e-3;  // m: the test paths' size
+
+// Distance covered at time tau along a leg of length L at speed f with linear ramps of duration ta at both ends
+// (ta = 0: constant speed); the leg lasts L/f + ta.
+double along(double L, double f, double ta, double tau) {
+  if (ta <= 0.0) return std::clamp(f * tau, 0.0, L);
+  const double dur = L / f + ta;
+  if (tau <= 0.0) return 0.0;
+  if (tau >= dur) return L;
+  if (tau < ta) return 0.5 * f * tau * tau / ta;
+  if (tau > dur - ta) {
+    const double r = dur - tau;
+    return L - 0.5 * f * r * r / ta;
+  }
+  return 0.5 * f * ta + f * (tau - ta);
+}
+
+}  // namespace
+
+const char* to_string(TestPath p) {
+  switch (p) {
+    case TestPath::square: return "square";
+    case TestPath::diamond: return "diamond";
+    case TestPath::circle: return "circle";
+  }
+  return "square";
+}
+
+TestPath parse_test_path(const std::string& name) {
+  if (name == "square") return TestPath::square;
+  if (name == "diamond") return TestPath::diamond;
+  if (name == "circle") return TestPath::circle;
+  throw InputError("'" + name + "' is not a test path: give square, diamond or circle", "--path");
+}
+
+Reference test_path(TestPath path, double feed, double T, double ramp, double hold) {
+  if (!(std::isfinite(feed) && feed > 0.0 && feed <= 10.0)) throw InputError("must be a feed above 0 and at most 10 m/s", "--feed");
+  if (!(std::isfinite(ramp) && ramp >= 0.0 && ramp <= 10.0)) throw InputError("must be from 0 to 10 s", "--ramp");
+  Reference r;
+  r.T = T;
+  const double L = kSide;
+  std::vector<std::pair<double, double>> v;  // vertices of a polygon
+  double leg = 0.0, total = 0.0;
+  if (path == TestPath::square) {
+    v = {{0, 0}, {L, 0}, {L, L}, {0, L}, {0, 0}};
+    leg = L;
+  } else if (path == TestPath::diamond) {
+    v = {{-L, 0}, {0, L}, {L, 0}, {0, -L}, {-L, 0}};
+    leg = L * std::sqrt(2.0);
+  }
+  const double circumference = 2.0 * kPi * L;
+  if (path == TestPath::circle) {
+    if (ramp > 0.0 && circumference / feed < ramp) throw InputError("is longer than the circle takes at this feed", "--ramp");
+    total = circumference / feed + ramp;
+  } else {
+    if (ramp > 0.0 && leg / feed < ramp) throw InputError("is longer than a leg takes at this feed", "--ramp");
+    total = (leg / feed + ramp) * 4.0;
+  }
+  const double span = total + hold;
+  if (span / T > 5e7) throw InputError("makes a reference of more than 5e7 samples", "--feed");
+  const size_t n = static_cast<size_t>(std::ceil(span / T - 1e-9)) + 1;
+  r.q[0].resize(n);
+  r.q[1].resize(n);
+  const double leg_time = leg / feed + ramp;
+  for (size_t k = 0; k < n; ++k) {
+    const double t = static_cast<double>(k) * T;
+    double x, y;
+    if (path == TestPath::circle) {
+      const double phi = along(circumference, feed, ramp, t) / L;  // Eq. 4.104, 4.105 with w t = s/R
+      x = L * std::sin(phi);
+      y = L * std::cos(phi);
+    } else {
+      const size_t i = std::min<size_t>(3, static_cast<size_t>(std::max(0.0, std::floor(t / leg_time))));
+      const double d = along(leg, feed, ramp, t - static_cast<double>(i) * leg_time) / leg;
+      x = v[i].first + (v[i + 1].first - v[i].first) * d;
+      y = v[i].second + (v[i + 1].second - v[i].second) * d;
+    }
+    r.q[0][k] = x;
+    r.q[1][k] = y;
+  }
+  return r;
+}
+
+double signed_distance(const std::vector<double>& x, const std::vector<double>& y, size_t i0, size_t i1, double px,
+                       double py, double& at) {
+  double best = -1.0, sign_best = 1.0;
+  at = static_cast<double>(i0);
+  for (size_t i = i0; i < i1; ++i) {
+    const double dx = x[i + 1] - x[i], dy = y[i + 1] - y[i];
+    const double l2 = dx * dx + dy * dy;
+    if (l2 == 0.0) {
+      if (best < 0.0) {  // a stationary reference: the distance to its point
+        best = std::hypot(px - x[i], py - y[i]);
+        at = static_cast<double>(i);
+      }
+      continue;
+    }
+    const double u = std::clamp(((px - x[i]) * dx + (py - y[i]) * dy) / l2, 0.0, 1.0);
+    const double qx = x[i] + u * dx - px, qy = y[i] + u * dy - py;
+    const double d = std::hypot(qx, qy);
+    if (best < 0.0 || d < best) {
+      best = d;
+      at = static_cast<double>(i) + u;
+      // right of the travel: the cross product of the direction and (p - q) is negative
+      const double cross = dx * (-qy) - dy * (-qx);
+      sign_best = cross > 0.0 ? -1.0 : 1.0;
+    }
+  }
+  return best < 0.0 ? 0.0 : best * sign_best;
+}
+
+ContourResult run_contour(const Drives& drives, const Reference& ref, const ServoOptions& opt) {
+  const size_t n = ref.q[0].size();
+  if (n < 2 || ref.q[1].size() != n) throw InputError("the reference needs at least two samples of both axes");
+  if (drives.axis[0].params.T != ref.T) throw InputError("the reference is not sampled at the drives' sample period");
+  if (!(opt.tolerance > 0.0 && std::isfinite(opt.tolerance))) throw InputError("must be a positive length", "--tolerance");
+  ContourResult c;
+  c.polar = drives.polar;
+  c.T = ref.T;
+  c.tolerance = opt.tolerance;
+  c.t.resize(n);
+  for (size_t k = 0; k < n; ++k) c.t[k] = static_cast<double>(k) * ref.T;
+  double settle[2];
+  for (int a = 0; a < 2; ++a) {
+    const AxisDrive& d = drives.axis[a];
+    const double per = d.per_count();
+    std::vector<double> counts(n);
+    for (size_t k = 0; k < n; ++k) {
+      counts[k] = ref.q[a][k] / per;
+      if (!std::isfinite(counts[k]) || std::abs(counts[k]) > 1e15)
+        throw InputError("the reference of axis " + d.name + " is beyond 1e15 encoder counts");
+    }
+    ServoAxis axis(d.params, counts[0]);
+    settle[a] = axis.model().settling_time;
+    c.ref[a] = ref.q[a];
+    c.act[a].resize(n);
+    c.current[a].resize(n);
+    for (size_t k = 0; k < n; ++k) {
+      const ServoSample s = axis.step(counts[k], opt.cutting_torque[a]);
+      c.act[a][k] = s.X_a * per;
+      c.current[a][k] = s.I_a;
+      c.max_current[a] = std::max(c.max_current[a], std::abs(s.I_a));
+    }
+  }
+  // the tool point
+  for (int i = 0; i < 2; ++i) {
+    c.ref_xy[i].resize(n);
+    c.act_xy[i].resize(n);
+  }
+  for (size_t k = 0; k < n; ++k) {
+    if (c.polar) {
+      c.ref_xy[0][k] = c.ref[0][k] * std::cos(c.ref[1][k]);
+      c.ref_xy[1][k] = c.ref[0][k] * std::sin(c.ref[1][k]);
+      c.act_xy[0][k] = c.act[0][k] * std::cos(c.act[1][k]);
+      c.act_xy[1][k] = c.act[0][k] * std::sin(c.act[1][k]);
+    } else {
+      for (int i = 0; i < 2; ++i) {
+        c.ref_xy[i][k] = c.ref[i][k];
+        c.act_xy[i][k] = c.act[i][k];
+      }
+    }
+  }
+  c.s.assign(n, 0.0);
+  for (size_t k = 1; k < n; ++k)
+    c.s[k] = c.s[k - 1] + std::hypot(c.ref_xy[0][k] - c.ref_xy[0][k - 1], c.ref_xy[1][k] - c.ref_xy[1][k - 1]);
+  // contour error: the actual point against the reference path from 1 s (the axes lag by the following error over
+  // the speed, some 15 ms for J. Peng's drives) behind to 50 samples ahead
+  const size_t back = static_cast<size_t>(std::ceil(1.0 / ref.T)), ahead = 50;
+  c.e_c.resize(n);
+  std::vector<double> s_near(n);
+  for (size_t k = 0; k < n; ++k) {
+    const size_t i0 = k > back ? k - back : 0, i1 = std::min(n - 1, k + ahead);
+    double at = 0.0;
+    c.e_c[k] = signed_distance(c.ref_xy[0], c.ref_xy[1], i0, i1, c.act_xy[0][k], c.act_xy[1][k], at);
+    const size_t i = std::min(n - 2, static_cast<size_t>(at));
+    s_near[k] = c.s[i] + (at - static_cast<double>(i)) * (c.s[i + 1] - c.s[i]);
+    if (std::abs(c.e_c[k]) > c.max_abs_contour_error) {
+      c.max_abs_contour_error = std::abs(c.e_c[k]);
+      c.max_at_t = c.t[k];
+      c.max_at_s = s_near[k];
+      c.max_at_x = c.act_xy[0][k];
+      c.max_at_y = c.act_xy[1][k];
+    }
+  }
+  for (size_t k = 0; k < n;) {
+    if (std::abs(c.e_c[k]) <= opt.tolerance) {
+      ++k;
+      continue;
+    }
+    Interval iv;
+    iv.t_begin = c.t[k];
+    iv.s_begin = s_near[k];
+    for (; k < n && std::abs(c.e_c[k]) > opt.tolerance; ++k) {
+      iv.t_end = c.t[k];
+      iv.s_end = s_near[k];
+      iv.max_abs_error = std::max(iv.max_abs_error, std::abs(c.e_c[k]));
+    }
+    c.out_of_tolerance.push_back(iv);
+  }
+  // following error at steady speed
+  const size_t w = 10;
+  for (int a = 0; a < 2; ++a) {
+    const std::vector<double>& q = c.ref[a];
+    size_t best_begin = 0, best_end = 0;
+    double best_speed = 0.0;
+    size_t k = w;
+    while (k < n) {
+      const double v0 = (q[k] - q[k - w]) / (static_cast<double>(w) * ref.T);
+      if (!(std::abs(v0) > 0.0)) {
+        ++k;
+        continue;
+      }
+      size_t j = k + 1;
+      double sum = v0;
+      while (j < n) {
+        const double v = (q[j] - q[j - w]) / (static_cast<double>(w) * ref.T);
+        if (std::abs(v - v0) > 0.01 * std::abs(v0)) break;
+        sum += v;
+        ++j;
+      }
+      if (j - k > best_end - best_begin) {
+        best_begin = k;
+        best_end = j;
+        best_speed = sum / static_cast<double>(j - k);
+      }
+      k = j;
+    }
+    const size_t skip = static_cast<size_t>(std::ceil(settle[a] / ref.T));
+    SteadyError& st = c.steady[a];
+    if (best_end > best_begin + skip + w) {
+      const size_t b = best_begin + skip;
+      double sum = 0.0;
+      for (size_t i = b; i < best_end; ++i) sum += c.ref[a][i] - c.act[a][i];
+      st.found = true;
+      st.speed = best_speed;
+      st.error = sum / static_cast<double>(best_end - b) * (best_speed > 0.0 ? 1.0 : -1.0);
+      st.error_counts = st.error / drives.axis[a].per_count();
+      st.t_begin = c.t[b];
+      st.t_end = c.t[best_end - 1];
+    }
+  }
+  return c;
+}
+
+}  // namespace polarcam::servo
