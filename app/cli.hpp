@@ -40,12 +40,14 @@ Register register_digitize, register_inspect, register_dda, register_play, regis
     register_check, register_preview, register_export, register_trace, register_template_speed, register_capture,
     register_chatter, register_identify,
     register_limits, register_cut_force;
+Register register_servo;
 
 // The subcommands, in the order `polarcam --help` lists them.
 inline constexpr Register* kCommands[] = {
     register_digitize, register_inspect, register_dda,     register_play,    register_controller_sim, register_error,
     register_optimize, register_analyze, register_motor,   register_compare, register_capacity,       register_report,
     register_check,    register_preview,    register_export,  register_trace,
-    register_template_speed, register_capture, register_chatter, register_identify, register_limits, register_cut_force};
+    register_template_speed, register_capture, register_chatter, register_identify, register_limits, register_cut_force,
+    register_servo};
 
 }  // namespace polarcam::cli

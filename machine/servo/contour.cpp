@@ -209,15 +209,16 @@ ContourResult run_contour(const Drives& drives, const Reference& ref, const Serv
     c.out_of_tolerance.push_back(iv);
   }
   // following error at steady speed
-  const size_t w = 10;
+  const size_t w = 100;
   for (int a = 0; a < 2; ++a) {
     const std::vector<double>& q = c.ref[a];
+    const double jitter = 1.5 * ref.quantum[a] / (static_cast<double>(w) * ref.T);
     size_t best_begin = 0, best_end = 0;
     double best_speed = 0.0;
     size_t k = w;
     while (k < n) {
       const double v0 = (q[k] - q[k - w]) / (static_cast<double>(w) * ref.T);
-      if (!(std::abs(v0) > 0.0)) {
+      if (!(std::abs(v0) > jitter)) {
         ++k;
         continue;
       }
@@ -225,7 +226,7 @@ ContourResult run_contour(const Drives& drives, const Reference& ref, const Serv
       double sum = v0;
       while (j < n) {
         const double v = (q[j] - q[j - w]) / (static_cast<double>(w) * ref.T);
-        if (std::abs(v - v0) > 0.01 * std::abs(v0)) break;
+        if (std::abs(v - v0) > std::max(1e-3 * std::abs(v0), jitter)) break;
         sum += v;
         ++j;
       }
@@ -248,6 +249,17 @@ ContourResult run_contour(const Drives& drives, const Reference& ref, const Serv
       st.error_counts = st.error / drives.axis[a].per_count();
       st.t_begin = c.t[b];
       st.t_end = c.t[best_end - 1];
+    }
+  }
+  if (c.steady[0].found && c.steady[1].found) {
+    const double b = std::max(c.steady[0].t_begin, c.steady[1].t_begin);
+    const double e = std::min(c.steady[0].t_end, c.steady[1].t_end);
+    if (e > b) {
+      const size_t kb = static_cast<size_t>(std::llround(b / ref.T)), ke = static_cast<size_t>(std::llround(e / ref.T));
+      double sum = 0.0;
+      for (size_t k = kb; k <= ke; ++k) sum += c.e_c[k];
+      c.steady_contour_found = true;
+      c.steady_contour_error = sum / static_cast<double>(ke - kb + 1);
     }
   }
   return c;

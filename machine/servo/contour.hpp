@@ -15,6 +15,7 @@ namespace polarcam::servo {
 struct Reference {
   double T = 1e-3;
   std::vector<double> q[2];
+  double quantum[2] = {0.0, 0.0};  // the positions' step (a tape's resolution), 0 when continuous
 };
 
 // J. Peng's test paths (Sec. 4.3, Fig. 4.28), Cartesian, traversed at a constant path speed `feed` (m/s):
@@ -29,8 +30,9 @@ TestPath parse_test_path(const std::string& name);  // InputError naming --path
 const char* to_string(TestPath p);
 
 // Following error of one axis at steady speed: the time average of X_r - X_a (sign of the motion: positive is a
-// lag) over the longest stretch on which the reference's speed (averaged over 10 samples) stays within 1 % of one
-// value, less its first settling_time of the model (10 time constants of the slowest mode).
+// lag) over the longest stretch on which the reference's speed (averaged over 100 samples) stays within 0.1 % of
+// one value (or within 1.5 quanta per 100 samples for a stepped reference), less the model's settling time (10
+// time constants of its slowest mode).
 struct SteadyError {
   bool found = false;
   double speed = 0.0;          // the stretch's reference speed (m/s or rad/s, signed)
@@ -63,6 +65,10 @@ struct ContourResult {
   double max_abs_contour_error = 0.0;     // m
   double max_at_t = 0.0, max_at_s = 0.0, max_at_x = 0.0, max_at_y = 0.0;
   double max_current[2] = {0.0, 0.0};     // A, largest |I_a|
+  // the contour error at steady speed: its mean over the time both axes are steady (their stretches overlap),
+  // e.g. the straight-line error of mismatched axes (Eq. 4.91); not found when they do not overlap
+  bool steady_contour_found = false;
+  double steady_contour_error = 0.0;      // m
   double tolerance = 0.0;
   std::vector<Interval> out_of_tolerance;
   bool within_tolerance() const { return out_of_tolerance.empty(); }

@@ -86,7 +86,7 @@ DiscreteModel discretise(const ServoParams& p) {
   const int n = integral ? 5 : 4;
   const double kpkd = p.K_p * p.K_d;
   Eigen::MatrixXd G = Eigen::MatrixXd::Zero(n, n), Gam = Eigen::MatrixXd::Zero(n, 2);
-  G(0, 0) = -p.b;
+  G(0, 0) = 0.0 - p.b;  // +0 when b = 0
   G(0, 3) = -kpkd * (p.a - p.b);
   Gam(0, 0) = kpkd * (p.a - p.b);
   for (int i = 0; i < 3; ++i) {
@@ -154,6 +154,84 @@ std::vector<ServoSample> simulate(const ServoParams& p, const std::vector<double
   out.reserve(X_r.size());
   for (double x : X_r) out.push_back(axis.step(x, T_c));
   return out;
+}
+
+}  // namespace polarcam::servo
+
+namespace polarcam::servo {
+namespace {
+
+// The first frequency (Hz) from f_lo up to f_hi at which mag(f) falls through `level`, by a logarithmic scan and
+// bisection; 0 when it does not.
+template <class F>
+double first_fall(F mag, double level, double f_lo, double f_hi) {
+  double a = f_lo;
+  const int n = 4000;
+  for (int i = 1; i <= n; ++i) {
+    const double b = f_lo * std::pow(f_hi / f_lo, static_cast<double>(i) / n);
+    if (mag(b) < level) {
+      double lo = a, hi = b;
+      for (int k = 0; k < 100; ++k) {
+        const double m = 0.5 * (lo + hi);
+        (mag(m) < level ? hi : lo) = m;
+      }
+      return 0.5 * (lo + hi);
+    }
+    a = b;
+  }
+  return 0.0;
+}
+
+}  // namespace
+
+ModelReport model_report(const ServoParams& p) {
+  ModelReport r;
+  r.model = discretise(p);
+  r.velocity = velocity_loop(p);
+  r.omega_n = std::sqrt(r.velocity.K3);
+  r.zeta = r.velocity.K2 / (2.0 * r.omega_n);
+  r.K_p_prime = p.K_p * (1.0 - p.a) / (1.0 - p.b);
+  r.a_prime = 2.0 / p.T * (1.0 + p.a) / (1.0 - p.a);
+  r.b_prime = 2.0 / p.T * (1.0 + p.b) / (1.0 - p.b);
+  const double D1 = p.K_p * (1.0 + p.a) / (1.0 + p.b);
+  r.following_error_per_speed = p.C_I > 0.0 ? 0.0 : r.velocity.K3 / (r.velocity.K1 * p.K_e * p.K_d * D1);
+  // a constant torque of 1 N m on the axis at rest, until the slowest mode has decayed 30 time constants
+  {
+    ServoAxis axis(p);
+    const long n = static_cast<long>(std::ceil(3.0 * r.model.settling_time / p.T)) + 10;
+    ServoSample s;
+    for (long k = 0; k < n && k < 100000000L; ++k) s = axis.step(0.0, 1.0);
+    s = axis.step(0.0, 1.0);
+    r.counts_per_Nm = -s.X_a;
+  }
+  // Eq. 3.64 on the continuous model
+  const double Ra = p.R_a + p.K_v * p.K_a, Kg = p.K_b + p.K_v * p.K_I * p.T_g * p.H_g, P = p.K_v * p.K_I * p.S_g;
+  const double bp = r.b_prime, ap = r.a_prime, F = P * r.K_p_prime * p.K_d * p.K_e;
+  const double g2 = Kg, g1 = bp * Kg + F, g0 = F * ap;
+  const double a4 = p.L_a * p.J_e, a3 = p.J_e * Ra + p.B * p.L_a + bp * p.L_a * p.J_e;
+  const double a2 = bp * (p.J_e * Ra + p.B * p.L_a) + p.B * Ra + p.K_t * Kg;
+  const double a1 = bp * (p.B * Ra + p.K_t * Kg) + p.K_t * F, a0 = p.K_t * F * ap;
+  const double rest = 1.0 / p.K_t, level = rest / std::sqrt(2.0);
+  auto continuous_mag = [&](double f) {
+    const std::complex<double> s(0.0, 2.0 * 3.14159265358979323846 * f);
+    return std::abs((g2 * s * s + g1 * s + g0) / ((((a4 * s + a3) * s + a2) * s + a1) * s + a0));
+  };
+  r.current_bandwidth_Hz = first_fall(continuous_mag, level, 0.01, 1e5);
+  // the sampled model: I_a(z)/T_c(z) = e_I^T (zI - G)^{-1} Gamma_T
+  const int n = static_cast<int>(r.model.G.size());
+  Eigen::MatrixXcd G(n, n);
+  Eigen::VectorXcd g(n);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) G(i, j) = r.model.G[i][j];
+    g(i) = r.model.Gamma[i][1];
+  }
+  auto discrete_mag = [&](double f) {
+    const std::complex<double> z = std::exp(std::complex<double>(0.0, 2.0 * 3.14159265358979323846 * f * p.T));
+    const Eigen::MatrixXcd M = z * Eigen::MatrixXcd::Identity(n, n) - G;
+    return std::abs(M.partialPivLu().solve(g)(1));
+  };
+  r.current_bandwidth_discrete_Hz = first_fall(discrete_mag, level, 0.01, 0.5 / p.T);
+  return r;
 }
 
 }  // namespace polarcam::servo

@@ -85,3 +85,21 @@ class ServoAxis {
 std::vector<ServoSample> simulate(const ServoParams& p, const std::vector<double>& X_r, double T_c = 0.0);
 
 }  // namespace polarcam::servo
+
+namespace polarcam::servo {
+
+// What `polarcam servo --report-model` prints of one axis (docs/feed-drives.md).
+struct ModelReport {
+  VelocityLoop velocity;                 // Eq. 2.14
+  double omega_n = 0.0, zeta = 0.0;      // Eq. 2.32: sqrt(K3), K2/(2 sqrt(K3))
+  double K_p_prime = 0.0, a_prime = 0.0, b_prime = 0.0;  // the filter's continuous equivalent (Eq. 3.44, Tustin)
+  DiscreteModel model;                   // Eq. 2.31
+  double following_error_per_speed = 0.0;  // counts of error per count/s of speed: Eq. 4.85, K3/(K1 K_e K_d D(1))
+  double counts_per_Nm = 0.0;            // the table's yield under a constant cutting torque, simulated to rest (Eq. 4.101)
+  // |I_a/T_c| at 1/sqrt(2) of its value at rest (1/K_t): of the continuous model of Eq. 3.52/3.64 (with the
+  // filter's continuous equivalent; alpha_2, alpha_1 with K_b + K_v K_I T_g H_g) and of the exact sampled model
+  double current_bandwidth_Hz = 0.0, current_bandwidth_discrete_Hz = 0.0;  // 0 when not below 1/sqrt(2) to Nyquist
+};
+ModelReport model_report(const ServoParams& p);
+
+}  // namespace polarcam::servo

@@ -26,6 +26,8 @@ Reference StepSampler::sample(double T, double hold) const {
   const size_t n = static_cast<size_t>(std::ceil(span / T - 1e-9)) + 1;
   Reference r;
   r.T = T;
+  r.quantum[0] = res_[0];
+  r.quantum[1] = res_[1];
   r.q[0].resize(n);
   r.q[1].resize(n);
   int64_t node[2] = {start_[0], start_[1]};

@@ -277,3 +277,36 @@ TEST(ServoAxis, RefusesBadParameters) {
     EXPECT_EQ(e.place(), "K_p");
   }
 }
+
+TEST(ServoAxis, ModelReport) {
+  const ServoParams p = appendix_a();
+  const ModelReport r = model_report(p);
+  // Eq. 4.101 evaluated with Appendix A gives 7.2574 counts/N m; printed 7.2516 (Eq. 4.102)
+  EXPECT_NEAR(r.counts_per_Nm, 7.2574, 5e-5);
+  EXPECT_NEAR(r.counts_per_Nm, 7.2516, 0.001 * 7.2516);
+  // the filter's continuous equivalent (Eq. 3.44) keeps the DC gain of D(z)
+  EXPECT_NEAR(r.K_p_prime * r.a_prime / r.b_prime, 2.5 * (1 - 0.8825), 1e-12);
+  // Eq. 3.64 with K_b + K_v K_I T_g H_g falls to 1/sqrt(2) at 118.9 Hz; "about 120 Hz" (Sec. 3.4.4)
+  EXPECT_NEAR(r.current_bandwidth_Hz, 118.9, 0.05);
+  EXPECT_NEAR(r.current_bandwidth_Hz, 120.0, 0.02 * 120.0);
+  // the sampled model's bandwidth, checked by driving the simulated axis with a sine of torque at that frequency:
+  // the current's amplitude at steady state is 1/(sqrt(2) K_t) per N m
+  const double f = r.current_bandwidth_discrete_Hz;
+  ASSERT_GT(f, 10.0);
+  ServoAxis axis(p);
+  double amp = 0.0;
+  const int n = 20000;
+  double re = 0.0, im = 0.0;
+  int m = 0;
+  for (int k = 0; k < n; ++k) {
+    const double t = k * p.T;
+    const ServoSample s = axis.step(0.0, std::sin(2 * kPi * f * t));
+    if (k >= n / 2) {  // the transient gone: the fundamental's amplitude by correlation
+      re += s.I_a * std::cos(2 * kPi * f * t);
+      im += s.I_a * std::sin(2 * kPi * f * t);
+      ++m;
+    }
+  }
+  amp = 2.0 * std::hypot(re, im) / m;
+  EXPECT_NEAR(amp, 1.0 / (std::sqrt(2.0) * p.K_t), 0.01 / p.K_t);
+}
