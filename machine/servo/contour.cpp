@@ -1,6 +1,7 @@
 #include "machine/servo/contour.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "cam/error.hpp"
@@ -90,6 +91,114 @@ Reference test_path(TestPath path, double feed, double T, double ramp, double ho
     r.q[1][k] = y;
   }
   return r;
+}
+
+SplineSegment hermite_segment(const double p0[2], const double v0[2], const double p1[2], const double v1[2], double dt) {
+  // B*^-1 of Eq. 4.135: rows multiply r(t0), r'(t0) dt, r(t1), r'(t1) dt; columns give s^3, s^2, s, 1
+  static const double Binv[4][4] = {{2, -3, 0, 1}, {1, -2, 1, 0}, {-2, 3, 0, 0}, {1, -1, 0, 0}};
+  SplineSegment g;
+  g.dt = dt;
+  for (int i = 0; i < 2; ++i) {
+    const double R[4] = {p0[i], v0[i] * dt, p1[i], v1[i] * dt};
+    for (int c = 0; c < 4; ++c) {
+      double sum = 0.0;
+      for (int k = 0; k < 4; ++k) sum += R[k] * Binv[k][c];
+      g.A[i][c] = sum;
+    }
+  }
+  return g;
+}
+
+SplinedPath test_path_with_splines(TestPath path, double feed, double T, int segments, double reach, double hold) {
+  if (path == TestPath::circle) throw InputError("the circle has no corners to blend: give square or diamond", "--corner");
+  if (!(std::isfinite(feed) && feed > 0.0 && feed <= 10.0)) throw InputError("must be a feed above 0 and at most 10 m/s", "--feed");
+  if (segments != 1 && segments != 2) throw InputError("must be spline (one segment) or spline2 (two)", "--corner");
+  const double L = kSide;
+  std::vector<std::array<double, 2>> v =
+      path == TestPath::square ? std::vector<std::array<double, 2>>{{0, 0}, {L, 0}, {L, L}, {0, L}, {0, 0}}
+                               : std::vector<std::array<double, 2>>{{-L, 0}, {0, L}, {L, 0}, {0, -L}, {-L, 0}};
+  const double leg = std::hypot(v[1][0] - v[0][0], v[1][1] - v[0][1]);
+  if (!(reach > 0.0 && reach < leg / 2)) throw InputError("the corner blend must be shorter than half a leg", "--corner");
+  // pieces in time: a straight piece (from, to, duration) or a spline segment
+  struct Piece {
+    bool spline = false;
+    double from[2], to[2];
+    SplineSegment seg;
+    double dur = 0.0;
+  };
+  std::vector<Piece> pieces;
+  SplinedPath out;
+  auto unit = [&](int i) {
+    const double dx = v[i + 1][0] - v[i][0], dy = v[i + 1][1] - v[i][1];
+    return std::array<double, 2>{dx / leg, dy / leg};
+  };
+  double start[2] = {v[0][0], v[0][1]};
+  for (int i = 0; i < 4; ++i) {
+    const auto u = unit(i);
+    const bool corner_after = i < 3;  // the path starts and ends at rest at its first vertex
+    const double end[2] = {v[i + 1][0] - (corner_after ? reach * u[0] : 0.0), v[i + 1][1] - (corner_after ? reach * u[1] : 0.0)};
+    Piece s;
+    s.from[0] = start[0];
+    s.from[1] = start[1];
+    s.to[0] = end[0];
+    s.to[1] = end[1];
+    s.dur = std::hypot(end[0] - start[0], end[1] - start[1]) / feed;
+    pieces.push_back(s);
+    if (!corner_after) break;
+    const auto w = unit(i + 1);
+    const double c[2] = {v[i + 1][0], v[i + 1][1]};
+    const double pf[2] = {c[0] + reach * w[0], c[1] + reach * w[1]};
+    const double vs[2] = {feed * u[0], feed * u[1]}, vf[2] = {feed * w[0], feed * w[1]};
+    const double dt = 2.0 * reach / feed;
+    CornerSpline cs;
+    cs.corner[0] = c[0];
+    cs.corner[1] = c[1];
+    if (segments == 1) {
+      cs.segments.push_back(hermite_segment(end, vs, pf, vf, dt));
+    } else {
+      const double pm[2] = {c[0] + 0.01 * ((end[0] + pf[0]) / 2 - c[0]), c[1] + 0.01 * ((end[1] + pf[1]) / 2 - c[1])};
+      const double vm[2] = {(vs[0] + vf[0]) / 2, (vs[1] + vf[1]) / 2};
+      cs.segments.push_back(hermite_segment(end, vs, pm, vm, dt / 2));
+      cs.segments.push_back(hermite_segment(pm, vm, pf, vf, dt / 2));
+    }
+    for (const SplineSegment& g : cs.segments) {
+      Piece p;
+      p.spline = true;
+      p.seg = g;
+      p.dur = g.dt;
+      pieces.push_back(p);
+    }
+    out.corners.push_back(cs);
+    start[0] = pf[0];
+    start[1] = pf[1];
+  }
+  double total = 0.0;
+  for (const Piece& p : pieces) total += p.dur;
+  const size_t n = static_cast<size_t>(std::ceil((total + hold) / T - 1e-9)) + 1;
+  Reference& r = out.reference;
+  r.T = T;
+  r.q[0].resize(n);
+  r.q[1].resize(n);
+  size_t i = 0;
+  double t0 = 0.0;
+  for (size_t k = 0; k < n; ++k) {
+    const double t = static_cast<double>(k) * T;
+    while (i + 1 < pieces.size() && t > t0 + pieces[i].dur) {
+      t0 += pieces[i].dur;
+      ++i;
+    }
+    const Piece& p = pieces[i];
+    const double s = std::clamp((t - t0) / p.dur, 0.0, 1.0);
+    for (int a = 0; a < 2; ++a) {
+      if (p.spline) {
+        const double* A = p.seg.A[a];
+        r.q[a][k] = ((A[0] * s + A[1]) * s + A[2]) * s + A[3];
+      } else {
+        r.q[a][k] = p.from[a] + (p.to[a] - p.from[a]) * s;
+      }
+    }
+  }
+  return out;
 }
 
 double signed_distance(const std::vector<double>& x, const std::vector<double>& y, size_t i0, size_t i1, double px,

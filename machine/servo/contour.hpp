@@ -26,6 +26,29 @@ struct Reference {
 // ramps up at its start and down at its end. The reference holds its end for `hold` s after the path.
 enum class TestPath { square, diamond, circle };
 Reference test_path(TestPath path, double feed, double T, double ramp = 0.0, double hold = 0.2);
+
+// A cubic Hermite segment in the normalised time s in [0, 1] (Sec. 4.4.3): r*(s) = A* (s^3, s^2, s, 1)^T with
+// A* = R* B*^-1 (Eq. 4.132-4.135), R* = (r(t0), r'(t0) dt, r(t1), r'(t1) dt); the segment lasts dt.
+struct SplineSegment {
+  double A[2][4] = {{0, 0, 0, 0}, {0, 0, 0, 0}};  // rows x, y; columns s^3, s^2, s, 1 (m)
+  double dt = 0.0;                                // s
+};
+SplineSegment hermite_segment(const double p0[2], const double v0[2], const double p1[2], const double v1[2], double dt);
+
+// Corner blending of the square and the diamond (Sec. 4.4.3): each corner replaced by cubic splines from `reach`
+// before the corner along the incoming leg to `reach` after it along the outgoing one, at the path speed at both
+// ends (the segment lasts 2 reach / feed). One segment (Case 1), or two (Case 2): through the point 1/100 of the
+// way from the corner to the middle of the ends, with the mean of the two legs' velocities there.
+struct CornerSpline {
+  double corner[2] = {0, 0};   // m
+  std::vector<SplineSegment> segments;
+};
+struct SplinedPath {
+  Reference reference;
+  std::vector<CornerSpline> corners;   // in the order the path meets them
+};
+// reach: J. Peng's 1 mm on each axis on the diamond is sqrt(2) mm along the legs.
+SplinedPath test_path_with_splines(TestPath path, double feed, double T, int segments, double reach, double hold = 0.2);
 TestPath parse_test_path(const std::string& name);  // InputError naming --path
 const char* to_string(TestPath p);
 

@@ -183,3 +183,45 @@ TEST(DrivesFile, RefusesWhatIsWrong) {
   EXPECT_NE(error_of(axis_table("r") + axis_table("theta", "ratio = 40\n")).find("unknown key 'theta.pitch'"),
             std::string::npos);
 }
+
+TEST(CornerSpline, PengsWorkedExample) {
+  // Sec. 4.4.3, the diamond corner at (150, 150) mm, 1 mm each way, 20 mm/s on each axis
+  const double ps[2] = {149, 149}, pf[2] = {151, 149}, vs[2] = {20, 20}, vf[2] = {20, -20};
+  const SplineSegment one = hermite_segment(ps, vs, pf, vf, 0.1);  // Eq. 4.144
+  const double a1[2][4] = {{0, 0, 2, 149}, {0, -2, 2, 149}};
+  for (int i = 0; i < 2; ++i)
+    for (int c = 0; c < 4; ++c) EXPECT_NEAR(one.A[i][c], a1[i][c], 1e-12) << i << c;
+  // Case 2 with P_m = (150, 149.99), f = (20, 0) there: Eq. 4.148 and 4.151 (Eq. 4.146, 4.147, 4.149 print 149.0)
+  const double pm[2] = {150, 149.99}, vm[2] = {20, 0};
+  const SplineSegment s1 = hermite_segment(ps, vs, pm, vm, 0.05), s2 = hermite_segment(pm, vm, pf, vf, 0.05);
+  const double b1[2][4] = {{0, 0, 1, 149}, {-0.98, 0.97, 1, 149}}, b2[2][4] = {{0, 0, 1, 150}, {0.98, -1.97, 0, 149.99}};
+  for (int i = 0; i < 2; ++i)
+    for (int c = 0; c < 4; ++c) {
+      EXPECT_NEAR(s1.A[i][c], b1[i][c], 1e-9) << i << c;
+      EXPECT_NEAR(s2.A[i][c], b2[i][c], 1e-9) << i << c;
+    }
+}
+
+TEST(CornerSpline, DiamondPathThroughTheSplines) {
+  // the splined diamond's top corner is Peng's corner moved to (0, 50 mm); the reference is continuous in
+  // position and speed; the blend cuts the corner error of the step reference
+  const double f = 20e-3 * std::sqrt(2.0);
+  const SplinedPath p = test_path_with_splines(TestPath::diamond, f, 1e-3, 1, std::sqrt(2.0) * 1e-3);
+  ASSERT_EQ(p.corners.size(), 3u);
+  EXPECT_DOUBLE_EQ(p.corners[0].corner[1], 50e-3);
+  const SplineSegment& g = p.corners[0].segments[0];
+  EXPECT_NEAR(g.A[1][1], -2e-3, 1e-12);  // y: -2 s^2 (mm), as Eq. 4.145
+  EXPECT_NEAR(g.A[0][2], 2e-3, 1e-12);
+  // no velocity step after the start: the second difference stays at the splines' acceleration (400 mm/s^2 on y:
+  // 4e-7 m a sample), far below a step of the legs' speed (2e-5 m), through the first two corners
+  for (int a = 0; a < 2; ++a) {
+    const std::vector<double>& q = p.reference.q[a];
+    for (size_t k = 3; k < q.size() / 2; ++k)
+      ASSERT_LT(std::abs(q[k] - 2 * q[k - 1] + q[k - 2]), 1e-6) << a << " " << k;
+  }
+  // the blend cuts the corner error of the step reference
+  const Drives d = read_drives_file(kPeng);
+  const ContourResult splined = run_contour(d, p.reference);
+  const ContourResult step = run_contour(d, test_path(TestPath::diamond, f, 1e-3));
+  EXPECT_LT(splined.max_abs_contour_error, step.max_abs_contour_error);
+}
