@@ -1,5 +1,6 @@
 // polarcam servo JOB|TAPE|--path square|diamond|circle --drives DRIVES.toml [--feed Q] [--ramp Q] [--integral C_I]
 //                [--tolerance Q] [--json] [--csv FILE] [--plot FILE]
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -18,7 +19,7 @@ namespace polarcam::cli {
 namespace {
 
 struct Opts {
-  std::string input, path, drives, feed, ramp, tolerance, csv, plot;
+  std::string input, path, drives, feed, ramp, tolerance, csv, plot, corner;
   double integral = -1.0;
   bool json = false, report_model = false;
 };
@@ -51,6 +52,11 @@ int run(const Opts& o) {
   if (!o.path.empty()) servo::parse_test_path(o.path);
   if (o.path.empty() && !o.feed.empty()) throw InputError("sets the speed of a --path (a job or tape has its own)", "--feed");
   if (o.path.empty() && !o.ramp.empty()) throw InputError("ramps a --path (a job or tape has its own speeds)", "--ramp");
+  if (!o.corner.empty() && o.corner != "sharp" && o.corner != "spline" && o.corner != "spline2")
+    throw InputError("'" + o.corner + "' is not a corner: give sharp, spline (one segment) or spline2 (two)", "--corner");
+  const bool splined = o.corner == "spline" || o.corner == "spline2";
+  if (splined && o.path.empty()) throw InputError("blends the corners of a --path (square or diamond)", "--corner");
+  if (splined && !o.ramp.empty()) throw InputError("give --ramp or a spline --corner, not both", "--corner");
   servo::ServoOptions so;
   if (!o.tolerance.empty()) {
     so.tolerance = option_quantity(o.tolerance, dim::length, "--tolerance");
@@ -77,9 +83,18 @@ int run(const Opts& o) {
     if (a.drives.polar) throw InputError("the test paths are Cartesian: give drives with [x] and [y]", o.drives);
     const double feed = o.feed.empty() ? 20e-3 : option_quantity(o.feed, dim::speed, "--feed");
     const double ramp = o.ramp.empty() ? 0.0 : option_quantity(o.ramp, dim::time, "--ramp");
-    ref = servo::test_path(servo::parse_test_path(o.path), feed, T, ramp);
+    if (splined) {
+      // J. Peng's blend: 1 mm on each axis of the diamond's corner, sqrt(2) mm along its legs (Sec. 4.4.3)
+      servo::SplinedPath sp = servo::test_path_with_splines(servo::parse_test_path(o.path), feed, T,
+                                                            o.corner == "spline" ? 1 : 2, std::sqrt(2.0) * 1e-3);
+      ref = std::move(sp.reference);
+      a.corners = std::move(sp.corners);
+    } else {
+      ref = servo::test_path(servo::parse_test_path(o.path), feed, T, ramp);
+    }
     a.input = "path " + o.path + " at " + significant(feed * 1e3, 6) + " mm/s" +
-              (ramp > 0.0 ? ", ramps of " + significant(ramp, 6) + " s" : "");
+              (ramp > 0.0 ? ", ramps of " + significant(ramp, 6) + " s" : "") +
+              (splined ? ", corners blended by " + o.corner : "");
   } else if (std::filesystem::path(o.input).extension() == ".tape") {
     ref = servo::reference_from_tape(o.input, a.drives.polar, T);
     a.input = "tape " + o.input;
@@ -117,6 +132,8 @@ void register_servo(CLI::App& app, Action& action) {
   c->add_option("--drives", o->drives, "the drives file ([x] and [y], or [r] and [theta]; docs/feed-drives.md)")->required();
   c->add_option("--feed", o->feed, "the test path's speed along the path (default 20 mm/s)");
   c->add_option("--ramp", o->ramp, "linear speed ramps of this duration at each leg's ends (\"0.1 s\")");
+  c->add_option("--corner", o->corner, "the test path's corners: sharp (default), spline (one cubic segment) or "
+                                       "spline2 (two), over 1.41 mm each side (Sec. 4.4.3)");
   c->add_option("--integral", o->integral, "integral action C_I (1/s) in both position loops (Eq. 4.107; 0.5 in the thesis)");
   c->add_option("--tolerance", o->tolerance, "contour error allowed (default 0.05 mm)");
   c->add_flag("--json", o->json, "print the results as one JSON object");

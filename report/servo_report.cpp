@@ -58,6 +58,19 @@ nlohmann::ordered_json servo_json(const ServoAnalysis& a) {
     iv.push_back({{"t_begin_s", i.t_begin}, {"t_end_s", i.t_end}, {"s_begin_mm", i.s_begin * 1e3},
                   {"s_end_mm", i.s_end * 1e3}, {"max_contour_error_mm", i.max_abs_error * 1e3}});
   j["out_of_tolerance"] = iv;
+  if (!a.corners.empty()) {
+    nlohmann::ordered_json cs = nlohmann::ordered_json::array();
+    for (const servo::CornerSpline& k : a.corners) {
+      nlohmann::ordered_json segs = nlohmann::ordered_json::array();
+      for (const servo::SplineSegment& g : k.segments) {
+        nlohmann::ordered_json A = nlohmann::ordered_json::array();
+        for (const auto& row : g.A) A.push_back({row[0] * 1e3, row[1] * 1e3, row[2] * 1e3, row[3] * 1e3});
+        segs.push_back({{"dt_s", g.dt}, {"A_mm", A}});
+      }
+      cs.push_back({{"corner_mm", {k.corner[0] * 1e3, k.corner[1] * 1e3}}, {"segments", segs}});
+    }
+    j["corner_splines"] = cs;  // A* of Eq. 4.132: rows x, y; columns s^3, s^2, s, 1
+  }
   return j;
 }
 

@@ -4,6 +4,7 @@
 // number of the analysis.
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "machine/servo/contour.hpp"
 #include "report/plot.hpp"
@@ -15,6 +16,7 @@ struct ServoAnalysis {
   std::string drives_file;
   servo::Drives drives;
   servo::ContourResult result;
+  std::vector<servo::CornerSpline> corners;  // a test path's blended corners (--corner)
 };
 
 // One JSON object: input, drives, axes (following error at steady speed, its speed and stretch, the largest

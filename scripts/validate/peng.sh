@@ -20,3 +20,16 @@ emit peng.counts_per_Nm 7.2516 "$(jq '.axes[0].counts_per_Nm' <<<"$model")" "cou
   "Eq. 4.101 with Appendix A gives 7.2574; the simulated yield is the same"
 emit peng.current_sensor_bandwidth_Hz 120 "$(jq '.axes[0].current_sensor_bandwidth_Hz' <<<"$model")" Hz \
   "\"about 120 Hz\" read off Fig. 3.19; Eq. 3.52 printed K_t (K_b K_I T_g H_g) where the model has K_t (K_b + K_v K_I T_g H_g)"
+# Sec. 4.4.3: the corner splines of the worked example (the diamond's top corner, 1 mm on each axis, 20 mm/s on
+# each), from the blended diamond's top corner at (0, 50) mm moved to the example's (150, 150) mm
+matched=examples/drives/peng1989_matched.toml
+spline_of() {  # spline_of spline|spline2: A* of the top corner's segments, rows x then y, constants moved
+  ("$POLARCAM" servo --path diamond --feed '20*sqrt(2) mm/s' --corner "$1" --drives "$matched" --json || [ $? -eq 1 ]) |
+    jq -c '[.corner_splines[0].segments[].A_mm | (.[0][3] += 150) | (.[1][3] += 100) | .[][]
+            | (. * 1e9 | round / 1e9) + 0]'
+}
+emit peng.corner_spline "[0, 0, 2, 149, 0, -2, 2, 149]" "$(spline_of spline)" mm \
+  "A1* of Eq. 4.144 (rows x, y; s^3, s^2, s, 1)"
+emit peng.corner_spline2 "[0, 0, 1, 149, -0.98, 0.97, 1, 149, 0, 0, 1, 150, 0.98, -1.97, 0, 149.99]" \
+  "$(spline_of spline2)" mm \
+  "A1*, A2* of Eq. 4.148, 4.151; Eq. 4.146, 4.147, 4.149 print 149.0 where P_m = (150, 149.99) gives 149.99"

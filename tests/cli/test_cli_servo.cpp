@@ -36,6 +36,19 @@ TEST(CliServo, PengDiamondAtTwentyMillimetresPerSecondPerAxis) {
   EXPECT_EQ(run_cli("servo --path diamond --tolerance 0.5mm" + kPeng).code, 0);
 }
 
+TEST(CliServo, CornerSplines) {
+  const auto r = run_cli("servo --path diamond --feed '20*sqrt(2) mm/s' --corner spline --json" + kPeng);
+  ASSERT_LE(r.code, 1) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["corner_splines"].size(), 3u);
+  // Eq. 4.145 at the top corner (0, 50) mm: y = -2 s^2 + 2 s + 49
+  const auto& A = j["corner_splines"][0]["segments"][0]["A_mm"];
+  EXPECT_NEAR(A[1][1].get<double>(), -2.0, 1e-9);
+  EXPECT_NEAR(A[1][2].get<double>(), 2.0, 1e-9);
+  EXPECT_NEAR(A[1][3].get<double>(), 49.0, 1e-9);
+  EXPECT_EQ(run_cli("servo --path circle --corner spline" + kPeng).code, 2);
+}
+
 TEST(CliServo, ModelReport) {
   const auto j = cli_json("servo --report-model --json" + kPeng);
   EXPECT_NEAR(j["axes"][0]["counts_per_Nm"].get<double>(), 7.2516, 0.001 * 7.2516);

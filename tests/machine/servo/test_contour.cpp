@@ -225,3 +225,24 @@ TEST(CornerSpline, DiamondPathThroughTheSplines) {
   const ContourResult step = run_contour(d, test_path(TestPath::diamond, f, 1e-3));
   EXPECT_LT(splined.max_abs_contour_error, step.max_abs_contour_error);
 }
+
+TEST(Strategies, RankOfTable41) {
+  // Table 4.1 (diamond corner, 20 mm/s on each axis) as a ranking: 0.1 s acceleration ramps << sharp corners <
+  // integral action; mismatched axes worse than matched
+  const double f = 20e-3 * std::sqrt(2.0);
+  const Drives mis = read_drives_file(kPeng);
+  Drives matched = mis;
+  matched.axis[1].params = matched.axis[0].params;
+  Drives integral = mis;
+  for (auto& a : integral.axis) a.params.C_I = 0.5;
+  const Reference step = test_path(TestPath::diamond, f, 1e-3), ramp = test_path(TestPath::diamond, f, 1e-3, 0.1);
+  const double step_mis = run_contour(mis, step).max_abs_contour_error;
+  const double step_matched = run_contour(matched, step).max_abs_contour_error;
+  const double ramp_mis = run_contour(mis, ramp).max_abs_contour_error;
+  const double ramp_matched = run_contour(matched, ramp).max_abs_contour_error;
+  const double integral_mis = run_contour(integral, step).max_abs_contour_error;
+  EXPECT_LT(ramp_matched, ramp_mis);
+  EXPECT_LT(ramp_mis, 0.5 * step_matched);
+  EXPECT_LT(step_matched, step_mis);
+  EXPECT_LT(step_mis, integral_mis);
+}
