@@ -72,6 +72,15 @@ TEST(CliServo, PolarTapeAndJobAgree) {
   EXPECT_GT(ja["max_contour_error_mm"].get<double>(), 0.0);
   // same input, same bytes
   EXPECT_EQ(run_cli("servo " + sc.path("c.tape") + drives).out, a.out);
+  // a sand-table arm's tape is refused: its radial motor is not the tool's radius
+  ASSERT_EQ(run_cli("digitize " + std::string(POLARCAM_SOURCE_DIR) + "/examples/patterns/star.thr --machine " +
+                    std::string(POLARCAM_SOURCE_DIR) + "/examples/machines/sand-table.toml --speed '20 mm/s' -o " +
+                    sc.path("arm.tape"))
+                .code,
+            0);
+  const auto arm = run_cli("servo " + sc.path("arm.tape") + " --drives " + kDrives + "polar_servo.toml");
+  EXPECT_EQ(arm.code, 2);
+  EXPECT_NE(arm.err.find("sand-table arm"), std::string::npos) << arm.err;
   // a polar tape with Cartesian drives is refused
   const auto bad = run_cli("servo " + sc.path("c.tape") + kPeng);
   EXPECT_EQ(bad.code, 2);
