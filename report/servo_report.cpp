@@ -29,6 +29,10 @@ nlohmann::ordered_json axis_json(const ServoAnalysis& a, int i) {
     j["following_error" + u] = nullptr;  // no stretch at steady speed long enough to settle
   }
   j["max_current_A"] = a.result.max_current[i];
+  if (a.drives.axis[i].peak_current > 0.0) {
+    j["peak_current_A"] = a.drives.axis[i].peak_current;
+    j["within_peak_current"] = a.result.max_current[i] <= a.drives.axis[i].peak_current;
+  }
   return j;
 }
 
@@ -91,7 +95,11 @@ std::string servo_text(const ServoAnalysis& a) {
         << (rot ? " rad/s" : " mm/s");
     else
       o << "- (never at a steady speed long enough to settle)";
-    o << ", largest current " << significant(c.max_current[i], 4) << " A\n";
+    o << ", largest current " << significant(c.max_current[i], 4) << " A";
+    if (a.drives.axis[i].peak_current > 0.0 && c.max_current[i] > a.drives.axis[i].peak_current)
+      o << " (above the amplifier's peak " << significant(a.drives.axis[i].peak_current, 4)
+        << " A, which the linear model does not clip)";
+    o << "\n";
   }
   o << "  largest contour error " << significant(c.max_abs_contour_error * 1e3, 5) << " mm at t = "
     << significant(c.max_at_t, 6) << " s, s = " << significant(c.max_at_s * 1e3, 6) << " mm\n";

@@ -95,6 +95,10 @@ AxisDrive read_axis(Table& t, bool rotary) {
   p.T = t.require("sample_period", time, "the position loop's sample period (\"1 ms\")");
   if (auto v = t.get("C_I", frequency)) p.C_I = *v;
   if (auto v = t.get("coulomb", torque)) p.coulomb = *v;
+  if (auto v = t.get("peak_current", current)) {
+    if (!(*v > 0.0)) throw InputError("must be a positive current", t.where("peak_current"));
+    d.peak_current = *v;
+  }
   if (rotary) {
     d.ratio = t.require("ratio", none, "the motor revolutions per revolution of the arm (a worm's ratio)");
     if (!(d.ratio > 0.0 && d.ratio < 1e6)) throw InputError("must be above 0 and below 1e6", t.where("ratio"));

@@ -1,8 +1,8 @@
 #pragma once
 // The drives file (TOML, docs/feed-drives.md): one table per axis, [x] and [y] for a Cartesian machine or [r]
 // and [theta] for a polar one, each with the servo parameters under their symbols in J. Peng's Appendix A (R_a,
-// L_a, K_t, K_b, J_e, B, K_a, K_I, K_v, H_g, T_g, S_g, K_e, K_d, K_p, a, b, sample_period; C_I and coulomb
-// optional) as quantities with units ("0.4 ohm", "0.3 N m/A", "636.62 count/rad"; "count" is the encoder count,
+// L_a, K_t, K_b, J_e, B, K_a, K_I, K_v, H_g, T_g, S_g, K_e, K_d, K_p, a, b, sample_period; C_I, coulomb and
+// peak_current optional) as quantities with units ("0.4 ohm", "0.3 N m/A", "636.62 count/rad"; "count" is the encoder count,
 // a pure number) or plain numbers in SI, and the axis's transmission: `pitch` (length per motor revolution: a
 // lead screw) on x, y and r, `ratio` (motor revolutions per revolution of the arm: a worm) on theta. A top-level
 // `source` string may say where the numbers come from. Every key is checked: a missing, unknown or malformed key,
@@ -19,6 +19,7 @@ struct AxisDrive {
   bool rotary = false;   // theta: positions in rad, else m
   double pitch = 0.0;    // m per motor revolution (linear axes)
   double ratio = 0.0;    // motor revolutions per axis revolution (rotary axis)
+  double peak_current = 0.0;  // the amplifier's peak current (A), 0 when not given: reported, not modelled
   // The axis's position (m or rad) per encoder count.
   double per_count() const;
 };

@@ -32,6 +32,11 @@ TEST(CliServo, PengDiamondAtTwentyMillimetresPerSecondPerAxis) {
     const double mid = (iv["t_begin_s"].get<double>() + iv["t_end_s"].get<double>()) / 2;
     EXPECT_NEAR(std::fmod(mid, 2.5), 0.02, 0.05);  // just after a corner (every 2.5 s)
   }
+  // a velocity step asks the amplifier for more than its 30 A peak; 0.1 s ramps do not
+  EXPECT_FALSE(j["axes"][0]["within_peak_current"].get<bool>());
+  const auto ramped = nlohmann::json::parse(run_cli("servo --path diamond --ramp 0.1s --json" + kPeng).out);
+  EXPECT_TRUE(ramped["axes"][0]["within_peak_current"].get<bool>());
+  EXPECT_TRUE(ramped["axes"][1]["within_peak_current"].get<bool>());
   // a loose tolerance passes
   EXPECT_EQ(run_cli("servo --path diamond --tolerance 0.5mm" + kPeng).code, 0);
 }

@@ -246,3 +246,12 @@ TEST(Strategies, RankOfTable41) {
   EXPECT_LT(step_matched, step_mis);
   EXPECT_LT(step_mis, integral_mis);
 }
+
+TEST(DrivesFile, PeakCurrent) {
+  const Drives d = read_drives_file(kPeng);
+  EXPECT_DOUBLE_EQ(d.axis[0].peak_current, 30.0);
+  EXPECT_NE(error_of(axis_table("x", "peak_current = \"-1 A\"\n") + axis_table("y")).find("key 'x.peak_current'"),
+            std::string::npos);
+  EXPECT_NE(error_of(axis_table("x", "peak_current = \"1 V\"\n") + axis_table("y")).find("key 'x.peak_current'"),
+            std::string::npos);
+}
