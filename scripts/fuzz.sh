@@ -13,6 +13,7 @@ secs="${1:-5}"
 dir="${FUZZ_BUILD_DIR:-build-asan}"
 all="tape job_toml machine_toml thr svg dxf csv_points units expr options protocol_host protocol_controller image vcd"
 all="$all signal_csv"
+all="$all drives_toml"
 read -r -a targets <<< "${FUZZ_TARGETS:-$all}"
 
 bash scripts/configure-sanitized.sh "$dir"
@@ -27,6 +28,7 @@ seeds() {  # target -> the files that seed it
     svg) ls examples/patterns/*.svg tests/data/svg/*.svg ;;
     dxf) ls examples/*.dxf ;;
     image) ls examples/templates/*.png ;;
+    drives_toml) ls examples/drives/*.toml ;;
   esac 2> /dev/null || true
 }
 
