@@ -1,9 +1,11 @@
 # Project-wide compile options: warnings on everywhere, optional ASan+UBSan.
 add_library(polarcam_options INTERFACE)
 target_compile_options(polarcam_options INTERFACE -Wall -Wextra -Wpedantic -Wshadow -Werror=return-type)
-# GCC 12 reports false -Wrestrict warnings inside std::string's operator+ at -O2 (GCC bug 105329).
+# GCC 12 reports false -Wrestrict, -Warray-bounds, -Wstringop-overflow and -Wstringop-overread warnings inside
+# std::string's operator+ and copies once it inlines them (GCC bug 105329 and its family, fixed in GCC 13).
 if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU" AND CMAKE_CXX_COMPILER_VERSION VERSION_LESS 13)
-  target_compile_options(polarcam_options INTERFACE -Wno-restrict)
+  target_compile_options(polarcam_options INTERFACE -Wno-restrict -Wno-array-bounds -Wno-stringop-overflow
+    -Wno-stringop-overread)
 endif()
 if(POLARCAM_SANITIZE)
   target_compile_options(polarcam_options INTERFACE -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
@@ -28,10 +30,5 @@ function(polarcam_light_code target)
     target_compile_options(${target} ${scope} -O0)
   else()
     target_compile_options(${target} ${scope} $<$<CONFIG:Release>:-O1>)
-  endif()
-  # At -O1 GCC 12 inlines std::string's operator+ differently and reports false out-of-bounds copies inside it
-  # (the GCC bug 105329 family, as -Wrestrict above).
-  if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU" AND CMAKE_CXX_COMPILER_VERSION VERSION_LESS 13)
-    target_compile_options(${target} ${scope} -Wno-array-bounds -Wno-stringop-overflow)
   endif()
 endfunction()
