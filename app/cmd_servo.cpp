@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/cli.hpp"
+#include "digitizer/tape_file.hpp"
 #include "cam/error.hpp"
 #include "cam/units.hpp"
 #include "io/output.hpp"
@@ -95,7 +96,7 @@ int run(const Opts& o) {
     a.input = "path " + o.path + " at " + significant(feed * 1e3, 6) + " mm/s" +
               (ramp > 0.0 ? ", ramps of " + significant(ramp, 6) + " s" : "") +
               (splined ? ", corners blended by " + o.corner : "");
-  } else if (std::filesystem::path(o.input).extension() == ".tape") {
+  } else if (is_tape_file(o.input)) {
     ref = servo::reference_from_tape(o.input, a.drives.polar, T);
     a.input = "tape " + o.input;
   } else {

@@ -1,4 +1,5 @@
 #include "digitizer/tape.hpp"
+#include "digitizer/tape_file.hpp"
 
 #include <sys/stat.h>
 #include <unistd.h>
@@ -6,6 +7,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <cstdio>
 #include <cstring>
 #include <stdexcept>
 
@@ -484,6 +486,16 @@ void refuse_tool_events(const TapeHeader& h, const std::string& path, const std:
     throw InputError(what + " does not handle tool events (tool up / tool down, " + std::to_string(h.event_count) +
                          " in this tape): " + advice,
                      path);
+}
+
+bool is_tape_file(const std::string& path) {
+  if (path.size() >= 5 && path.compare(path.size() - 5, 5, ".tape") == 0) return true;
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) return false;
+  char head[8] = {};
+  const bool magic = std::fread(head, 1, 8, f) == 8 && std::memcmp(head, kMagic, 8) == 0;
+  std::fclose(f);
+  return magic;
 }
 
 }  // namespace polarcam

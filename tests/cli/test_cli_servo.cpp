@@ -3,10 +3,13 @@
 // status against the tolerance, the CSV and the figure, refusals of bad input in one line.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <nlohmann/json.hpp>
+#include <utility>
 
 #include "tests/cli_runner.hpp"
 #include "tests/scratch.hpp"
@@ -90,6 +93,42 @@ TEST(CliServo, PolarTapeAndJobAgree) {
   const auto bad = run_cli("servo " + sc.path("c.tape") + kPeng);
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.err.find("[r] and [theta]"), std::string::npos) << bad.err;
+}
+
+// The limacon on both machines: its polar tape through polar drives, its Cartesian DDA tape (named .dda: a tape
+// is known by its first bytes) through Peng's drives. Each says where it would leave a tight tolerance and passes a
+// loose one; every interval it names lies on the path, with its largest error above the tolerance.
+TEST(CliServo, LimaconPolarAndDdaTapesShowWhereTheyLeaveTolerance) {
+  Scratch sc;
+  const std::string job = std::string(POLARCAM_SOURCE_DIR) + "/examples/limacon.toml";
+  ASSERT_EQ(run_cli("digitize " + job + " -o " + sc.path("l.tape")).code, 0);
+  ASSERT_EQ(run_cli("dda " + job + " -o " + sc.path("l.dda")).code, 0);
+  for (const auto& [tape, drives] : {std::pair{sc.path("l.tape"), std::string("polar_servo.toml")},
+                                     std::pair{sc.path("l.dda"), std::string("peng1989.toml")}}) {
+    const std::string base = "servo " + tape + " --drives " + kDrives + drives + " --json --tolerance ";
+    const auto loose = run_cli(base + "'1 mm'");
+    ASSERT_EQ(loose.code, 0) << tape << ": " << loose.err;
+    const auto jl = nlohmann::json::parse(loose.out);
+    const double worst = jl["max_contour_error_mm"].get<double>(), length = jl["path_length_mm"].get<double>();
+    EXPECT_GT(worst, 0.0);
+    EXPECT_LT(worst, 1.0);
+    EXPECT_TRUE(jl["out_of_tolerance"].empty());
+    const double tight = 0.5 * worst;  // half the largest error: some stretches leave it
+    const auto r = run_cli(base + "'" + std::to_string(tight) + " mm'");
+    EXPECT_EQ(r.code, 1) << tape << ": " << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["within_tolerance"], false);
+    ASSERT_FALSE(j["out_of_tolerance"].empty()) << tape;
+    double largest = 0;
+    for (const auto& iv : j["out_of_tolerance"]) {
+      EXPECT_LE(iv["s_begin_mm"].get<double>(), iv["s_end_mm"].get<double>());
+      EXPECT_GE(iv["s_begin_mm"].get<double>(), 0.0);
+      EXPECT_LE(iv["s_end_mm"].get<double>(), length * (1 + 1e-9));
+      EXPECT_GT(iv["max_contour_error_mm"].get<double>(), tight);
+      largest = std::max(largest, iv["max_contour_error_mm"].get<double>());
+    }
+    EXPECT_DOUBLE_EQ(largest, worst) << "the worst point lies in one of the intervals";
+  }
 }
 
 TEST(CliServo, CsvAndFigure) {
