@@ -9,56 +9,11 @@
 #include <sstream>
 
 #include "cam/error.hpp"
+#include "cam/toml_table.hpp"
 #include "cam/units.hpp"
 
 namespace polarcam::process {
 namespace {
-
-std::string line_of(const std::string& file, const toml::node& n) {
-  return n.source().begin.line ? file + ":" + std::to_string(n.source().begin.line) : file;
-}
-
-struct Table {
-  const toml::table* t;
-  std::string file, name;
-  std::set<std::string> used;
-
-  std::string where(const std::string& key) const {
-    const toml::node* n = t ? t->get(key) : nullptr;
-    return (n ? line_of(file, *n) : file) + ": key '" + name + "." + key + "'";
-  }
-  std::optional<double> get(const std::string& key, const Dim& d) {
-    const toml::node* n = t ? t->get(key) : nullptr;
-    if (!n) return std::nullopt;
-    used.insert(key);
-    double v = 0.0;
-    if (n->is_integer()) {
-      v = static_cast<double>(*n->value<int64_t>());
-    } else if (n->is_floating_point()) {
-      v = *n->value<double>();
-    } else if (auto s = n->value<std::string>()) {
-      try {
-        v = parse_quantity_as(*s, d);
-      } catch (const InputError& e) {
-        throw InputError(e.message(), where(key));
-      }
-    } else {
-      throw InputError("must be a number in SI units or a quantity with units (\"0.2 s\")", where(key));
-    }
-    if (!std::isfinite(v)) throw InputError("must be a finite number", where(key));
-    return v;
-  }
-  double require(const std::string& key, const Dim& d, const char* what) {
-    if (auto v = get(key, d)) return *v;
-    throw InputError(std::string("missing: give ") + what, file + ": key '" + name + "." + key + "'");
-  }
-  void finish() const {
-    if (!t) return;
-    for (const auto& [k, v] : *t)
-      if (!used.count(std::string(k.str())))
-        throw InputError("unknown key '" + name + "." + std::string(k.str()) + "'", line_of(file, v));
-  }
-};
 
 }  // namespace
 
@@ -72,13 +27,13 @@ ChatterProblem parse_chatter_toml(const std::string& text, const std::string& na
   }
   for (const auto& [k, v] : root) {
     const std::string key(k.str());
-    if (key != "structure" && key != "cut") throw InputError("unknown section [" + key + "] (expected [structure] and [cut])", line_of(name, v));
-    if (!v.is_table()) throw InputError("must be a table", line_of(name, v) + ": key '" + key + "'");
+    if (key != "structure" && key != "cut") throw InputError("unknown section [" + key + "] (expected [structure] and [cut])", toml_line_of(name, v));
+    if (!v.is_table()) throw InputError("must be a table", toml_line_of(name, v) + ": key '" + key + "'");
   }
   if (!root["structure"].as_table()) throw InputError("missing the [structure] table (M_m, C_m, K_m, M_w, C_w, K_w)", name);
   if (!root["cut"].as_table()) throw InputError("missing the [cut] table (overlap, revolution_period)", name);
-  Table s{root["structure"].as_table(), name, "structure", {}};
-  Table c{root["cut"].as_table(), name, "cut", {}};
+  TomlTable s{root["structure"].as_table(), name, "structure", {}};
+  TomlTable c{root["cut"].as_table(), name, "cut", {}};
   const Dim damping = dim::mass / dim::time, stiffness = dim::mass / (dim::time * dim::time);
   ChatterProblem p;
   p.structure.M_m = s.require("M_m", dim::mass, "the machine's mass (kg)");
@@ -97,7 +52,7 @@ ChatterProblem parse_chatter_toml(const std::string& text, const std::string& na
   } catch (const InputError& e) {
     // the check names section.key: give the file and line of that key
     const std::string& key = e.place();
-    Table& t = key.rfind("structure.", 0) == 0 ? s : c;
+    TomlTable& t = key.rfind("structure.", 0) == 0 ? s : c;
     const std::string k = key.substr(key.find('.') + 1);
     throw InputError(e.message(), t.where(k));
   }

@@ -10,76 +10,11 @@
 #include <sstream>
 
 #include "cam/error.hpp"
+#include "cam/toml_table.hpp"
 #include "cam/units.hpp"
 
 namespace polarcam::process {
 namespace {
-
-std::string line_of(const std::string& file, const toml::node& n) {
-  return n.source().begin.line ? file + ":" + std::to_string(n.source().begin.line) : file;
-}
-
-struct Table {
-  const toml::table* t;
-  std::string file, name;
-  std::set<std::string> used;
-
-  std::string where(const std::string& key) const {
-    const toml::node* n = t ? t->get(key) : nullptr;
-    return (n ? line_of(file, *n) : file) + ": key '" + name + "." + key + "'";
-  }
-  std::optional<double> get(const std::string& key, const Dim& d) {
-    const toml::node* n = t ? t->get(key) : nullptr;
-    if (!n) return std::nullopt;
-    used.insert(key);
-    double v = 0.0;
-    if (n->is_integer()) {
-      v = static_cast<double>(*n->value<int64_t>());
-    } else if (n->is_floating_point()) {
-      v = *n->value<double>();
-    } else if (auto s = n->value<std::string>()) {
-      try {
-        v = parse_quantity_as(*s, d);
-      } catch (const InputError& e) {
-        throw InputError(e.message(), where(key));
-      }
-    } else {
-      throw InputError("must be a number in SI units or a quantity with units (\"0.2 s\")", where(key));
-    }
-    if (!std::isfinite(v)) throw InputError("must be a finite number", where(key));
-    return v;
-  }
-  double require(const std::string& key, const Dim& d, const char* what) {
-    if (auto v = get(key, d)) return *v;
-    throw InputError(std::string("missing: give ") + what, file + ": key '" + name + "." + key + "'");
-  }
-  void set(const std::string& key, const Dim& d, double& out) {
-    if (auto v = get(key, d)) out = *v;
-  }
-  std::optional<std::string> text(const std::string& key) {
-    const toml::node* n = t ? t->get(key) : nullptr;
-    if (!n) return std::nullopt;
-    used.insert(key);
-    if (auto s = n->value<std::string>()) return *s;
-    throw InputError("must be a string", where(key));
-  }
-  std::optional<int> integer(const std::string& key) {
-    const toml::node* n = t ? t->get(key) : nullptr;
-    if (!n) return std::nullopt;
-    used.insert(key);
-    if (n->is_integer()) {
-      const int64_t v = *n->value<int64_t>();
-      if (v >= -1000000 && v <= 1000000) return static_cast<int>(v);
-    }
-    throw InputError("must be a whole number", where(key));
-  }
-  void finish() const {
-    if (!t) return;
-    for (const auto& [k, v] : *t)
-      if (!used.count(std::string(k.str())))
-        throw InputError("unknown key '" + name + "." + std::string(k.str()) + "'", line_of(file, v));
-  }
-};
 
 toml::table parse_root(const std::string& text, const std::string& name, const std::set<std::string>& sections) {
   toml::table root;
@@ -93,8 +28,8 @@ toml::table parse_root(const std::string& text, const std::string& name, const s
   for (const auto& s : sections) list += (list.empty() ? "[" : ", [") + s + "]";
   for (const auto& [k, v] : root) {
     const std::string key(k.str());
-    if (!sections.count(key)) throw InputError("unknown section [" + key + "] (expected " + list + ")", line_of(name, v));
-    if (key != "band" && !v.is_table()) throw InputError("must be a table", line_of(name, v) + ": key '" + key + "'");
+    if (!sections.count(key)) throw InputError("unknown section [" + key + "] (expected " + list + ")", toml_line_of(name, v));
+    if (key != "band" && !v.is_table()) throw InputError("must be a table", toml_line_of(name, v) + ": key '" + key + "'");
   }
   return root;
 }
@@ -109,7 +44,7 @@ std::string read_text(const std::string& path) {
 }
 
 // A check's InputError names section.key: give the file and line of that key.
-[[noreturn]] void relocate(const InputError& e, std::map<std::string, Table*>& tables, const std::string& file) {
+[[noreturn]] void relocate(const InputError& e, std::map<std::string, TomlTable*>& tables, const std::string& file) {
   const std::string& key = e.place();
   const size_t dot = key.find('.');
   if (dot != std::string::npos) {
@@ -127,12 +62,12 @@ AcProblem parse_ac_toml(const std::string& text, const std::string& name) {
   toml::table root = parse_root(text, name, {"servo", "dda", "control", "cut", "simulation", "limit"});
   for (const char* need : {"control", "cut", "simulation"})
     if (!root[need].as_table()) throw InputError(std::string("missing the [") + need + "] table", name);
-  Table sv{root["servo"].as_table(), name, "servo", {}};
-  Table dd{root["dda"].as_table(), name, "dda", {}};
-  Table ct{root["control"].as_table(), name, "control", {}};
-  Table cu{root["cut"].as_table(), name, "cut", {}};
-  Table si{root["simulation"].as_table(), name, "simulation", {}};
-  Table li{root["limit"].as_table(), name, "limit", {}};
+  TomlTable sv{root["servo"].as_table(), name, "servo", {}};
+  TomlTable dd{root["dda"].as_table(), name, "dda", {}};
+  TomlTable ct{root["control"].as_table(), name, "control", {}};
+  TomlTable cu{root["cut"].as_table(), name, "cut", {}};
+  TomlTable si{root["simulation"].as_table(), name, "simulation", {}};
+  TomlTable li{root["limit"].as_table(), name, "limit", {}};
   AcProblem p;
   AcLoopSettings& s = p.settings;
   sv.set("gain", dim::frequency * dim::frequency, s.servo.gain);
@@ -165,9 +100,9 @@ AcProblem parse_ac_toml(const std::string& text, const std::string& name) {
   cu.set("entry_distance", dim::length, s.entry_distance);
   s.duration_s = si.require("duration", dim::time, "the simulated time (\"1 s\")");
   p.force_limit = li.get("force", dim::force);
-  for (Table* t : {&sv, &dd, &ct, &cu, &si, &li}) t->finish();
+  for (TomlTable* t : {&sv, &dd, &ct, &cu, &si, &li}) t->finish();
   if (p.force_limit && !(*p.force_limit > 0.0)) throw InputError("must be a positive force", li.where("force"));
-  std::map<std::string, Table*> tables{{"servo", &sv}, {"dda", &dd}, {"control", &ct}, {"cut", &cu},
+  std::map<std::string, TomlTable*> tables{{"servo", &sv}, {"dda", &dd}, {"control", &ct}, {"cut", &cu},
                                        {"simulation", &si}};
   try {
     check(s);
@@ -183,11 +118,11 @@ BandProblem parse_band_toml(const std::string& text, const std::string& name) {
   toml::table root = parse_root(text, name, {"controller", "plant", "cut", "simulation", "tool", "band"});
   for (const char* need : {"controller", "cut", "simulation"})
     if (!root[need].as_table()) throw InputError(std::string("missing the [") + need + "] table", name);
-  Table co{root["controller"].as_table(), name, "controller", {}};
-  Table pl{root["plant"].as_table(), name, "plant", {}};
-  Table cu{root["cut"].as_table(), name, "cut", {}};
-  Table si{root["simulation"].as_table(), name, "simulation", {}};
-  Table to{root["tool"].as_table(), name, "tool", {}};
+  TomlTable co{root["controller"].as_table(), name, "controller", {}};
+  TomlTable pl{root["plant"].as_table(), name, "plant", {}};
+  TomlTable cu{root["cut"].as_table(), name, "cut", {}};
+  TomlTable si{root["simulation"].as_table(), name, "simulation", {}};
+  TomlTable to{root["tool"].as_table(), name, "tool", {}};
   BandProblem p;
   BandSettings& s = p.settings;
   co.set("rate", dim::frequency, s.rate_hz);
@@ -226,16 +161,16 @@ BandProblem parse_band_toml(const std::string& text, const std::string& name) {
   // the bands, in the order of their rank (the first listed wins when several are active)
   const toml::node* bn = root.get("band");
   const toml::array* arr = bn ? bn->as_array() : nullptr;
-  if (bn && !arr) throw InputError("must be an array of tables: write each band as [[band]]", line_of(name, *bn));
+  if (bn && !arr) throw InputError("must be an array of tables: write each band as [[band]]", toml_line_of(name, *bn));
   if (!arr || arr->empty()) throw InputError("missing: give at least one [[band]] (event, quantity, lower, upper)", name);
   std::set<std::string> events;
   for (const toml::node& n : *arr) {
     const toml::table* bt = n.as_table();
-    if (!bt) throw InputError("each [[band]] must be a table", line_of(name, n));
-    Table b{bt, name, "band", {}};
+    if (!bt) throw InputError("each [[band]] must be a table", toml_line_of(name, n));
+    TomlTable b{bt, name, "band", {}};
     Band band;
     auto ev = b.text("event");
-    if (!ev || ev->empty()) throw InputError("missing: give the band's event (\"shank failure\")", line_of(name, n));
+    if (!ev || ev->empty()) throw InputError("missing: give the band's event (\"shank failure\")", toml_line_of(name, n));
     band.event = *ev;
     if (!events.insert(band.event).second) throw InputError("the event '" + band.event + "' has two bands", b.where("event"));
     b.name = "band." + band.event;
@@ -256,8 +191,8 @@ BandProblem parse_band_toml(const std::string& text, const std::string& name) {
     if (!(band.upper > band.lower)) throw InputError("must be above the band's lower limit", b.where("upper"));
     s.bands.push_back(band);
   }
-  for (Table* t : {&co, &pl, &cu, &si, &to}) t->finish();
-  std::map<std::string, Table*> tables{{"controller", &co}, {"plant", &pl}, {"cut", &cu}, {"simulation", &si}};
+  for (TomlTable* t : {&co, &pl, &cu, &si, &to}) t->finish();
+  std::map<std::string, TomlTable*> tables{{"controller", &co}, {"plant", &pl}, {"cut", &cu}, {"simulation", &si}};
   try {
     check(s);
   } catch (const InputError& e) {

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "cam/error.hpp"
+#include "cam/toml_table.hpp"
 #include "cam/units.hpp"
 
 namespace polarcam::servo {
@@ -17,58 +18,13 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-std::string line_of(const std::string& file, const toml::node& n) {
-  return n.source().begin.line ? file + ":" + std::to_string(n.source().begin.line) : file;
-}
-
 // "count" is the encoder count, a pure number: "0.0781 V/count" is 0.0781 V, "636.62 count/rad" is 636.62 /rad.
 std::string without_counts(const std::string& s) {
   static const std::regex per_count(R"(\s*/\s*counts?\b)"), count(R"(\bcounts?\b)");
   return std::regex_replace(std::regex_replace(s, per_count, ""), count, "");
 }
 
-struct Table {
-  const toml::table* t;
-  std::string file, name;
-  std::set<std::string> used;
-
-  std::string where(const std::string& key) const {
-    const toml::node* n = t ? t->get(key) : nullptr;
-    return (n ? line_of(file, *n) : file) + ": key '" + name + "." + key + "'";
-  }
-  std::optional<double> get(const std::string& key, const Dim& d) {
-    const toml::node* n = t->get(key);
-    if (!n) return std::nullopt;
-    used.insert(key);
-    double v = 0.0;
-    if (n->is_integer()) {
-      v = static_cast<double>(*n->value<int64_t>());
-    } else if (n->is_floating_point()) {
-      v = *n->value<double>();
-    } else if (auto s = n->value<std::string>()) {
-      try {
-        v = parse_quantity_as(without_counts(*s), d);
-      } catch (const InputError& e) {
-        throw InputError(e.message() + " (expected " + describe(d) + ")", where(key));
-      }
-    } else {
-      throw InputError("must be a number in SI units or a quantity with units (\"0.4 ohm\")", where(key));
-    }
-    if (!std::isfinite(v)) throw InputError("must be a finite number", where(key));
-    return v;
-  }
-  double require(const std::string& key, const Dim& d, const char* what) {
-    if (auto v = get(key, d)) return *v;
-    throw InputError(std::string("missing: give ") + what, file + ": key '" + name + "." + key + "'");
-  }
-  void finish() const {
-    for (const auto& [k, v] : *t)
-      if (!used.count(std::string(k.str())))
-        throw InputError("unknown key '" + name + "." + std::string(k.str()) + "'", line_of(file, v));
-  }
-};
-
-AxisDrive read_axis(Table& t, bool rotary) {
+AxisDrive read_axis(TomlTable& t, bool rotary) {
   using namespace dim;
   const Dim per_rad = none / angle, torque_s = torque * time / angle;
   AxisDrive d;
@@ -137,23 +93,23 @@ Drives parse_drives_toml(const std::string& text, const std::string& name) {
   for (const auto& [k, v] : root) {
     const std::string key(k.str());
     if (key == "source") {
-      if (!v.is_string()) throw InputError("must be a string", line_of(name, v) + ": key 'source'");
+      if (!v.is_string()) throw InputError("must be a string", toml_line_of(name, v) + ": key 'source'");
       d.source = *v.value<std::string>();
       continue;
     }
     if (key != names[0] && key != names[1])
-      throw InputError("unknown table [" + key + "] (expected [x] and [y], or [r] and [theta])", line_of(name, v));
-    if (!v.is_table()) throw InputError("must be a table", line_of(name, v) + ": key '" + key + "'");
+      throw InputError("unknown table [" + key + "] (expected [x] and [y], or [r] and [theta])", toml_line_of(name, v));
+    if (!v.is_table()) throw InputError("must be a table", toml_line_of(name, v) + ": key '" + key + "'");
   }
   for (int i = 0; i < 2; ++i) {
     if (!root[names[i]].as_table())
       throw InputError(std::string("missing the [") + names[i] + "] table (the drives of both axes: [x] and [y], or [r] and [theta])", name);
-    Table t{root[names[i]].as_table(), name, names[i], {}};
+    TomlTable t{root[names[i]].as_table(), name, names[i], {}, without_counts};
     d.axis[i] = read_axis(t, d.polar && i == 1);
   }
   if (d.axis[0].params.T != d.axis[1].params.T)
     throw InputError("must equal [" + std::string(names[0]) + "].sample_period: one controller samples both axes",
-                     Table{root[names[1]].as_table(), name, names[1], {}}.where("sample_period"));
+                     TomlTable{root[names[1]].as_table(), name, names[1], {}, without_counts}.where("sample_period"));
   return d;
 }
 
