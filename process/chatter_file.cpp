@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "cam/error.hpp"
+#include "cam/input_file.hpp"
 #include "cam/toml_table.hpp"
 #include "cam/units.hpp"
 
@@ -60,12 +61,7 @@ ChatterProblem parse_chatter_toml(const std::string& text, const std::string& na
 }
 
 ChatterProblem read_chatter_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("cannot open the file", path);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw InputError("cannot read the file", path);
-  return parse_chatter_toml(ss.str(), path);
+  return parse_chatter_toml(read_input_file(path), path);
 }
 
 }  // namespace polarcam::process

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "cam/error.hpp"
+#include "cam/input_file.hpp"
 
 namespace polarcam::process {
 namespace {
@@ -102,11 +103,7 @@ Response parse_response_csv(const std::string& text, const std::string& name) {
 }
 
 Response read_response_csv(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("cannot open the file", path);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse_response_csv(ss.str(), path);
+  return parse_response_csv(read_input_file(path), path);
 }
 
 std::optional<Decrement> log_decrement(const std::vector<double>& x, double period, double floor) {

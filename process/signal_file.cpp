@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "cam/error.hpp"
+#include "cam/input_file.hpp"
 
 namespace polarcam::process {
 namespace {
@@ -130,11 +131,7 @@ SignalRecord parse_signal_csv(const std::string& text, const std::string& file) 
 }
 
 SignalRecord read_signal_csv(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("cannot open the file", path);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse_signal_csv(ss.str(), path);
+  return parse_signal_csv(read_input_file(path), path);
 }
 
 std::string format_signal_csv(const SignalRecord& r, int digits) {

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "cam/error.hpp"
+#include "cam/input_file.hpp"
 #include "cam/toml_table.hpp"
 #include "cam/units.hpp"
 
@@ -34,14 +35,6 @@ toml::table parse_root(const std::string& text, const std::string& name, const s
   return root;
 }
 
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("cannot open the file", path);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw InputError("cannot read the file", path);
-  return ss.str();
-}
 
 // A check's InputError names section.key: give the file and line of that key.
 [[noreturn]] void relocate(const InputError& e, std::map<std::string, TomlTable*>& tables, const std::string& file) {
@@ -112,7 +105,7 @@ AcProblem parse_ac_toml(const std::string& text, const std::string& name) {
   return p;
 }
 
-AcProblem read_ac_file(const std::string& path) { return parse_ac_toml(read_text(path), path); }
+AcProblem read_ac_file(const std::string& path) { return parse_ac_toml(read_input_file(path), path); }
 
 BandProblem parse_band_toml(const std::string& text, const std::string& name) {
   toml::table root = parse_root(text, name, {"controller", "plant", "cut", "simulation", "tool", "band"});
@@ -201,6 +194,6 @@ BandProblem parse_band_toml(const std::string& text, const std::string& name) {
   return p;
 }
 
-BandProblem read_band_file(const std::string& path) { return parse_band_toml(read_text(path), path); }
+BandProblem read_band_file(const std::string& path) { return parse_band_toml(read_input_file(path), path); }
 
 }  // namespace polarcam::process

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "cam/error.hpp"
+#include "cam/input_file.hpp"
 #include "cam/toml_table.hpp"
 #include "cam/units.hpp"
 
@@ -114,12 +115,7 @@ Drives parse_drives_toml(const std::string& text, const std::string& name) {
 }
 
 Drives read_drives_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("cannot open the file", path);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw InputError("cannot read the file", path);
-  return parse_drives_toml(ss.str(), path);
+  return parse_drives_toml(read_input_file(path), path);
 }
 
 }  // namespace polarcam::servo
