@@ -21,6 +21,7 @@
 #include <termios.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -215,6 +216,7 @@ int main(int argc, char** argv) {
   using clk = std::chrono::steady_clock;
   const auto t0 = clk::now();
   int state = cpu_Running;
+  double max_lag_s = 0;  // how far the simulated clock fell behind the wall clock (a starved simulator)
   while (!g_quit && state != cpu_Done && state != cpu_Crashed) {
     // host -> board: bytes from the pty while the bridge holds few (a UART's back-pressure), then into the board
     if (br.in.size() < 64) {
@@ -243,6 +245,7 @@ int main(int argc, char** argv) {
     while (avr->cycle < until && state != cpu_Done && state != cpu_Crashed) state = avr_run(avr);
     const double sim_s = static_cast<double>(avr->cycle) / fw.frequency;
     const double wall_s = std::chrono::duration<double>(clk::now() - t0).count() * time_scale;
+    max_lag_s = std::max(max_lag_s, (wall_s - sim_s) / time_scale);
     if (sim_s > wall_s) {
       pollfd p{master, POLLIN, 0};
       ::poll(&p, 1, static_cast<int>((sim_s - wall_s) / time_scale * 1000));
@@ -252,11 +255,11 @@ int main(int argc, char** argv) {
   avr_vcd_close(&vcd);
   uint32_t untouched = ram_vars_end;
   while (untouched <= avr->ramend && avr->data[untouched] == kPaint) ++untouched;
-  std::fprintf(stderr, "fw_sim: %.3f s simulated; RAM %u bytes of variables, stack at most %u bytes, %u never used; to the board %llu bytes dropped, %llu corrupted; to the host %llu dropped, %llu corrupted%s\n",
+  std::fprintf(stderr, "fw_sim: %.3f s simulated; RAM %u bytes of variables, stack at most %u bytes, %u never used; to the board %llu bytes dropped, %llu corrupted; to the host %llu dropped, %llu corrupted; at most %.1f ms behind the wall clock%s\n",
                static_cast<double>(avr->cycle) / fw.frequency, ram_vars_end - 0x100, avr->ramend + 1 - untouched,
                untouched - ram_vars_end, static_cast<unsigned long long>(to_board.dropped),
                static_cast<unsigned long long>(to_board.corrupted), static_cast<unsigned long long>(to_host.dropped),
-               static_cast<unsigned long long>(to_host.corrupted), state == cpu_Crashed ? " (the firmware crashed)" : "");
+               static_cast<unsigned long long>(to_host.corrupted), max_lag_s * 1e3, state == cpu_Crashed ? " (the firmware crashed)" : "");
   ::close(keep);
   ::close(master);
   return state == cpu_Crashed ? 4 : 0;
