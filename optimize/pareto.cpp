@@ -22,6 +22,26 @@ bool complete(const PoleValue& v) {
   return v.feasible() && v.area_m2 >= 0.0 && v.torque_computed && v.torque.computed && std::isfinite(v.torque.worst);
 }
 
+// Up to `most` poles of `known` that meet `ok`, least `key` first, each at least `apart` (m) from those taken.
+template <class Ok, class Key>
+std::vector<Placement> starts_from(const std::vector<ParetoPoint>& known, Ok ok, Key key, double apart, size_t most) {
+  std::vector<const ParetoPoint*> c;
+  for (const ParetoPoint& x : known)
+    if (complete(x.v) && ok(x)) c.push_back(&x);
+  std::stable_sort(c.begin(), c.end(), [&](const ParetoPoint* a, const ParetoPoint* b) { return key(*a) < key(*b); });
+  std::vector<Placement> out;
+  std::vector<Vec2> taken;
+  for (const ParetoPoint* x : c) {
+    if (out.size() >= most) break;
+    bool far = true;
+    for (Vec2 t : taken) far = far && norm(x->pole - t) >= apart;
+    if (!far) continue;
+    taken.push_back(x->pole);
+    out.push_back(x->placement);
+  }
+  return out;
+}
+
 }  // namespace
 
 std::vector<ParetoPoint> non_dominated(std::vector<ParetoPoint> pts) {
@@ -60,7 +80,16 @@ ParetoResult pareto_front(const PoleProblem& p0, const Placement& start, const P
       if (complete(v)) pts.push_back({pole, placement_of(pole), v, "survey"});
     }
 
-  // the two ends
+  // The searches below start from the survey's best poles (at least one and a half survey cells apart): the
+  // survey has mapped the basins, so each search is local (optimize_placement's local stages).
+  const double apart = 1.5 * std::hypot((res.survey.box.x1 - res.survey.box.x0) / std::max(1, res.survey.nx - 1),
+                                        (res.survey.box.y1 - res.survey.box.y0) / std::max(1, res.survey.ny - 1));
+  auto worst = [](const ParetoPoint& x) { return x.v.torque.worst; };
+  auto area_of = [](const ParetoPoint& x) { return x.v.area_m2; };
+  auto any = [](const ParetoPoint&) { return true; };
+
+  // the two ends: least area error (the full search: it is `optimize`'s answer), least worst ratio (local, from
+  // the two surveyed poles of least worst ratio; the torque objective's global search when the survey found none)
   PlacementOptions oa = o;
   oa.objective = PoleObjective::area;
   oa.method = PoleMethod::nlopt;
@@ -70,7 +99,8 @@ ParetoResult pareto_front(const PoleProblem& p0, const Placement& start, const P
   pt.objective = PoleObjective::torque;
   PlacementOptions ot = oa;
   ot.objective = PoleObjective::torque;
-  ot.max_evaluations = o.max_evaluations;  // 0: the torque objective's own default
+  ot.local_starts = starts_from(pts, any, worst, apart, 2);
+  ot.max_evaluations = o.max_evaluations > 0 ? o.max_evaluations : (ot.local_starts.empty() ? 0 : 200);
   const PlacementResult rt = optimize_placement(pt, start, ot, progress_part(progress, 0.4, 0.5));
   res.evaluations += ra.evaluations + rt.evaluations;
   std::vector<Vec2> poles = {ra.pole, rt.pole, start.pole()};
@@ -80,21 +110,37 @@ ParetoResult pareto_front(const PoleProblem& p0, const Placement& start, const P
   const std::vector<PoleValue> ends = evaluate_poles(p, {ra.pole, rt.pole}, threads);
   if (complete(ends[0]) && complete(ends[1]) && ends[0].torque.worst > ends[1].torque.worst) {
     const double lo = ends[1].torque.worst, hi = ends[0].torque.worst;
-    PlacementOptions ol = oa;
-    if (po.level_evaluations > 0) {
-      ol.max_evaluations = po.level_evaluations;
-    } else if (o.max_evaluations > 0) {
-      ol.max_evaluations = o.max_evaluations;
-    } else {
-      const double steps = ends[0].steps > 0 ? static_cast<double>(ends[0].steps) : 1e4;
-      ol.max_evaluations = static_cast<int>(std::clamp(0.25 * 1.2e7 / steps, 150.0, 1000.0));
-    }
+    // Each level searches locally from the two poles of least area error among those already evaluated (the
+    // survey and the two ends) that meet it; a level that none meets gets the global search.
+    std::vector<ParetoPoint> known = pts;
+    known.push_back({ra.pole, placement_of(ra.pole), ends[0], "least area"});
+    known.push_back({rt.pole, placement_of(rt.pole), ends[1], "least torque"});
+    const double steps = ends[0].steps > 0 ? static_cast<double>(ends[0].steps) : 1e4;
     for (int k = 1; k <= po.levels; ++k) {
       PoleProblem pl = p;
-      pl.torque_limit = lo + (hi - lo) * k / (po.levels + 1);
+      const double level = lo + (hi - lo) * k / (po.levels + 1);
+      pl.torque_limit = level;
+      PlacementOptions ol = oa;
+      ol.local_starts = starts_from(known, [&](const ParetoPoint& x) { return x.v.torque.worst <= level; }, area_of,
+                                    apart, 2);
+      // and the pole of least area a little above the level (up to the next one): its basin may cross the level
+      const double next = lo + (hi - lo) * (k + 1) / (po.levels + 1);
+      if (!ol.local_starts.empty())
+        for (const Placement& x : starts_from(known, [&](const ParetoPoint& x) { return x.v.torque.worst > level && x.v.torque.worst <= next; },
+                                              area_of, apart, 1))
+          ol.local_starts.push_back(x);
+      if (po.level_evaluations > 0) {
+        ol.max_evaluations = po.level_evaluations;
+      } else if (o.max_evaluations > 0) {
+        ol.max_evaluations = o.max_evaluations;
+      } else {
+        ol.max_evaluations = ol.local_starts.empty() ? static_cast<int>(std::clamp(3e6 / steps, 150.0, 1000.0))
+                                                     : static_cast<int>(std::clamp(1.2e6 / steps, 60.0, 300.0));
+      }
       try {
         const PlacementResult r = optimize_placement(
-            pl, start, ol, progress_part(progress, 0.5 + 0.45 * (k - 1) / po.levels, 0.5 + 0.45 * k / po.levels));
+            pl, start, ol,
+            progress_part(progress, 0.5 + 0.45 * (k - 1) / po.levels, 0.5 + 0.45 * k / po.levels));
         res.evaluations += r.evaluations;
         poles.push_back(r.pole);
         sources.push_back("level " + std::to_string(k));

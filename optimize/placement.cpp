@@ -446,53 +446,58 @@ void torque_search(Search& s, const Param& q, const PoleProblem& p, const std::v
   const size_t dim = static_cast<size_t>(q.dim());
   const int E = o.max_evaluations > 0 ? o.max_evaluations : (dim == 2 ? 2000 : 400);
   s.set_budget(E);
-  // 1. lattice, a third of the budget
-  const int n = dim == 2 ? std::max(4, static_cast<int>(std::floor(std::sqrt(E / 3.0))))
-                         : std::max(8, E / 3);
+  const bool local = !o.local_starts.empty();
+  // 1. lattice, a third of the budget (local: its spacing only, that of a 24 x 24 survey, for the steps)
+  const int n = local ? 24
+                      : (dim == 2 ? std::max(4, static_cast<int>(std::floor(std::sqrt(E / 3.0)))) : std::max(8, E / 3));
   std::vector<double> cell(dim);
   for (size_t i = 0; i < dim; ++i) cell[i] = (q.hi[i] - q.lo[i]) / n;
   std::vector<std::vector<double>> lat;
-  if (dim == 2) {
-    for (int iy = 0; iy < n; ++iy)
-      for (int ix = 0; ix < n; ++ix) lat.push_back({q.lo[0] + cell[0] * (ix + 0.5), q.lo[1] + cell[1] * (iy + 0.5)});
-  } else {
-    for (int i = 0; i < n; ++i) lat.push_back({q.lo[0] + cell[0] * (i + 0.5)});
-  }
-  {
-    const int before = s.evaluations();
-    s.exact(lat);
-    res.stages.push_back({"lattice (" + std::to_string(n) + (dim == 2 ? " x " + std::to_string(n) : "") + ")",
-                          s.evaluations() - before, s.have() ? s.best().v.value : 0.0});
-  }
-  std::vector<Candidate> ranked = s.feasible_seen();
-  // 2. global: DIRECT-L on the penalised objective
-  NloptCtx g{&s, &p, true, {}, 0, 0, false, std::numeric_limits<double>::infinity(), {}};
-  {
-    nlopt::opt opt(nlopt::GN_DIRECT_L, static_cast<unsigned>(dim));
-    opt.set_lower_bounds(q.lo);
-    opt.set_upper_bounds(q.hi);
-    opt.set_min_objective(nlopt_objective, &g);
-    opt.set_maxeval(std::max(10, E / 4));
-    std::vector<double> t(dim);
-    for (size_t i = 0; i < dim; ++i) t[i] = 0.5 * (q.lo[i] + q.hi[i]);
-    const int before = s.evaluations();
-    run_nlopt(opt, t);
-    res.stages.push_back({"DIRECT-L (global)", s.evaluations() - before, g.best});
-  }
-  // local starts: the best feasible points seen, at least two lattice cells apart
-  ranked = s.feasible_seen();
-  std::stable_sort(ranked.begin(), ranked.end(),
-                   [](const Candidate& a, const Candidate& b) { return a.v.value < b.v.value; });
   std::vector<std::vector<double>> starts;
-  for (const Candidate& c : ranked) {
-    bool apart = true;
-    for (const auto& st : starts) {
-      bool near = true;
-      for (size_t i = 0; i < dim; ++i) near = near && std::abs(c.t[i] - st[i]) < 2.0 * cell[i];
-      if (near) apart = false;
+  if (local) {
+    for (const Placement& pl : o.local_starts) starts.push_back(start_t(q, pl));
+  } else {
+    if (dim == 2) {
+      for (int iy = 0; iy < n; ++iy)
+        for (int ix = 0; ix < n; ++ix) lat.push_back({q.lo[0] + cell[0] * (ix + 0.5), q.lo[1] + cell[1] * (iy + 0.5)});
+    } else {
+      for (int i = 0; i < n; ++i) lat.push_back({q.lo[0] + cell[0] * (i + 0.5)});
     }
-    if (apart) starts.push_back(c.t);
-    if (starts.size() == 3) break;
+    {
+      const int before = s.evaluations();
+      s.exact(lat);
+      res.stages.push_back({"lattice (" + std::to_string(n) + (dim == 2 ? " x " + std::to_string(n) : "") + ")",
+                            s.evaluations() - before, s.have() ? s.best().v.value : 0.0});
+    }
+    std::vector<Candidate> ranked = s.feasible_seen();
+    // 2. global: DIRECT-L on the penalised objective
+    NloptCtx g{&s, &p, true, {}, 0, 0, false, std::numeric_limits<double>::infinity(), {}};
+    {
+      nlopt::opt opt(nlopt::GN_DIRECT_L, static_cast<unsigned>(dim));
+      opt.set_lower_bounds(q.lo);
+      opt.set_upper_bounds(q.hi);
+      opt.set_min_objective(nlopt_objective, &g);
+      opt.set_maxeval(std::max(10, E / 4));
+      std::vector<double> t(dim);
+      for (size_t i = 0; i < dim; ++i) t[i] = 0.5 * (q.lo[i] + q.hi[i]);
+      const int before = s.evaluations();
+      run_nlopt(opt, t);
+      res.stages.push_back({"DIRECT-L (global)", s.evaluations() - before, g.best});
+    }
+    // local starts: the best feasible points seen, at least two lattice cells apart
+    ranked = s.feasible_seen();
+    std::stable_sort(ranked.begin(), ranked.end(),
+                     [](const Candidate& a, const Candidate& b) { return a.v.value < b.v.value; });
+    for (const Candidate& c : ranked) {
+      bool apart = true;
+      for (const auto& st : starts) {
+        bool near = true;
+        for (size_t i = 0; i < dim; ++i) near = near && std::abs(c.t[i] - st[i]) < 2.0 * cell[i];
+        if (near) apart = false;
+      }
+      if (apart) starts.push_back(c.t);
+      if (starts.size() == 3) break;
+    }
   }
   if (starts.empty()) starts.push_back(t0);
   // 3. local: COBYLA from each start, the margin as constraint
@@ -504,7 +509,7 @@ void torque_search(Search& s, const Param& q, const PoleProblem& p, const std::v
     opt.set_upper_bounds(q.hi);
     opt.set_min_objective(nlopt_objective, &l);
     opt.add_inequality_constraint(nlopt_constraint, &l, 0.0);
-    opt.set_maxeval(std::max(10, E / 10));
+    opt.set_maxeval(std::max(10, local ? E / (2 * static_cast<int>(starts.size())) : E / 10));
     opt.set_initial_step(cell);
     opt.set_xtol_abs(std::vector<double>(dim, hmin));
     std::vector<double> t = starts[k];
@@ -631,7 +636,9 @@ PlacementResult optimize_placement(const PoleProblem& p, const Placement& start,
     NloptCtx g{&s, &p, true, {}, 0, 0, false, std::numeric_limits<double>::infinity(), {}};
     std::vector<std::vector<double>> starts;
     std::vector<double> cell(dim, 0.0);
-    if (area) {
+    if (!o.local_starts.empty()) {
+      for (const Placement& pl : o.local_starts) starts.push_back(start_t(q, pl));
+    } else if (area) {
       const int G = dim == 2 ? std::clamp(static_cast<int>(std::sqrt(0.25 * E)), 3, 9)
                              : std::clamp(static_cast<int>(0.3 * E), 3, 24);
       for (size_t i = 0; i < dim; ++i) cell[i] = (q.hi[i] - q.lo[i]) / G;
@@ -696,8 +703,9 @@ PlacementResult optimize_placement(const PoleProblem& p, const Placement& start,
       diag = std::sqrt(diag);
       double step = q.hold == PoleHold::C ? std::clamp(diag / 30, q.scale(1e-3), q.scale(1e-2))
                                           : std::clamp(diag / 30, 1e-3, 1e-2);
-      if (area) step = std::min(step, 0.5 * *std::min_element(cell.begin(), cell.end()));
-      const int per = std::max(5, n2 / static_cast<int>(starts.size()));
+      const bool local = !o.local_starts.empty();
+      if (area && !local) step = std::min(step, 0.5 * *std::min_element(cell.begin(), cell.end()));
+      const int per = std::max(5, (local ? (E - s.evaluations()) / (2 * k) : n2) / static_cast<int>(starts.size()));
       double best = std::numeric_limits<double>::infinity();
       const int before = s.evaluations();
       for (const std::vector<double>& st : starts) {
@@ -723,7 +731,7 @@ PlacementResult optimize_placement(const PoleProblem& p, const Placement& start,
                             s.evaluations() - before, best});
     }
 
-    if (area && dim == 2) {
+    if (area && dim == 2 && o.local_starts.empty()) {
       // the centres of curvature of the contour's vertices (vertex_centres): along each one's normal, 11 groups of
       // 4 points DeltaR / 4 apart, 0.1 mm from group to group; then 8 points over +-DeltaR / 4 about the best
       // point of them all and a compass search along its normal down to DeltaR / 1024

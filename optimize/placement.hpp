@@ -55,6 +55,10 @@ struct PlacementSolver {
   double hj_acceleration = 1.0;  // Hooke-Jeeves: pattern-move factor
   double hj_min_step = 1e-6;   // m, Hooke-Jeeves: stop below this step
   int threads = 0;             // 0: all cores
+  // nlopt: when given, the local stages only, from these placements (no coarse map, lattice, DIRECT-L or vertex
+  // centres): for starts already known to lie in the right basins (the Pareto front's searches start from the
+  // best surveyed poles)
+  std::vector<Placement> local_starts;
 };
 
 // Both, as the CLI and the job file give them (fields are read as PlacementOptions::objective etc.).

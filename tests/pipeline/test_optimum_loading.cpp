@@ -2,7 +2,8 @@
 // docs/optimum-loading.md), through the job glue that `polarcam optimize` and `polarcam capacity` use:
 //  - the balanced optimum against an independent dense search of the same objective (a lattice over the search box
 //    and a finer lattice around its best feasible point): nothing found more than 1 % better;
-//  - the largest speed and load fed back into the analysis of `analyze` give the worst torque ratio 1 / SF.
+//  - the largest speed and load fed back into the analysis of `analyze` give the worst torque ratio 1 / SF;
+//  - the Pareto front's constrained points against a dense search of the least area within their worst ratio.
 // All eight jobs of examples/ch6 (about 50 s of CPU in a Release build); under the sanitizers the inertial circle
 // only, unless POLARCAM_LONG_TESTS=1 is in the environment.
 #include <gtest/gtest.h>
@@ -11,11 +12,13 @@
 #include <cstdlib>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "job/job.hpp"
 #include "pipeline/job_analysis.hpp"
 #include "pipeline/job_capacity.hpp"
 #include "pipeline/job_placement.hpp"
+#include "optimize/pareto.hpp"
 #include "optimize/placement.hpp"
 #include "tests/dense_pole_search.hpp"
 
@@ -104,3 +107,40 @@ TEST_P(CapacityFeedback, LargestSpeedAndLoadGiveTheLimitInTheAnalysis) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Ch6, CapacityFeedback, ::testing::Values("circle_inertial", "witch_grinding"));
+
+// The Pareto front of area error against the worst torque ratio (optimize/pareto): at the front's points found by
+// its constrained searches (the levels), an independent dense search of the least area error among the poles
+// whose worst ratio is no higher finds nothing more than 1 % better. The witch with the grinding load (the
+// operator's report's job); under the sanitizers only with POLARCAM_LONG_TESTS=1.
+TEST(ParetoFront, NoDenseSearchFindsALevelMoreThanOnePercentBetter) {
+#ifdef POLARCAM_SANITIZED
+  if (!test::long_tests()) GTEST_SKIP() << "checked in the normal build";
+#endif
+  const Job job = load_job(example("witch_grinding"));
+  PlacementOptions o = job.optimize;
+  o.threads = 2;
+  const PoleProblem p = job_pole_problem(job, o, true);
+  const ParetoResult r = pareto_front(p, job.placement, o);
+  std::vector<const ParetoPoint*> levels;
+  for (const ParetoPoint& x : r.front)
+    if (x.source.rfind("level", 0) == 0) levels.push_back(&x);
+  ASSERT_GE(levels.size(), 2u) << "the levels' searches should reach the front";
+  const SearchBox box = search_box(p);
+  const int n = 33;
+  const double hx = (box.x1 - box.x0) / (n - 1), hy = (box.y1 - box.y0) / (n - 1);
+  for (const ParetoPoint* x : {levels.front(), levels.back()}) {
+    const double limit = x->v.torque.worst;
+    auto area_within = [&](const PoleValue& v) {
+      if (!v.feasible() || !v.torque_computed || !v.torque.computed || !(v.torque.worst <= limit))
+        return std::numeric_limits<double>::infinity();
+      return v.area_m2;
+    };
+    const test::DenseBest coarse = test::dense_search(p, box, n, area_within);
+    ASSERT_TRUE(std::isfinite(coarse.value)) << x->source;
+    const test::DenseBest fine = test::dense_search(
+        p, {coarse.pole.x - hx, coarse.pole.x + hx, coarse.pole.y - hy, coarse.pole.y + hy}, 21, area_within);
+    const double best = std::min(coarse.value, fine.value);
+    EXPECT_GE(best, 0.99 * x->v.area_m2) << x->source << " (worst ratio " << limit << "): front " << x->v.area_m2 * 1e6
+                                         << " mm^2, dense " << best * 1e6 << " mm^2";
+  }
+}
