@@ -64,7 +64,7 @@ TEST(ChatterFile, BadKeysNamed) {
   EXPECT_EQ(refusal(replaced(kGood, "overlap = 1", "overlap = 1.2")), "s.toml:9: key 'cut.overlap': must be a fraction from 0 to 1");
   EXPECT_EQ(refusal(replaced(kGood, "K_m = 120000", "K_m = -1")), "s.toml:4: key 'structure.K_m': must be a positive stiffness");
   EXPECT_EQ(refusal(replaced(kGood, "overlap = 1", "overlap = 1\nspeed = 3")), "s.toml:10: unknown key 'cut.speed'");
-  EXPECT_EQ(refusal(kGood + "[tool]\n"), "s.toml:11: unknown section [tool] (expected [structure] and [cut])");
+  EXPECT_EQ(refusal(kGood + "[tool]\n"), "s.toml:11: unknown section [tool] (expected [structure], [cut] and an optional [suppressor])");
   EXPECT_EQ(refusal(replaced(kGood, "C_m = 0.1", "C_m = true")), "s.toml:3: key 'structure.C_m': must be a number in SI units or a quantity with units (\"0.2 s\")");
   EXPECT_EQ(refusal("[structure\n").rfind("s.toml:1:", 0), 0u);
   EXPECT_EQ(refusal(replaced(replaced(kGood, "C_m = 0.1", "C_m = 0"), "C_w = 0.01", "C_w = 0")),
