@@ -29,8 +29,8 @@ std::complex<double> poly_derivative(const std::vector<double>& c, std::complex<
 // period after each sample (Eq. 5.3).
 class Suppressor final : public ToolMotion {
  public:
-  Suppressor(const SuppressorSpec& spec, const SuppressorModel& m, SuppressionRun& run)
-      : Ts_(spec.sample_period), S_(spec.step_size), m_(m), run_(run) {
+  Suppressor(const SuppressorSpec& spec, const SuppressorModel& m, SuppressionRun& run, double end)
+      : Ts_(spec.sample_period), S_(spec.step_size), end_(end), m_(m), run_(run) {
     per_period_ = static_cast<long long>(std::floor(spec.max_step_rate * spec.sample_period * (1.0 + 1e-12)));
   }
 
@@ -45,6 +45,10 @@ class Suppressor final : public ToolMotion {
   }
   void event(double t, double force, double) override {
     if (t != sample_time()) return;  // a step: position() follows the list
+    if (t >= end_) {  // the run's end: no period follows
+      ++index_;
+      return;
+    }
     // Eq. 3.2 one sample ahead: the displacement at k + 1 from the forces up to k
     const double xp = m_.A1 * force + m_.A2 * f1_ - m_.B1 * p1_ - m_.B2 * p2_;
     f1_ = force;
@@ -85,7 +89,7 @@ class Suppressor final : public ToolMotion {
 
  private:
   double sample_time() const { return static_cast<double>(index_) * Ts_; }
-  double Ts_, S_;
+  double Ts_, S_, end_;
   SuppressorModel m_;
   SuppressionRun& run_;
   long long per_period_ = 0, q_ = 0, index_ = 0;
@@ -210,8 +214,14 @@ SuppressionRun simulate_suppression(const TwoMassStructure& s, const Cut& c, dou
   SuppressionRun run;
   run.model = suppressor_model(s, spec);
   run.without = simulate_chatter(s, c, kc, o);
-  Suppressor tool(spec, run.model, run);
+  const double end = run.without.samples.back().t;
+  Suppressor tool(spec, run.model, run, end);
   run.with = simulate_chatter(s, c, kc, o, &tool);
+  // the steps the last period would take after the end were never taken
+  while (!run.steps.empty() && run.steps.back().t > end) {
+    (run.steps.back().dir > 0 ? run.steps_forward : run.steps_reverse) -= 1;
+    run.steps.pop_back();
+  }
   run.final_position = run.steps.empty() ? 0 : run.steps.back().position;
   run.max_step_rate_used = static_cast<double>(run.max_steps_in_period) / spec.sample_period;
   return run;
