@@ -32,6 +32,7 @@ class Suppressor final : public ToolMotion {
   Suppressor(const SuppressorSpec& spec, const SuppressorModel& m, SuppressionRun& run, double end)
       : Ts_(spec.sample_period), S_(spec.step_size), end_(end), m_(m), run_(run) {
     per_period_ = static_cast<long long>(std::floor(spec.max_step_rate * spec.sample_period * (1.0 + 1e-12)));
+    run_.steps_per_period_limit = per_period_;
   }
 
   double next_event(double t) const override { return std::min(sample_time(), next_move(t)); }

@@ -82,6 +82,7 @@ struct SuppressionRun {
   long long steps_forward = 0, steps_reverse = 0;
   long long final_position = 0;       // steps
   long long max_steps_in_period = 0;
+  long long steps_per_period_limit = 0;  // floor(R T_s): the most steps the stepper can take in a period
   double max_step_rate_used = 0.0;    // the largest N / T_s of a period (steps/s)
   long long periods = 0, saturated_periods = 0;
   std::optional<double> first_saturation;  // the start of the first saturated period (s)

@@ -119,7 +119,7 @@ nlohmann::ordered_json chatter_json(const ChatterAnalysis& a) {
         {"sample_period_s", sp.sample_period},
         {"step_size_m", sp.step_size},
         {"max_step_rate_per_s", sp.max_step_rate},
-        {"max_steps_per_period", static_cast<long long>(std::floor(sp.max_step_rate * sp.sample_period * (1.0 + 1e-12)))},
+        {"max_steps_per_period", r.steps_per_period_limit},
         {"model",
          {{"source", process::to_string(sp.source)},
           {"frequency_scale", sp.model_frequency_scale},

@@ -232,6 +232,7 @@ TEST(Suppressor, ASlowStepperSaturatesAndSaysSo) {
   ASSERT_TRUE(run.first_saturation.has_value());
   EXPECT_GE(run.max_shortfall, 1);
   EXPECT_EQ(run.max_steps_in_period, 1);
+  EXPECT_EQ(run.steps_per_period_limit, 1);
   EXPECT_DOUBLE_EQ(run.max_step_rate_used, 1000.0);
   std::map<long long, int> per_period;
   for (const auto& st : run.steps) EXPECT_LE(++per_period[static_cast<long long>(std::floor(st.t / 1e-3))], 1);
