@@ -1,5 +1,6 @@
 // polarcam chatter STRUCTURE.toml [--json] [--lobes] [--spindle-min Q --spindle-max Q --lobe-count N]
-//                                 [--plot FIG] [--simulate K_c [--duration Q] [--csv [FILE]]]
+//                                 [--plot FIG] [--simulate K_c [--duration Q] [--csv [FILE]]
+//                                 [--suppress [--steps-out FILE]]]
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
@@ -16,9 +17,9 @@ namespace polarcam::cli {
 namespace {
 
 struct Opts {
-  std::string file, plot, spindle_min, spindle_max, simulate, duration, csv;
+  std::string file, plot, spindle_min, spindle_max, simulate, duration, csv, steps_out;
   int lobe_count = 400;
-  bool json = false, lobes = false, csv_given = false;
+  bool json = false, lobes = false, csv_given = false, suppress = false;
 };
 
 // A spindle speed: a frequency ("5 Hz", rev/s) or an angular speed ("300 rpm"); in rev/s.
@@ -54,12 +55,18 @@ int run(const Opts& o) {
   if (o.csv_given && o.simulate.empty()) throw InputError("needs --simulate K_c (the series it writes)", "--csv");
   if (csv_stdout && o.json) throw InputError("prints the series on standard output, as --json would: give --csv a file", "--csv");
   if (!o.duration.empty() && o.simulate.empty()) throw InputError("needs --simulate K_c", "--duration");
+  if (o.suppress && o.simulate.empty()) throw InputError("needs --simulate K_c (the cut it suppresses)", "--suppress");
+  if (!o.steps_out.empty() && !o.suppress) throw InputError("needs --suppress (the steps it writes)", "--steps-out");
+  if (!o.steps_out.empty()) check_output_path(o.steps_out);
   if (o.lobe_count < 2 || o.lobe_count > 20000) throw InputError("must be from 2 to 20000", "--lobe-count");
   if (!o.plot.empty()) plot::check_plot_path(o.plot);
   if (o.csv_given && !csv_stdout) check_output_path(o.csv);
   ChatterAnalysis a;
   a.problem = process::read_chatter_file(o.file);
   const process::Cut& cut = a.problem.cut;
+  if (o.suppress && !a.problem.suppressor)
+    throw InputError("has no [suppressor] table (sample_period, step_size, max_step_rate, model): --suppress needs one",
+                     o.file);
   process::SpeedRange range = process::default_lobe_range(cut);
   if (!o.spindle_min.empty()) range.n_min = spindle_speed(o.spindle_min, "--spindle-min");
   if (!o.spindle_max.empty()) range.n_max = spindle_speed(o.spindle_max, "--spindle-max");
@@ -81,14 +88,22 @@ int run(const Opts& o) {
   a.nyquist = process::nyquist_limit(g, cut.overlap, cut.revolution_period);
   a.simple = process::simple_criterion(g, cut.overlap);
   if (o.lobes || !o.plot.empty()) a.lobes = process::stability_lobes(g, cut.overlap, range.n_min, range.n_max, o.lobe_count);
-  if (a.simulated_gain) a.simulation = process::simulate_chatter(a.problem.structure, cut, *a.simulated_gain, so);
+  if (a.simulated_gain && o.suppress) {
+    a.suppression = process::simulate_suppression(a.problem.structure, cut, *a.simulated_gain, *a.problem.suppressor, so);
+    a.simulation = a.suppression->without;
+  } else if (a.simulated_gain) {
+    a.simulation = process::simulate_chatter(a.problem.structure, cut, *a.simulated_gain, so);
+  }
+  // the series written: the suppressed run's (with the tool's displacement) under --suppress
+  auto series = [&a] { return a.suppression ? suppression_csv(a.suppression->with) : simulation_csv(*a.simulation); };
 
   std::vector<std::pair<std::string, std::string>> files;
   if (!o.plot.empty()) files.emplace_back(o.plot, plot::render(chatter_lobes_figure(a), plot::plot_format(o.plot)));
-  if (o.csv_given && !csv_stdout) files.emplace_back(o.csv, simulation_csv(*a.simulation));
+  if (o.csv_given && !csv_stdout) files.emplace_back(o.csv, series());
+  if (!o.steps_out.empty()) files.emplace_back(o.steps_out, steps_csv(*a.suppression));
   write_files_atomic(files);
   if (csv_stdout) {
-    std::cout << simulation_csv(*a.simulation);
+    std::cout << series();
     return 0;
   }
   if (!o.lobes && !o.plot.empty()) a.lobes.clear();  // the table only when asked
@@ -120,8 +135,13 @@ void register_chatter(CLI::App& app, Action& action) {
   c->add_option("--plot", o->plot, "draw the stability lobes to this .png or .svg file");
   c->add_option("--simulate", o->simulate, "simulate the cut in time at this cutting gain K_c (N/m)");
   c->add_option("--duration", o->duration, "simulated time (default 40 revolutions)");
-  CLI::Option* csv = c->add_option("--csv", o->csv, "the simulated series t_s,x_m_m,x_w_m,force_N: to this file, or "
-                                                    "without one on standard output")
+  c->add_flag("--suppress", o->suppress,
+              "simulate the cut also with the stepper chatter suppressor of the file's [suppressor] table (Dunckley "
+              "1978, Ch. 3 and Sec. 5.4); needs --simulate");
+  c->add_option("--steps-out", o->steps_out, "with --suppress: the positioner's steps t_s,dir,position_steps to this CSV file");
+  CLI::Option* csv = c->add_option("--csv", o->csv, "the simulated series t_s,x_m_m,x_w_m,force_N (with --suppress: "
+                                                    "t_s,x_m_m,x_w_m,x_t_m,force_N of the suppressed cut): to this "
+                                                    "file, or without one on standard output")
                          ->expected(0, 1);
   c->callback([o, csv, &action] {
     o->csv_given = csv->count() > 0;

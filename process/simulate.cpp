@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "cam/error.hpp"
@@ -20,6 +21,11 @@ State derivative(const TwoMassStructure& p, const State& y, double force) {
 }  // namespace
 
 SimulationResult simulate_chatter(const TwoMassStructure& p, const Cut& c, double kc, const SimulationOptions& o) {
+  return simulate_chatter(p, c, kc, o, nullptr);
+}
+
+SimulationResult simulate_chatter(const TwoMassStructure& p, const Cut& c, double kc, const SimulationOptions& o,
+                                  ToolMotion* tool) {
   check(p, c);
   if (!(std::isfinite(kc) && kc >= 0.0)) throw InputError("must be a cutting gain of 0 or more (N/m)", "--simulate");
   const double T = c.revolution_period, mu = c.overlap, U0 = c.depth;
@@ -68,34 +74,89 @@ SimulationResult simulate_chatter(const TwoMassStructure& p, const Cut& c, doubl
     return (2 * t3 - 3 * t2 + 1) * x0 + (t3 - 2 * t2 + t) * h * v0 + (-2 * t3 + 3 * t2) * x1 + (t3 - t2) * h * v1;
   };
   State y{0.0, 0.0, 0.0, 0.0};
-  auto force_at = [&](const State& s, long k, double frac) { return kc * (U0 - s[2] + mu * delayed(k, frac)); };
+  // the tool's displacement now and one revolution ago: constant over each (sub-)step, 0 without a tool
+  double xt = 0.0, xtd = 0.0;
+  auto force_at = [&](const State& s, long k, double frac) {
+    return kc * (U0 - (s[2] - xt) + mu * (delayed(k, frac) - xtd));
+  };
   auto store = [&](long k, const State& s) {
     const size_t i = static_cast<size_t>(k % (n + 1));
     hx[i] = s[2];
     hv[i] = s[3];
   };
+  // one classical Runge-Kutta step over the fraction [fa, fb] of step k (the whole step: fa = 0, fb = 1)
+  auto rk4 = [&](long k, double fa, double fb) {
+    const double hs = (fb - fa) * h, fm = fa + 0.5 * (fb - fa);
+    const State k1 = derivative(p, y, force_at(y, k, fa));
+    State y2, y3, y4;
+    for (int i = 0; i < 4; ++i) y2[i] = y[i] + 0.5 * hs * k1[i];
+    const State k2 = derivative(p, y2, force_at(y2, k, fm));
+    for (int i = 0; i < 4; ++i) y3[i] = y[i] + 0.5 * hs * k2[i];
+    const State k3 = derivative(p, y3, force_at(y3, k, fm));
+    for (int i = 0; i < 4; ++i) y4[i] = y[i] + hs * k3[i];
+    const State k4 = derivative(p, y4, fb == 1.0 ? force_at(y4, k + 1, 0.0) : force_at(y4, k, fb));
+    for (int i = 0; i < 4; ++i) y[i] += hs / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+  };
+  // with a tool: the step split at every event and every move one revolution back, X_t set for each piece
+  constexpr double kInf = std::numeric_limits<double>::infinity(), kEps = 1e-9;
+  double done_now = -kInf, done_delayed = -kInf;  // the last event handled, the last move handled one revolution back
+  auto tool_step = [&](long k) {
+    const double t0 = static_cast<double>(k) * h;
+    double fa = 0.0;
+    auto piece = [&](double fb) {
+      const double tm = t0 + 0.5 * (fa + fb) * h;
+      xt = tool->position(tm);
+      xtd = tool->position(tm - T);
+      rk4(k, fa, fb);
+      fa = fb;
+    };
+    for (;;) {
+      const double e1 = tool->next_event(done_now);
+      const double m2 = mu > 0.0 ? tool->next_move(done_delayed) : kInf;
+      const double e = std::min(e1, m2 + T), fe = (e - t0) / h;
+      if (!(fe <= 1.0 + kEps)) break;
+      if (fe >= 1.0 - kEps) {
+        if (fa < 1.0) piece(1.0);
+      } else if (fe - fa > kEps) {
+        piece(fe);
+      }
+      if (e1 <= e) {
+        const double force = fa == 1.0 ? force_at(y, k + 1, 0.0) : force_at(y, k, fa);
+        tool->event(e1, force, y[2]);
+        done_now = e1;
+      }
+      if (m2 + T <= e) done_delayed = m2;
+    }
+    if (fa < 1.0) piece(1.0);
+    xt = tool->position(t0 + h);
+    xtd = tool->position(t0 + h - T);
+  };
   store(0, y);
   double amp = 0.0, prev_dev = -r.static_displacement, first = -1.0, last = -1.0;
+  double lo = 0.0, hi = 0.0, dlo = 0.0, dhi = 0.0;  // X_w and X_w - X_t over the revolution
   int crossings = 0;
-  r.samples.push_back({0.0, y[0], y[2], force_at(y, 0, 0.0)});
+  r.samples.push_back({0.0, y[0], y[2], force_at(y, 0, 0.0), 0.0});
   for (long k = 0; k < total; ++k) {
-    const State k1 = derivative(p, y, force_at(y, k, 0.0));
-    State y2, y3, y4;
-    for (int i = 0; i < 4; ++i) y2[i] = y[i] + 0.5 * h * k1[i];
-    const State k2 = derivative(p, y2, force_at(y2, k, 0.5));
-    for (int i = 0; i < 4; ++i) y3[i] = y[i] + 0.5 * h * k2[i];
-    const State k3 = derivative(p, y3, force_at(y3, k, 0.5));
-    for (int i = 0; i < 4; ++i) y4[i] = y[i] + h * k3[i];
-    const State k4 = derivative(p, y4, force_at(y4, k + 1, 0.0));
-    for (int i = 0; i < 4; ++i) y[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+    if (tool)
+      tool_step(k);
+    else
+      rk4(k, 0.0, 1.0);
     if (!std::isfinite(y[2]) || std::abs(y[2]) > 1e100)
       throw InputError("the simulated vibration overflows before the end: give a shorter --duration or a smaller gain",
                        "--simulate");
     store(k + 1, y);
     amp = std::max(amp, std::abs(y[2] - r.static_displacement));
+    lo = std::min(lo, y[2]);
+    hi = std::max(hi, y[2]);
+    dlo = std::min(dlo, y[2] - xt);
+    dhi = std::max(dhi, y[2] - xt);
     if ((k + 1) % n == 0) {
       r.revolution_amplitude.push_back(amp);
+      r.revolution_half_range.push_back(0.5 * (hi - lo));
+      r.revolution_relative_half_range.push_back(0.5 * (dhi - dlo));
       amp = 0.0;
+      lo = hi = y[2];
+      dlo = dhi = y[2] - xt;
     }
     if (k >= total * 3 / 4) {  // zero crossings of X_w about the equilibrium over the last quarter
       const double u = prev_dev, v = y[2] - r.static_displacement;
@@ -108,7 +169,7 @@ SimulationResult simulate_chatter(const TwoMassStructure& p, const Cut& c, doubl
     }
     prev_dev = y[2] - r.static_displacement;
     if ((k + 1) % every == 0 || k + 1 == total)
-      r.samples.push_back({static_cast<double>(k + 1) * h, y[0], y[2], force_at(y, k + 1, 0.0)});
+      r.samples.push_back({static_cast<double>(k + 1) * h, y[0], y[2], force_at(y, k + 1, 0.0), xt});
   }
   const auto& a = r.revolution_amplitude;
   if (a.size() >= 3 && a[1] > 0.0)

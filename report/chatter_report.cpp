@@ -100,6 +100,51 @@ nlohmann::ordered_json chatter_json(const ChatterAnalysis& a) {
                        {"last_revolution_amplitude_m",
                         r.revolution_amplitude.empty() ? 0.0 : r.revolution_amplitude.back()}};
   }
+  if (a.suppression) {
+    const process::SuppressionRun& r = *a.suppression;
+    const process::SuppressorSpec& sp = *a.problem.suppressor;
+    auto run = [](const process::SimulationResult& s) {
+      return nlohmann::ordered_json{
+          {"growth_per_revolution", s.growth_per_revolution},
+          {"growing", s.growth_per_revolution > 1.0},
+          {"last_revolution_amplitude_m", s.revolution_amplitude.empty() ? 0.0 : s.revolution_amplitude.back()},
+          {"last_revolution_half_range_x_w_m", s.revolution_half_range.empty() ? 0.0 : s.revolution_half_range.back()},
+          {"last_revolution_half_range_relative_m",
+           s.revolution_relative_half_range.empty() ? 0.0 : s.revolution_relative_half_range.back()}};
+    };
+    const double without = r.without.revolution_half_range.empty() ? 0.0 : r.without.revolution_half_range.back();
+    const double with = r.with.revolution_half_range.empty() ? 0.0 : r.with.revolution_half_range.back();
+    j["suppressor"] = {
+        {"cutting_gain", *a.simulated_gain},
+        {"sample_period_s", sp.sample_period},
+        {"step_size_m", sp.step_size},
+        {"max_step_rate_per_s", sp.max_step_rate},
+        {"max_steps_per_period", r.steps_per_period_limit},
+        {"model",
+         {{"source", process::to_string(sp.source)},
+          {"frequency_scale", sp.model_frequency_scale},
+          {"omega_n_rad_s", r.model.omega_n},
+          {"zeta", r.model.zeta},
+          {"gain_m_per_N", r.model.gain},
+          {"A1", r.model.A1},
+          {"A2", r.model.A2},
+          {"B1", r.model.B1},
+          {"B2", r.model.B2}}},
+        {"without", run(r.without)},
+        {"with", run(r.with)},
+        {"amplitude_reduction", with > 0.0 ? nlohmann::ordered_json(without / with) : nlohmann::ordered_json()},
+        {"steps_issued", r.steps_forward + r.steps_reverse},
+        {"steps_forward", r.steps_forward},
+        {"steps_reverse", r.steps_reverse},
+        {"final_position_steps", r.final_position},
+        {"sample_periods", r.periods},
+        {"max_steps_in_period", r.max_steps_in_period},
+        {"max_step_rate_used_per_s", r.max_step_rate_used},
+        {"saturated", r.saturated_periods > 0},
+        {"saturated_periods", r.saturated_periods},
+        {"first_saturation_s", r.first_saturation ? nlohmann::ordered_json(*r.first_saturation) : nlohmann::ordered_json()},
+        {"max_shortfall_steps", r.max_shortfall}};
+  }
   return j;
 }
 
@@ -139,6 +184,26 @@ std::string chatter_text(const ChatterAnalysis& a) {
        << significant(r.growth_per_revolution, 6) << " per revolution at " << significant(r.frequency, 6)
        << " rad/s\n";
   }
+  if (a.suppression) {
+    const auto& r = *a.suppression;
+    const auto& sp = *a.problem.suppressor;
+    auto last = [](const std::vector<double>& v) { return v.empty() ? 0.0 : v.back(); };
+    os << "  suppressor: model " << process::to_string(sp.source) << " (" << significant(r.model.omega_n, 6)
+       << " rad/s, zeta " << significant(r.model.zeta, 4) << ", " << significant(r.model.gain, 4)
+       << " m/N), sample period " << significant(sp.sample_period, 6) << " s, step " << significant(sp.step_size, 6)
+       << " m\n";
+    os << "    last revolution: X_w half range " << significant(last(r.without.revolution_half_range), 4)
+       << " m without, " << significant(last(r.with.revolution_half_range), 4) << " m with; growth per revolution "
+       << significant(r.without.growth_per_revolution, 5) << " without, " << significant(r.with.growth_per_revolution, 5)
+       << " with\n";
+    os << "    " << r.steps_forward + r.steps_reverse << " steps (" << r.steps_forward << " forward, " << r.steps_reverse
+       << " reverse), final position " << r.final_position << ", largest rate " << significant(r.max_step_rate_used, 6)
+       << " steps/s";
+    if (r.saturated_periods > 0)
+      os << "; SATURATED in " << r.saturated_periods << " of " << r.periods << " periods, first at "
+         << significant(*r.first_saturation, 6) << " s";
+    os << "\n";
+  }
   return os.str();
 }
 
@@ -148,6 +213,25 @@ std::string simulation_csv(const process::SimulationResult& r) {
   os << "t_s,x_m_m,x_w_m,force_N\n";
   for (const process::SimulationSample& s : r.samples) os << s.t << "," << s.x_m << "," << s.x_w << "," << s.force << "\n";
   return os.str();
+}
+
+std::string suppression_csv(const process::SimulationResult& r) {
+  std::ostringstream os;
+  os.precision(12);
+  os << "t_s,x_m_m,x_w_m,x_t_m,force_N\n";
+  for (const process::SimulationSample& s : r.samples)
+    os << s.t << "," << s.x_m << "," << s.x_w << "," << s.x_t << "," << s.force << "\n";
+  return os.str();
+}
+
+std::string steps_csv(const process::SuppressionRun& r) {
+  std::string out = "t_s,dir,position_steps\n";
+  char b[96];
+  for (const process::PositionerStep& s : r.steps) {
+    std::snprintf(b, sizeof b, "%.12f,%d,%lld\n", s.t, s.dir, s.position);
+    out += b;
+  }
+  return out;
 }
 
 }  // namespace polarcam

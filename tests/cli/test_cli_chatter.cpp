@@ -7,6 +7,7 @@
 #include <fstream>
 #include <random>
 #include <sstream>
+#include <vector>
 
 #include "tests/cli_runner.hpp"
 #include "tests/scratch.hpp"
@@ -119,6 +120,81 @@ std::string response_csv(bool with_force) {
     v = e * (-sigma * (a * c + b * s) + (-a * wd * s + b * wd * c));
   }
   return os.str();
+}
+
+TEST(CliChatter, SuppressorHoldsTheCutAndWritesItsSteps) {
+  // A. B. Dunckley (1978), Sec. 3.3: system 1 at 3 times its limit chatters without the suppressor and is held with
+  // it; the steps file adds up to the final position, the series' tool displacement is whole steps
+  Scratch sc;
+  const std::string csv = sc.path("run.csv"), steps = sc.path("steps.csv");
+  const auto j = cli_json("chatter " + kExamples + "dunckley-suppressor.toml --simulate 1311 --suppress --duration "
+                          "\"1 s\" --json --csv " + csv + " --steps-out " + steps);
+  const auto& u = j["suppressor"];
+  EXPECT_GT(u["without"]["growth_per_revolution"].get<double>(), 2.0);
+  EXPECT_TRUE(u["without"]["growing"].get<bool>());
+  EXPECT_LT(u["with"]["last_revolution_half_range_relative_m"].get<double>(), 1.5 * 0.00067);
+  EXPECT_GT(u["amplitude_reduction"].get<double>(), 100.0);
+  EXPECT_FALSE(u["saturated"].get<bool>());
+  EXPECT_TRUE(u["first_saturation_s"].is_null());
+  EXPECT_LE(u["max_step_rate_used_per_s"].get<double>(), 5000.0);
+  EXPECT_EQ(u["model"]["source"], "structure");
+  // the plain simulation is the run without the suppressor
+  EXPECT_EQ(j["simulation"]["growth_per_revolution"], u["without"]["growth_per_revolution"]);
+
+  std::istringstream in(read_file(steps));
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "t_s,dir,position_steps");
+  long long rows = 0, sum = 0, position = 0;
+  double t = -1.0;
+  while (std::getline(in, line)) {
+    ++rows;
+    std::istringstream f(line);
+    std::string a, b, c;
+    std::getline(f, a, ',');
+    std::getline(f, b, ',');
+    std::getline(f, c, ',');
+    const double ts = std::stod(a);
+    EXPECT_GT(ts, t);
+    t = ts;
+    sum += std::stoll(b);
+    position = std::stoll(c);
+    EXPECT_EQ(position, sum);
+  }
+  EXPECT_EQ(rows, u["steps_issued"].get<long long>());
+  EXPECT_EQ(sum, u["final_position_steps"].get<long long>());
+  EXPECT_LT(t, 1.0);
+
+  std::istringstream series(read_file(csv));
+  std::getline(series, line);
+  EXPECT_EQ(line, "t_s,x_m_m,x_w_m,x_t_m,force_N");
+  int n = 0;
+  while (std::getline(series, line)) {
+    std::vector<double> v;
+    std::istringstream f(line);
+    std::string x;
+    while (std::getline(f, x, ',')) v.push_back(std::stod(x));
+    ASSERT_EQ(v.size(), 5u);
+    EXPECT_NEAR(v[3] / 0.00067, std::round(v[3] / 0.00067), 1e-6) << line;
+    ++n;
+  }
+  EXPECT_EQ(n, 2001);  // t = 0 and 400 per revolution over five revolutions
+  // the same input, the same bytes
+  const std::string steps2 = sc.path("steps2.csv");
+  EXPECT_EQ(run_cli("chatter " + kExamples + "dunckley-suppressor.toml --simulate 1311 --suppress --duration \"1 s\" "
+                    "--steps-out " + steps2).code, 0);
+  EXPECT_EQ(read_file(steps2), read_file(steps));
+}
+
+TEST(CliChatter, SuppressorRefusals) {
+  Scratch sc;
+  const std::string out = sc.path("steps.csv");
+  expect_refused(run_cli("chatter " + kExamples + "dunckley-suppressor.toml --suppress --steps-out " + out), sc, out,
+                 "--suppress");
+  expect_refused(run_cli("chatter " + kExamples + "dunckley-suppressor.toml --simulate 1311 --steps-out " + out), sc,
+                 out, "--steps-out");
+  expect_refused(run_cli("chatter " + kExamples + "dunckley-case1.toml --simulate 1311 --suppress --steps-out " + out),
+                 sc, out, "has no [suppressor] table");
 }
 
 TEST(CliIdentify, RecoversTheStructure) {
