@@ -42,6 +42,40 @@ inline GS eval_gs(const Cheb& g, const Cheb& S, double t) {
           S.c[0] + t * B1 - B2, B1 + t * D1 - D2,   2.0 * D1 + t * E1 - E2};
 }
 
+// Two evaluations of eval_gs<true> in one pass, on two lanes of a vector: lane a evaluates the series whose
+// coefficients are cg[k][a] and cs[k][a], k = n..0, at t[a]. Each lane performs exactly the operations of
+// eval_gs<true> in the same order (no fused multiply-add: the build targets the baseline instruction set), so with
+// the coefficients of (g_a, S) up to max(g_a.deg, S.deg) and zeros above (a leading zero coefficient leaves the
+// recurrences at exact zeros) each lane's six values are bit for bit those of eval_gs<true>(g_a, S, t[a]). The
+// two evaluations are independent chains of dependent multiplies and adds: run together they take little more
+// time than one (the step walker solves its two axes' crossings side by side this way).
+typedef double Lane2 __attribute__((vector_size(16)));
+struct GS2 {
+  Lane2 g, g1, g2, s, s1, s2;
+};
+inline GS2 eval_gs2(const Lane2* cg, const Lane2* cs, int n, Lane2 t) {
+  const Lane2 two = {2.0, 2.0}, four = {4.0, 4.0}, tt = two * t;
+  Lane2 b1 = {0, 0}, b2 = b1, d1 = b1, d2 = b1, e1 = b1, e2 = b1, B1 = b1, B2 = b1, D1 = b1, D2 = b1, E1 = b1, E2 = b1;
+  for (int k = n; k >= 1; --k) {
+    Lane2 b0 = cg[k] + tt * b1 - b2, d0 = two * b1 + tt * d1 - d2, e0 = four * d1 + tt * e1 - e2;
+    Lane2 B0 = cs[k] + tt * B1 - B2, D0 = two * B1 + tt * D1 - D2, E0 = four * D1 + tt * E1 - E2;
+    b2 = b1;
+    b1 = b0;
+    d2 = d1;
+    d1 = d0;
+    e2 = e1;
+    e1 = e0;
+    B2 = B1;
+    B1 = B0;
+    D2 = D1;
+    D1 = D0;
+    E2 = E1;
+    E1 = E0;
+  }
+  return {cg[0] + t * b1 - b2, b1 + t * d1 - d2, two * d1 + t * e1 - e2,
+          cs[0] + t * B1 - B2, B1 + t * D1 - D2, two * D1 + t * E1 - E2};
+}
+
 struct LevelCrossing {
   double t, s;  // s = S(t), when asked for
 };
@@ -87,5 +121,69 @@ inline LevelCrossing solve_crossing(const Cheb& g, const Cheb& S, double y, doub
   }
   return {t, arc(t)};
 }
+
+// solve_crossing<true> one iteration at a time, so that two solves can share evaluations (eval_gs2): start() does
+// what solve_crossing does before its loop, next(v) one turn of its loop given v = eval_gs<true>(g, S, t). The
+// sequence of points t and the result are those of solve_crossing<true> with the same arguments.
+struct CrossingSolve {
+  double t = 0, lo = 0, hi = 0, flo = 0, y = 0;
+  int it = 0;
+  LevelCrossing r{0, 0};
+
+  // False when the result is already known (flo == 0): then r holds it.
+  bool start(const Cheb& S, double y_, double lo_, double hi_, double flo_, double fhi, double guess) {
+    y = y_;
+    lo = lo_;
+    hi = hi_;
+    flo = flo_;
+    it = 0;
+    if (flo == 0.0) {
+      r = {lo, S(lo)};
+      return false;
+    }
+    t = guess;
+    if (!(t > lo && t < hi)) {
+      t = (fhi != flo) ? lo - flo * (hi - lo) / (fhi - flo) : 0.5 * (lo + hi);
+      if (!(t > lo && t < hi)) t = 0.5 * (lo + hi);
+    }
+    return true;
+  }
+  // One iteration from the values at t; true when done (r holds the result).
+  bool next(const Cheb& S, double vg, double vg1, double vg2, double vs, double vs1, double vs2) {
+    const double f = vg - y;
+    if (f == 0.0) {
+      r = {t, vs};
+      return true;
+    }
+    if ((f < 0) == (flo < 0)) {
+      lo = t;
+      flo = f;
+    } else {
+      hi = t;
+    }
+    double tn = 0.5 * (lo + hi);
+    if (vg1 != 0.0) {
+      const double dt = -f / vg1;
+      if (t + dt > lo && t + dt < hi) {
+        tn = t + dt;
+        if (std::abs(dt) <= 1e-4 && std::abs(vg2 * dt * dt) <= 2e-15 * std::abs(vg1) &&
+            std::abs(vs2 * dt * dt) <= 2e-15 * std::abs(vs1)) {
+          r = {tn, vs + vs1 * dt};
+          return true;
+        }
+      }
+    }
+    if (hi - lo <= 4e-16) {
+      r = {tn, S(tn)};
+      return true;
+    }
+    t = tn;
+    if (++it >= 200) {
+      r = {t, S(t)};
+      return true;
+    }
+    return false;
+  }
+};
 
 }  // namespace polarcam

@@ -12,6 +12,7 @@
 // The walker is a template on its style and its emitter, so the inner loop has no indirect calls: the polar
 // digitizer (digitize.cpp), the theta-rho digitizer and the exact Cartesian generator
 // (machine/cartesian/cartesian_exact.cpp) are instances of it.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -38,6 +39,113 @@ struct WalkStyle {
   static constexpr bool arc_in_solver = kArcInSolver;
   static constexpr int history = kHistory;
 };
+
+// The steps of both axes on one monotone sub-interval [tl, th] of a piece, in order, with the arc length from the
+// solver (the digitizer's style). Each axis's crossings depend only on that axis (its level, its bracket from its
+// previous crossing, its guess from its earlier crossings), so the two axes are solved side by side: while both
+// have a crossing to find, one eval_gs2 serves an iteration of each (two independent chains of dependent
+// arithmetic run in the time of about one). Up to kAhead crossings per axis are found ahead and then merged in
+// order of t (axis 0 first at equal t). Every point, value and result is that of solving the crossings one at a
+// time with solve_crossing<true>: the steps, arc lengths and so the times are bit for bit the same.
+template <class Emit>
+void walk_sub_interval(const Cheb g[2], const Lane2* coef_g, const Lane2* coef_s, const TrackPiece& pc,
+                       const double base[2], const double fprev[2], const double fend[2], double tl, double th,
+                       double h, int64_t node[2], Emit& emit) {
+  constexpr int kAhead = 32;
+  struct Axis {
+    int dir = 0;
+    bool done = false, solving = false;
+    double lo = 0, flo = 0, level = 0;  // bracket start (the last crossing) and the axis value there
+    double hist[3] = {0, 0, 0};
+    int nh = 0;
+    CrossingSolve q;
+    double bt[kAhead], bs[kAhead];  // crossings found and not yet emitted: [head, nb)
+    int head = 0, nb = 0;
+  };
+  Axis ax[2];
+  const int n01 = std::max(std::max(g[0].deg, g[1].deg), pc.S.deg);
+  auto record = [&](int a) {
+    Axis& x = ax[a];
+    x.solving = false;
+    x.bt[x.nb] = x.q.r.t;
+    x.bs[x.nb] = x.q.r.s;
+    ++x.nb;
+    node[a] += x.dir;
+    x.lo = x.q.r.t;
+    x.flo = x.level;  // the axis stands at the level it just crossed
+    x.hist[2] = x.hist[1];
+    x.hist[1] = x.hist[0];
+    x.hist[0] = x.q.r.t;
+    if (x.nh < 3) ++x.nh;
+  };
+  // Starts the axis's next crossing while it has one and room for it; crossings known without iterating are recorded.
+  auto begin = [&](int a) {
+    Axis& x = ax[a];
+    while (!x.done && !x.solving && x.nb < kAhead) {
+      const double level = static_cast<double>(node[a]) + (x.dir > 0 ? h : -h);
+      if (x.dir == 0 || (x.dir > 0 ? !(fend[a] >= level) : !(fend[a] < level))) {
+        x.done = true;
+        return;
+      }
+      double guess = -2.0;  // none: the solver starts from the secant
+      if (x.nh >= 3)
+        guess = 3.0 * x.hist[0] - 3.0 * x.hist[1] + x.hist[2];
+      else if (x.nh >= 2)
+        guess = 2.0 * x.hist[0] - x.hist[1];
+      x.level = level;
+      if (x.q.start(pc.S, level - base[a], x.lo, th, x.flo - level, fend[a] - level, guess))
+        x.solving = true;
+      else
+        record(a);
+    }
+  };
+  auto step_one = [&](int a) {
+    const GS v = eval_gs<true>(g[a], pc.S, ax[a].q.t);
+    if (ax[a].q.next(pc.S, v.g, v.g1, v.g2, v.s, v.s1, v.s2)) record(a);
+  };
+  for (int a = 0; a < 2; ++a) {
+    ax[a].dir = fend[a] > fprev[a] ? 1 : (fend[a] < fprev[a] ? -1 : 0);
+    ax[a].lo = tl;
+    ax[a].flo = fprev[a];
+  }
+  for (;;) {
+    // find crossings until each axis has kAhead waiting or has no more
+    for (;;) {
+      begin(0);
+      begin(1);
+      if (ax[0].solving && ax[1].solving) {
+        const GS2 v = eval_gs2(coef_g, coef_s, n01, Lane2{ax[0].q.t, ax[1].q.t});
+        if (ax[0].q.next(pc.S, v.g[0], v.g1[0], v.g2[0], v.s[0], v.s1[0], v.s2[0])) record(0);
+        if (ax[1].q.next(pc.S, v.g[1], v.g1[1], v.g2[1], v.s[1], v.s1[1], v.s2[1])) record(1);
+      } else if (ax[0].solving) {
+        step_one(0);
+      } else if (ax[1].solving) {
+        step_one(1);
+      } else {
+        break;
+      }
+    }
+    // merge: while each axis has a crossing waiting or none left
+    for (;;) {
+      const bool h0 = ax[0].head < ax[0].nb, h1 = ax[1].head < ax[1].nb;
+      if ((!h0 && !ax[0].done) || (!h1 && !ax[1].done) || (!h0 && !h1)) break;
+      const int a = (h0 && (!h1 || ax[0].bt[ax[0].head] <= ax[1].bt[ax[1].head])) ? 0 : 1;
+      Axis& x = ax[a];
+      emit(a, x.dir, pc.s0 + x.bs[x.head]);
+      ++x.head;
+    }
+    if (ax[0].done && ax[1].done && ax[0].head == ax[0].nb && ax[1].head == ax[1].nb) return;
+    for (Axis& x : ax) {  // keep what waits at the front
+      int j = 0;
+      for (int i = x.head; i < x.nb; ++i, ++j) {
+        x.bt[j] = x.bt[i];
+        x.bs[j] = x.bs[i];
+      }
+      x.head = 0;
+      x.nb = j;
+    }
+  }
+}
 
 // Walks one piece of a track from the nodes in `node` (updated to the nodes at its end): `ext` its `n_ext` interior
 // extrema (sorted t in (-1, 1)), `closing` when it is the last piece of a closed path (its end is then
@@ -68,6 +176,15 @@ void walk_piece(const TrackPiece& pc, const double* ext, size_t n_ext, bool clos
       end[a] = (pc.q_b[a] + wg.offset[a]) / wg.res[a];
       if (closing && !std::isnan(wg.last_end[a])) end[a] = wg.last_end[a];
     }
+    // both axes' series on the two lanes of eval_gs2, zero above each axis's own degree (see there)
+    Lane2 coef_g[kChebMaxDegree + 1], coef_s[kChebMaxDegree + 1];
+    if constexpr (kEmit && Style::arc_in_solver) {
+      const int n[2] = {std::max(g[0].deg, pc.S.deg), std::max(g[1].deg, pc.S.deg)};
+      for (int k = 0; k <= kChebMaxDegree; ++k) {
+        coef_g[k] = Lane2{k <= n[0] ? g[0].c[k] : 0.0, k <= n[1] ? g[1].c[k] : 0.0};
+        coef_s[k] = Lane2{k <= n[0] ? pc.S.c[k] : 0.0, k <= n[1] ? pc.S.c[k] : 0.0};
+      }
+    }
     ts.assign(1, -1.0);
     for (size_t k = 0; k < n_ext; ++k) ts.push_back(ext[k]);
     ts.push_back(1.0);
@@ -86,6 +203,8 @@ void walk_piece(const TrackPiece& pc, const double* ext, size_t n_ext, bool clos
             if (v < static_cast<double>(node[a])) node[a] = static_cast<int64_t>(v);
           }
         }
+      } else if constexpr (Style::arc_in_solver) {
+        walk_sub_interval(g, coef_g, coef_s, pc, base, fprev, fend, tl, th, h, node, emit);
       } else {
         Cursor cur[2];
         auto advance = [&](int a) {
