@@ -54,11 +54,11 @@ struct GS2 {
   Lane2 g, g1, g2, s, s1, s2;
 };
 inline GS2 eval_gs2(const Lane2* cg, const Lane2* cs, int n, Lane2 t) {
-  const Lane2 two = {2.0, 2.0}, four = {4.0, 4.0}, tt = two * t;
+  const Lane2 tt = t + t;  // 2 t, 2 b and 4 d are formed by exact additions: the same values as the products
   Lane2 b1 = {0, 0}, b2 = b1, d1 = b1, d2 = b1, e1 = b1, e2 = b1, B1 = b1, B2 = b1, D1 = b1, D2 = b1, E1 = b1, E2 = b1;
   for (int k = n; k >= 1; --k) {
-    Lane2 b0 = cg[k] + tt * b1 - b2, d0 = two * b1 + tt * d1 - d2, e0 = four * d1 + tt * e1 - e2;
-    Lane2 B0 = cs[k] + tt * B1 - B2, D0 = two * B1 + tt * D1 - D2, E0 = four * D1 + tt * E1 - E2;
+    Lane2 b0 = cg[k] + tt * b1 - b2, d0 = (b1 + b1) + tt * d1 - d2, e0 = ((d1 + d1) + (d1 + d1)) + tt * e1 - e2;
+    Lane2 B0 = cs[k] + tt * B1 - B2, D0 = (B1 + B1) + tt * D1 - D2, E0 = ((D1 + D1) + (D1 + D1)) + tt * E1 - E2;
     b2 = b1;
     b1 = b0;
     d2 = d1;
@@ -72,8 +72,27 @@ inline GS2 eval_gs2(const Lane2* cg, const Lane2* cs, int n, Lane2 t) {
     E2 = E1;
     E1 = E0;
   }
-  return {cg[0] + t * b1 - b2, b1 + t * d1 - d2, two * d1 + t * e1 - e2,
-          cs[0] + t * B1 - B2, B1 + t * D1 - D2, two * D1 + t * E1 - E2};
+  return {cg[0] + t * b1 - b2, b1 + t * d1 - d2, (d1 + d1) + t * e1 - e2,
+          cs[0] + t * B1 - B2, B1 + t * D1 - D2, (D1 + D1) + t * E1 - E2};
+}
+
+// eval_gs<true> with g and S on the two lanes of a vector: pk[k] = {g.c[k], S.c[k]}, k = n..0, n = max(g.deg,
+// S.deg). The two lanes run the same recurrence, so each performs exactly the operations of eval_gs<true> on its
+// series: the values are bit for bit the same, in half the instructions and with the accumulators in registers.
+inline GS eval_gs_packed(const Lane2* pk, int n, double t) {
+  const Lane2 tv = {t, t}, tt = tv + tv;  // 2 t exactly
+  Lane2 b1 = {0, 0}, b2 = b1, d1 = b1, d2 = b1, e1 = b1, e2 = b1;
+  for (int k = n; k >= 1; --k) {
+    const Lane2 b0 = pk[k] + tt * b1 - b2, d0 = (b1 + b1) + tt * d1 - d2, e0 = ((d1 + d1) + (d1 + d1)) + tt * e1 - e2;
+    b2 = b1;
+    b1 = b0;
+    d2 = d1;
+    d1 = d0;
+    e2 = e1;
+    e1 = e0;
+  }
+  const Lane2 v = pk[0] + tv * b1 - b2, v1 = b1 + tv * d1 - d2, v2 = (d1 + d1) + tv * e1 - e2;
+  return {v[0], v1[0], v2[0], v[1], v1[1], v2[1]};
 }
 
 struct LevelCrossing {

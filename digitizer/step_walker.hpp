@@ -44,14 +44,17 @@ struct WalkStyle {
 // solver (the digitizer's style). Each axis's crossings depend only on that axis (its level, its bracket from its
 // previous crossing, its guess from its earlier crossings), so the two axes are solved side by side: while both
 // have a crossing to find, one eval_gs2 serves an iteration of each (two independent chains of dependent
-// arithmetic run in the time of about one). Up to kAhead crossings per axis are found ahead and then merged in
-// order of t (axis 0 first at equal t). Every point, value and result is that of solving the crossings one at a
-// time with solve_crossing<true>: the steps, arc lengths and so the times are bit for bit the same.
+// arithmetic run in the time of about one). Each axis finds up to kAhead crossings ahead of the steps emitted;
+// between iterations the crossings whose turn has come are emitted, in order of t (axis 0 first at equal t), so
+// the emitter's work fills the time the solver waits on its own arithmetic. Every point, value and result is that
+// of solving the crossings one at a time with solve_crossing<true>: the steps, arc lengths and so the times are
+// bit for bit the same, and so is the order of the emitter's calls.
 template <class Emit>
-void walk_sub_interval(const Cheb g[2], const Lane2* coef_g, const Lane2* coef_s, const TrackPiece& pc,
+void walk_sub_interval(const Lane2 packed[2][kChebMaxDegree + 1], const int n_axis[2], const Lane2* coef_g,
+                       const Lane2* coef_s, const TrackPiece& pc,
                        const double base[2], const double fprev[2], const double fend[2], double tl, double th,
                        double h, int64_t node[2], Emit& emit) {
-  constexpr int kAhead = 32;
+  constexpr unsigned kAhead = 64;  // a power of two: the crossings waiting are a ring
   struct Axis {
     int dir = 0;
     bool done = false, solving = false;
@@ -59,17 +62,17 @@ void walk_sub_interval(const Cheb g[2], const Lane2* coef_g, const Lane2* coef_s
     double hist[3] = {0, 0, 0};
     int nh = 0;
     CrossingSolve q;
-    double bt[kAhead], bs[kAhead];  // crossings found and not yet emitted: [head, nb)
-    int head = 0, nb = 0;
+    unsigned head = 0, tail = 0;  // crossings found and not yet emitted: [head, tail) modulo kAhead
+    double bt[kAhead], bs[kAhead];
   };
   Axis ax[2];
-  const int n01 = std::max(std::max(g[0].deg, g[1].deg), pc.S.deg);
+  const int n01 = std::max(n_axis[0], n_axis[1]);
   auto record = [&](int a) {
     Axis& x = ax[a];
     x.solving = false;
-    x.bt[x.nb] = x.q.r.t;
-    x.bs[x.nb] = x.q.r.s;
-    ++x.nb;
+    x.bt[x.tail % kAhead] = x.q.r.t;
+    x.bs[x.tail % kAhead] = x.q.r.s;
+    ++x.tail;
     node[a] += x.dir;
     x.lo = x.q.r.t;
     x.flo = x.level;  // the axis stands at the level it just crossed
@@ -81,7 +84,7 @@ void walk_sub_interval(const Cheb g[2], const Lane2* coef_g, const Lane2* coef_s
   // Starts the axis's next crossing while it has one and room for it; crossings known without iterating are recorded.
   auto begin = [&](int a) {
     Axis& x = ax[a];
-    while (!x.done && !x.solving && x.nb < kAhead) {
+    while (!x.done && !x.solving && x.tail - x.head < kAhead) {
       const double level = static_cast<double>(node[a]) + (x.dir > 0 ? h : -h);
       if (x.dir == 0 || (x.dir > 0 ? !(fend[a] >= level) : !(fend[a] < level))) {
         x.done = true;
@@ -99,9 +102,17 @@ void walk_sub_interval(const Cheb g[2], const Lane2* coef_g, const Lane2* coef_s
         record(a);
     }
   };
-  auto step_one = [&](int a) {
-    const GS v = eval_gs<true>(g[a], pc.S, ax[a].q.t);
-    if (ax[a].q.next(pc.S, v.g, v.g1, v.g2, v.s, v.s1, v.s2)) record(a);
+  // Emits the crossings whose turn has come: the earlier of the two axes' next ones, while each axis has its next
+  // one found or has none left.
+  auto emit_ready = [&] {
+    for (;;) {
+      const bool h0 = ax[0].head != ax[0].tail, h1 = ax[1].head != ax[1].tail;
+      if ((!h0 && !ax[0].done) || (!h1 && !ax[1].done) || (!h0 && !h1)) return;
+      const int a = (h0 && (!h1 || ax[0].bt[ax[0].head % kAhead] <= ax[1].bt[ax[1].head % kAhead])) ? 0 : 1;
+      Axis& x = ax[a];
+      emit(a, x.dir, pc.s0 + x.bs[x.head % kAhead]);
+      ++x.head;
+    }
   };
   for (int a = 0; a < 2; ++a) {
     ax[a].dir = fend[a] > fprev[a] ? 1 : (fend[a] < fprev[a] ? -1 : 0);
@@ -109,41 +120,19 @@ void walk_sub_interval(const Cheb g[2], const Lane2* coef_g, const Lane2* coef_s
     ax[a].flo = fprev[a];
   }
   for (;;) {
-    // find crossings until each axis has kAhead waiting or has no more
-    for (;;) {
-      begin(0);
-      begin(1);
-      if (ax[0].solving && ax[1].solving) {
-        const GS2 v = eval_gs2(coef_g, coef_s, n01, Lane2{ax[0].q.t, ax[1].q.t});
-        if (ax[0].q.next(pc.S, v.g[0], v.g1[0], v.g2[0], v.s[0], v.s1[0], v.s2[0])) record(0);
-        if (ax[1].q.next(pc.S, v.g[1], v.g1[1], v.g2[1], v.s[1], v.s1[1], v.s2[1])) record(1);
-      } else if (ax[0].solving) {
-        step_one(0);
-      } else if (ax[1].solving) {
-        step_one(1);
-      } else {
-        break;
-      }
+    begin(0);
+    begin(1);
+    if (ax[0].solving && ax[1].solving) {
+      const GS2 v = eval_gs2(coef_g, coef_s, n01, Lane2{ax[0].q.t, ax[1].q.t});
+      if (ax[0].q.next(pc.S, v.g[0], v.g1[0], v.g2[0], v.s[0], v.s1[0], v.s2[0])) record(0);
+      if (ax[1].q.next(pc.S, v.g[1], v.g1[1], v.g2[1], v.s[1], v.s1[1], v.s2[1])) record(1);
+    } else if (ax[0].solving || ax[1].solving) {
+      const int a = ax[0].solving ? 0 : 1;
+      const GS v = eval_gs_packed(packed[a], n_axis[a], ax[a].q.t);
+      if (ax[a].q.next(pc.S, v.g, v.g1, v.g2, v.s, v.s1, v.s2)) record(a);
     }
-    // merge: while each axis has a crossing waiting or none left
-    for (;;) {
-      const bool h0 = ax[0].head < ax[0].nb, h1 = ax[1].head < ax[1].nb;
-      if ((!h0 && !ax[0].done) || (!h1 && !ax[1].done) || (!h0 && !h1)) break;
-      const int a = (h0 && (!h1 || ax[0].bt[ax[0].head] <= ax[1].bt[ax[1].head])) ? 0 : 1;
-      Axis& x = ax[a];
-      emit(a, x.dir, pc.s0 + x.bs[x.head]);
-      ++x.head;
-    }
-    if (ax[0].done && ax[1].done && ax[0].head == ax[0].nb && ax[1].head == ax[1].nb) return;
-    for (Axis& x : ax) {  // keep what waits at the front
-      int j = 0;
-      for (int i = x.head; i < x.nb; ++i, ++j) {
-        x.bt[j] = x.bt[i];
-        x.bs[j] = x.bs[i];
-      }
-      x.head = 0;
-      x.nb = j;
-    }
+    emit_ready();
+    if (ax[0].done && ax[1].done && ax[0].head == ax[0].tail && ax[1].head == ax[1].tail) return;
   }
 }
 
@@ -177,12 +166,14 @@ void walk_piece(const TrackPiece& pc, const double* ext, size_t n_ext, bool clos
       if (closing && !std::isnan(wg.last_end[a])) end[a] = wg.last_end[a];
     }
     // both axes' series on the two lanes of eval_gs2, zero above each axis's own degree (see there)
-    Lane2 coef_g[kChebMaxDegree + 1], coef_s[kChebMaxDegree + 1];
+    // and each axis's series with the arc length's on the two lanes of eval_gs_packed
+    Lane2 coef_g[kChebMaxDegree + 1], coef_s[kChebMaxDegree + 1], packed[2][kChebMaxDegree + 1];
+    const int n_axis[2] = {std::max(g[0].deg, pc.S.deg), std::max(g[1].deg, pc.S.deg)};
     if constexpr (kEmit && Style::arc_in_solver) {
-      const int n[2] = {std::max(g[0].deg, pc.S.deg), std::max(g[1].deg, pc.S.deg)};
       for (int k = 0; k <= kChebMaxDegree; ++k) {
-        coef_g[k] = Lane2{k <= n[0] ? g[0].c[k] : 0.0, k <= n[1] ? g[1].c[k] : 0.0};
-        coef_s[k] = Lane2{k <= n[0] ? pc.S.c[k] : 0.0, k <= n[1] ? pc.S.c[k] : 0.0};
+        coef_g[k] = Lane2{k <= n_axis[0] ? g[0].c[k] : 0.0, k <= n_axis[1] ? g[1].c[k] : 0.0};
+        coef_s[k] = Lane2{k <= n_axis[0] ? pc.S.c[k] : 0.0, k <= n_axis[1] ? pc.S.c[k] : 0.0};
+        for (int a = 0; a < 2; ++a) packed[a][k] = Lane2{g[a].c[k], pc.S.c[k]};
       }
     }
     ts.assign(1, -1.0);
@@ -204,7 +195,7 @@ void walk_piece(const TrackPiece& pc, const double* ext, size_t n_ext, bool clos
           }
         }
       } else if constexpr (Style::arc_in_solver) {
-        walk_sub_interval(g, coef_g, coef_s, pc, base, fprev, fend, tl, th, h, node, emit);
+        walk_sub_interval(packed, n_axis, coef_g, coef_s, pc, base, fprev, fend, tl, th, h, node, emit);
       } else {
         Cursor cur[2];
         auto advance = [&](int a) {
