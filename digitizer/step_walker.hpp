@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "digitizer/axis_track.hpp"
@@ -50,8 +51,8 @@ struct WalkStyle {
 // of solving the crossings one at a time with solve_crossing<true>: the steps, arc lengths and so the times are
 // bit for bit the same, and so is the order of the emitter's calls.
 template <class Emit>
-void walk_sub_interval(const Lane2 packed[2][kChebMaxDegree + 1], const int n_axis[2], const Lane2* coef_g,
-                       const Lane2* coef_s, const TrackPiece& pc,
+void walk_sub_interval(const Lane2 packed[2][kChebMaxDegree + 1], const int n_axis[2], const double bound[3],
+                       const Lane2* coef_g, const Lane2* coef_s, const TrackPiece& pc,
                        const double base[2], const double fprev[2], const double fend[2], double tl, double th,
                        double h, int64_t node[2], Emit& emit) {
   constexpr unsigned kAhead = 64;  // a power of two: the crossings waiting are a ring
@@ -114,6 +115,13 @@ void walk_sub_interval(const Lane2 packed[2][kChebMaxDegree + 1], const int n_ax
       ++x.head;
     }
   };
+  // the second derivatives at an axis's point, as eval_gs computes them, when the bounds do not decide
+  auto second = [&](int a) {
+    return [&, a] {
+      const GS v = eval_gs_packed<true>(packed[a], n_axis[a], ax[a].q.t);
+      return std::pair<double, double>{v.g2, v.s2};
+    };
+  };
   for (int a = 0; a < 2; ++a) {
     ax[a].dir = fend[a] > fprev[a] ? 1 : (fend[a] < fprev[a] ? -1 : 0);
     ax[a].lo = tl;
@@ -123,13 +131,13 @@ void walk_sub_interval(const Lane2 packed[2][kChebMaxDegree + 1], const int n_ax
     begin(0);
     begin(1);
     if (ax[0].solving && ax[1].solving) {
-      const GS2 v = eval_gs2(coef_g, coef_s, n01, Lane2{ax[0].q.t, ax[1].q.t});
-      if (ax[0].q.next(pc.S, v.g[0], v.g1[0], v.g2[0], v.s[0], v.s1[0], v.s2[0])) record(0);
-      if (ax[1].q.next(pc.S, v.g[1], v.g1[1], v.g2[1], v.s[1], v.s1[1], v.s2[1])) record(1);
+      const GS2 v = eval_gs2<false>(coef_g, coef_s, n01, Lane2{ax[0].q.t, ax[1].q.t});
+      for (int a = 0; a < 2; ++a)
+        if (ax[a].q.next_lazy(pc.S, v.g[a], v.g1[a], v.s[a], v.s1[a], bound[a], bound[2], second(a))) record(a);
     } else if (ax[0].solving || ax[1].solving) {
       const int a = ax[0].solving ? 0 : 1;
-      const GS v = eval_gs_packed(packed[a], n_axis[a], ax[a].q.t);
-      if (ax[a].q.next(pc.S, v.g, v.g1, v.g2, v.s, v.s1, v.s2)) record(a);
+      const GS v = eval_gs_packed<false>(packed[a], n_axis[a], ax[a].q.t);
+      if (ax[a].q.next_lazy(pc.S, v.g, v.g1, v.s, v.s1, bound[a], bound[2], second(a))) record(a);
     }
     emit_ready();
     if (ax[0].done && ax[1].done && ax[0].head == ax[0].tail && ax[1].head == ax[1].tail) return;
@@ -176,6 +184,10 @@ void walk_piece(const TrackPiece& pc, const double* ext, size_t n_ext, bool clos
         for (int a = 0; a < 2; ++a) packed[a][k] = Lane2{g[a].c[k], pc.S.c[k]};
       }
     }
+    // bounds on |g_0''|, |g_1''| and |S''| (second_derivative_bound) over the series as evaluated
+    const double bound[3] = {second_derivative_bound(g[0].c.data(), n_axis[0]),
+                             second_derivative_bound(g[1].c.data(), n_axis[1]),
+                             second_derivative_bound(pc.S.c.data(), std::max(n_axis[0], n_axis[1]))};
     ts.assign(1, -1.0);
     for (size_t k = 0; k < n_ext; ++k) ts.push_back(ext[k]);
     ts.push_back(1.0);
@@ -195,7 +207,7 @@ void walk_piece(const TrackPiece& pc, const double* ext, size_t n_ext, bool clos
           }
         }
       } else if constexpr (Style::arc_in_solver) {
-        walk_sub_interval(packed, n_axis, coef_g, coef_s, pc, base, fprev, fend, tl, th, h, node, emit);
+        walk_sub_interval(packed, n_axis, bound, coef_g, coef_s, pc, base, fprev, fend, tl, th, h, node, emit);
       } else {
         Cursor cur[2];
         auto advance = [&](int a) {
