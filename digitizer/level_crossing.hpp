@@ -200,12 +200,11 @@ struct CrossingSolve {
       r = {t, vs};
       return true;
     }
-    if ((f < 0) == (flo < 0)) {
-      lo = t;
-      flo = f;
-    } else {
-      hi = t;
-    }
+    // the bracket's side by selection: which side t falls on is as likely one as the other
+    const bool low = (f < 0) == (flo < 0);
+    lo = low ? t : lo;
+    flo = low ? f : flo;
+    hi = low ? hi : t;
     double tn = 0.5 * (lo + hi);
     if (vg1 != 0.0) {
       const double dt = -f / vg1;
