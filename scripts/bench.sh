@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # Regression benchmarks: a handful of figures, each printed next to the one recorded in bench/baseline.tsv.
-#   bash scripts/bench.sh            # measure and compare (about a minute)
+#   bash scripts/bench.sh            # measure and compare (about a minute and a half)
 #   bash scripts/bench.sh --record   # measure and write the figures to bench/baseline.tsv
 # Builds nothing: it runs ./build/polarcam and the benchmark programs there (build them first:
 # cmake --build build --target polarcam polarcam_bench_digitize polarcam_bench_area_error).
 # Rates are per CPU-second and times are CPU seconds (user + system), so a loaded machine disturbs them less than
-# wall time; each figure is the best of three runs (the digitize commands: five; the report: one), the run least
-# disturbed by other work. On a shared machine expect +-10 %.
+# wall time; each figure is the best of five runs (the report: one), the run least disturbed by other work. On a
+# shared machine figures of unchanged code have moved by up to a third: re-run before concluding.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
@@ -35,10 +35,10 @@ add() { results+=("$1	$2	$3"); printf '.' >&2; }
 
 least() { sort -g | head -1; }
 
-# A Google Benchmark counter (the best of 3 repetitions), in millions per second.
+# A Google Benchmark counter (the best of 5 repetitions), in millions per second.
 gbench() {  # name program filter counter-column
   local name=$1 prog=$2 filter=$3 col=$4
-  "$bin/$prog" --benchmark_filter="$filter" --benchmark_min_time=0.3 --benchmark_repetitions=3 \
+  "$bin/$prog" --benchmark_filter="$filter" --benchmark_min_time=0.3 --benchmark_repetitions=5 \
     --benchmark_format=csv 2>/dev/null >"$tmp/gb.csv"
   local v
   v=$(awk -F, -v col="$col" 'NR == 1 {for (i = 1; i <= NF; ++i) if ($i == col || $i == "\"" col "\"") c = i; next}
@@ -81,7 +81,7 @@ sed -e 's/^radial_resolution = .*/radial_resolution = "1 in"/' -e 's/^angular_st
   bench/jobs/limacon_100x.toml >"$tmp/coarse.toml"
 cpu cli_digitize_limacon_100x 5 "$bin/polarcam" digitize bench/jobs/limacon_100x.toml --json
 cpu cli_digitize_startup 5 "$bin/polarcam" digitize "$tmp/coarse.toml" --json
-cpu cli_optimize_limacon 3 "$bin/polarcam" optimize examples/limacon.toml --json
+cpu cli_optimize_limacon 5 "$bin/polarcam" optimize examples/limacon.toml --json
 cpu cli_report_witch_grinding 1 "$bin/polarcam" report examples/ch6/witch_grinding.toml -o "$tmp/report.html"
 echo >&2
 
