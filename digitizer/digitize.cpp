@@ -92,6 +92,15 @@ void ball_radius_range(const Track& tr, double c, TrackExtent& lo, TrackExtent& 
   consider(last_piece(tr), piece_count(tr) - 1, 1.0);
 }
 
+// std::llround (halves away from zero) inline: x - trunc(x) is exact, so the comparisons with 1/2 decide as
+// llround does; outside the range of int64_t (and for NaN) llround itself.
+inline int64_t round_ns(double x) {
+  if (!(std::abs(x) < 4e18)) return std::llround(x);
+  const int64_t r = static_cast<int64_t>(x);  // trunc(x); exact as a double (|x| >= 2^53 is a whole number)
+  const double d = x - static_cast<double>(r);
+  return r + (d >= 0.5 ? 1 : 0) - (d <= -0.5 ? 1 : 0);
+}
+
 struct Emitter {
   const SpeedProfile* profile;
   StepSink* sink;
@@ -103,7 +112,7 @@ struct Emitter {
 
   void operator()(int axis, int dir, double s) {
     double t = profile->time_at(s);
-    int64_t ns = std::llround(t * 1e9);
+    int64_t ns = round_ns(t * 1e9);
     if (ns < last_ns) ns = last_ns;
     last_ns = ns;
     ns += t0_ns;

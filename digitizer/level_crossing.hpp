@@ -42,6 +42,81 @@ inline GS eval_gs(const Cheb& g, const Cheb& S, double t) {
           S.c[0] + t * B1 - B2, B1 + t * D1 - D2,   2.0 * D1 + t * E1 - E2};
 }
 
+// Two evaluations of eval_gs<true> in one pass, on two lanes of a vector: lane a evaluates the series whose
+// coefficients are cg[k][a] and cs[k][a], k = n..0, at t[a]. Each lane performs exactly the operations of
+// eval_gs<true> in the same order (no fused multiply-add: the build targets the baseline instruction set), so with
+// the coefficients of (g_a, S) up to max(g_a.deg, S.deg) and zeros above (a leading zero coefficient leaves the
+// recurrences at exact zeros) each lane's six values are bit for bit those of eval_gs<true>(g_a, S, t[a]). The
+// two evaluations are independent chains of dependent multiplies and adds: run together they take little more
+// time than one (the step walker solves its two axes' crossings side by side this way).
+typedef double Lane2 __attribute__((vector_size(16)));
+struct GS2 {
+  Lane2 g, g1, g2, s, s1, s2;
+};
+// kSecond false: without the second derivatives (g2 = s2 = 0), a third less arithmetic; the other values are the same.
+template <bool kSecond = true>
+inline GS2 eval_gs2(const Lane2* cg, const Lane2* cs, int n, Lane2 t) {
+  const Lane2 tt = t + t;  // 2 t, 2 b and 4 d are formed by exact additions: the same values as the products
+  Lane2 b1 = {0, 0}, b2 = b1, d1 = b1, d2 = b1, e1 = b1, e2 = b1, B1 = b1, B2 = b1, D1 = b1, D2 = b1, E1 = b1, E2 = b1;
+  for (int k = n; k >= 1; --k) {
+    Lane2 b0 = cg[k] + tt * b1 - b2, d0 = (b1 + b1) + tt * d1 - d2;
+    Lane2 B0 = cs[k] + tt * B1 - B2, D0 = (B1 + B1) + tt * D1 - D2;
+    if constexpr (kSecond) {
+      Lane2 e0 = ((d1 + d1) + (d1 + d1)) + tt * e1 - e2, E0 = ((D1 + D1) + (D1 + D1)) + tt * E1 - E2;
+      e2 = e1;
+      e1 = e0;
+      E2 = E1;
+      E1 = E0;
+    }
+    b2 = b1;
+    b1 = b0;
+    d2 = d1;
+    d1 = d0;
+    B2 = B1;
+    B1 = B0;
+    D2 = D1;
+    D1 = D0;
+  }
+  return {cg[0] + t * b1 - b2, b1 + t * d1 - d2, (d1 + d1) + t * e1 - e2,
+          cs[0] + t * B1 - B2, B1 + t * D1 - D2, (D1 + D1) + t * E1 - E2};
+}
+
+// eval_gs<true> with g and S on the two lanes of a vector: pk[k] = {g.c[k], S.c[k]}, k = n..0, n = max(g.deg,
+// S.deg). The two lanes run the same recurrence, so each performs exactly the operations of eval_gs<true> on its
+// series: the values are bit for bit the same, in half the instructions and with the accumulators in registers.
+template <bool kSecond = true>
+inline GS eval_gs_packed(const Lane2* pk, int n, double t) {
+  const Lane2 tv = {t, t}, tt = tv + tv;  // 2 t exactly
+  Lane2 b1 = {0, 0}, b2 = b1, d1 = b1, d2 = b1, e1 = b1, e2 = b1;
+  for (int k = n; k >= 1; --k) {
+    const Lane2 b0 = pk[k] + tt * b1 - b2, d0 = (b1 + b1) + tt * d1 - d2;
+    if constexpr (kSecond) {
+      const Lane2 e0 = ((d1 + d1) + (d1 + d1)) + tt * e1 - e2;
+      e2 = e1;
+      e1 = e0;
+    }
+    b2 = b1;
+    b1 = b0;
+    d2 = d1;
+    d1 = d0;
+  }
+  const Lane2 v = pk[0] + tv * b1 - b2, v1 = b1 + tv * d1 - d2, v2 = (d1 + d1) + tv * e1 - e2;
+  return {v[0], v1[0], v2[0], v[1], v1[1], v2[1]};
+}
+
+// A bound on |g''| over [-1, 1] for g of degree <= n with coefficients c, as eval_gs computes it: the exact bound
+// sum |c_k| T_k''(1) = sum |c_k| k^2 (k^2 - 1) / 3, plus 1e-8 sum |c_k| (1 + k^4) for the rounding of the
+// second-derivative recurrence (orders of magnitude above any n^4 eps growth for n <= 16).
+inline double second_derivative_bound(const double* c, int n, int stride = 1) {
+  double b = 0, r = 0;
+  for (int k = 0; k <= n; ++k) {
+    const double a = std::abs(c[k * stride]), k2 = static_cast<double>(k) * k;
+    b += a * k2 * (k2 - 1.0) / 3.0;
+    r += a * (1.0 + k2 * k2);
+  }
+  return b + 1e-8 * r;
+}
+
 struct LevelCrossing {
   double t, s;  // s = S(t), when asked for
 };
@@ -87,5 +162,115 @@ inline LevelCrossing solve_crossing(const Cheb& g, const Cheb& S, double y, doub
   }
   return {t, arc(t)};
 }
+
+// solve_crossing<true> one iteration at a time, so that two solves can share evaluations (eval_gs2): start() does
+// what solve_crossing does before its loop, next(v) one turn of its loop given v = eval_gs<true>(g, S, t). The
+// sequence of points t and the result are those of solve_crossing<true> with the same arguments.
+struct CrossingSolve {
+  double t = 0, lo = 0, hi = 0, flo = 0, y = 0;
+  int it = 0;
+  LevelCrossing r{0, 0};
+
+  // False when the result is already known (flo == 0): then r holds it.
+  bool start(const Cheb& S, double y_, double lo_, double hi_, double flo_, double fhi, double guess) {
+    y = y_;
+    lo = lo_;
+    hi = hi_;
+    flo = flo_;
+    it = 0;
+    if (flo == 0.0) {
+      r = {lo, S(lo)};
+      return false;
+    }
+    t = guess;
+    if (!(t > lo && t < hi)) {
+      t = (fhi != flo) ? lo - flo * (hi - lo) / (fhi - flo) : 0.5 * (lo + hi);
+      if (!(t > lo && t < hi)) t = 0.5 * (lo + hi);
+    }
+    return true;
+  }
+  // next() with the second derivatives asked for only when they decide: the step is accepted at once when bounds
+  // bg >= |g''| and bs >= |S''| (second_derivative_bound) show the test of next() passes (bg dt^2 <= 1e-15 |g'|
+  // implies |g'' dt^2| <= 2e-15 |g'| whatever the rounding); otherwise second() gives g'', S'' at t as eval_gs
+  // computes them and the test of next() is made. The outcome is next()'s.
+  template <class Second>
+  bool next_lazy(const Cheb& S, double vg, double vg1, double vs, double vs1, double bg, double bs, Second&& second) {
+    const double f = vg - y;
+    if (f == 0.0) {
+      r = {t, vs};
+      return true;
+    }
+    // the bracket's side by selection: which side t falls on is as likely one as the other
+    const bool low = (f < 0) == (flo < 0);
+    lo = low ? t : lo;
+    flo = low ? f : flo;
+    hi = low ? hi : t;
+    double tn = 0.5 * (lo + hi);
+    if (vg1 != 0.0) {
+      const double dt = -f / vg1;
+      if (t + dt > lo && t + dt < hi) {
+        tn = t + dt;
+        if (std::abs(dt) <= 1e-4) {
+          const double dt2 = dt * dt, ag1 = std::abs(vg1), as1 = std::abs(vs1);
+          bool accept = ag1 >= 1e-200 && as1 >= 1e-200 && bg * dt2 <= 1e-15 * ag1 && bs * dt2 <= 1e-15 * as1;
+          if (!accept) {
+            const auto [vg2, vs2] = second();
+            accept = std::abs(vg2 * dt * dt) <= 2e-15 * ag1 && std::abs(vs2 * dt * dt) <= 2e-15 * as1;
+          }
+          if (accept) {
+            r = {tn, vs + vs1 * dt};
+            return true;
+          }
+        }
+      }
+    }
+    if (hi - lo <= 4e-16) {
+      r = {tn, S(tn)};
+      return true;
+    }
+    t = tn;
+    if (++it >= 200) {
+      r = {t, S(t)};
+      return true;
+    }
+    return false;
+  }
+  // One iteration from the values at t; true when done (r holds the result).
+  bool next(const Cheb& S, double vg, double vg1, double vg2, double vs, double vs1, double vs2) {
+    const double f = vg - y;
+    if (f == 0.0) {
+      r = {t, vs};
+      return true;
+    }
+    if ((f < 0) == (flo < 0)) {
+      lo = t;
+      flo = f;
+    } else {
+      hi = t;
+    }
+    double tn = 0.5 * (lo + hi);
+    if (vg1 != 0.0) {
+      const double dt = -f / vg1;
+      if (t + dt > lo && t + dt < hi) {
+        tn = t + dt;
+        if (std::abs(dt) <= 1e-4 && std::abs(vg2 * dt * dt) <= 2e-15 * std::abs(vg1) &&
+            std::abs(vs2 * dt * dt) <= 2e-15 * std::abs(vs1)) {
+          r = {tn, vs + vs1 * dt};
+          return true;
+        }
+      }
+    }
+    if (hi - lo <= 4e-16) {
+      r = {tn, S(tn)};
+      return true;
+    }
+    t = tn;
+    if (++it >= 200) {
+      r = {t, S(t)};
+      return true;
+    }
+    return false;
+  }
+};
 
 }  // namespace polarcam

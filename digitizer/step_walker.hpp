@@ -12,8 +12,10 @@
 // The walker is a template on its style and its emitter, so the inner loop has no indirect calls: the polar
 // digitizer (digitize.cpp), the theta-rho digitizer and the exact Cartesian generator
 // (machine/cartesian/cartesian_exact.cpp) are instances of it.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "digitizer/axis_track.hpp"
@@ -38,6 +40,109 @@ struct WalkStyle {
   static constexpr bool arc_in_solver = kArcInSolver;
   static constexpr int history = kHistory;
 };
+
+// The steps of both axes on one monotone sub-interval [tl, th] of a piece, in order, with the arc length from the
+// solver (the digitizer's style). Each axis's crossings depend only on that axis (its level, its bracket from its
+// previous crossing, its guess from its earlier crossings), so the two axes are solved side by side: while both
+// have a crossing to find, one eval_gs2 serves an iteration of each (two independent chains of dependent
+// arithmetic run in the time of about one). Each axis finds up to kAhead crossings ahead of the steps emitted;
+// between iterations the crossings whose turn has come are emitted, in order of t (axis 0 first at equal t), so
+// the emitter's work fills the time the solver waits on its own arithmetic. Every point, value and result is that
+// of solving the crossings one at a time with solve_crossing<true>: the steps, arc lengths and so the times are
+// bit for bit the same, and so is the order of the emitter's calls.
+template <class Emit>
+void walk_sub_interval(const Lane2 packed[2][kChebMaxDegree + 1], const int n_axis[2], const double bound[3],
+                       const Lane2* coef_g, const Lane2* coef_s, const TrackPiece& pc,
+                       const double base[2], const double fprev[2], const double fend[2], double tl, double th,
+                       double h, int64_t node[2], Emit& emit) {
+  constexpr unsigned kAhead = 64;  // a power of two: the crossings waiting are a ring
+  struct Axis {
+    int dir = 0;
+    bool done = false, solving = false;
+    double lo = 0, flo = 0, level = 0;  // bracket start (the last crossing) and the axis value there
+    double hist[3] = {0, 0, 0};
+    int nh = 0;
+    CrossingSolve q;
+    unsigned head = 0, tail = 0;  // crossings found and not yet emitted: [head, tail) modulo kAhead
+    double bt[kAhead], bs[kAhead];
+  };
+  Axis ax[2];
+  const int n01 = std::max(n_axis[0], n_axis[1]);
+  auto record = [&](int a) {
+    Axis& x = ax[a];
+    x.solving = false;
+    x.bt[x.tail % kAhead] = x.q.r.t;
+    x.bs[x.tail % kAhead] = x.q.r.s;
+    ++x.tail;
+    node[a] += x.dir;
+    x.lo = x.q.r.t;
+    x.flo = x.level;  // the axis stands at the level it just crossed
+    x.hist[2] = x.hist[1];
+    x.hist[1] = x.hist[0];
+    x.hist[0] = x.q.r.t;
+    if (x.nh < 3) ++x.nh;
+  };
+  // Starts the axis's next crossing while it has one and room for it; crossings known without iterating are recorded.
+  auto begin = [&](int a) {
+    Axis& x = ax[a];
+    while (!x.done && !x.solving && x.tail - x.head < kAhead) {
+      const double level = static_cast<double>(node[a]) + (x.dir > 0 ? h : -h);
+      if (x.dir == 0 || (x.dir > 0 ? !(fend[a] >= level) : !(fend[a] < level))) {
+        x.done = true;
+        return;
+      }
+      double guess = -2.0;  // none: the solver starts from the secant
+      if (x.nh >= 3)
+        guess = 3.0 * x.hist[0] - 3.0 * x.hist[1] + x.hist[2];
+      else if (x.nh >= 2)
+        guess = 2.0 * x.hist[0] - x.hist[1];
+      x.level = level;
+      if (x.q.start(pc.S, level - base[a], x.lo, th, x.flo - level, fend[a] - level, guess))
+        x.solving = true;
+      else
+        record(a);
+    }
+  };
+  // Emits the crossings whose turn has come: the earlier of the two axes' next ones, while each axis has its next
+  // one found or has none left.
+  auto emit_ready = [&] {
+    for (;;) {
+      const bool h0 = ax[0].head != ax[0].tail, h1 = ax[1].head != ax[1].tail;
+      if ((!h0 && !ax[0].done) || (!h1 && !ax[1].done) || (!h0 && !h1)) return;
+      const int a = (h0 && (!h1 || ax[0].bt[ax[0].head % kAhead] <= ax[1].bt[ax[1].head % kAhead])) ? 0 : 1;
+      Axis& x = ax[a];
+      emit(a, x.dir, pc.s0 + x.bs[x.head % kAhead]);
+      ++x.head;
+    }
+  };
+  // the second derivatives at an axis's point, as eval_gs computes them, when the bounds do not decide
+  auto second = [&](int a) {
+    return [&, a] {
+      const GS v = eval_gs_packed<true>(packed[a], n_axis[a], ax[a].q.t);
+      return std::pair<double, double>{v.g2, v.s2};
+    };
+  };
+  for (int a = 0; a < 2; ++a) {
+    ax[a].dir = fend[a] > fprev[a] ? 1 : (fend[a] < fprev[a] ? -1 : 0);
+    ax[a].lo = tl;
+    ax[a].flo = fprev[a];
+  }
+  for (;;) {
+    begin(0);
+    begin(1);
+    if (ax[0].solving && ax[1].solving) {
+      const GS2 v = eval_gs2<false>(coef_g, coef_s, n01, Lane2{ax[0].q.t, ax[1].q.t});
+      for (int a = 0; a < 2; ++a)
+        if (ax[a].q.next_lazy(pc.S, v.g[a], v.g1[a], v.s[a], v.s1[a], bound[a], bound[2], second(a))) record(a);
+    } else if (ax[0].solving || ax[1].solving) {
+      const int a = ax[0].solving ? 0 : 1;
+      const GS v = eval_gs_packed<false>(packed[a], n_axis[a], ax[a].q.t);
+      if (ax[a].q.next_lazy(pc.S, v.g, v.g1, v.s, v.s1, bound[a], bound[2], second(a))) record(a);
+    }
+    emit_ready();
+    if (ax[0].done && ax[1].done && ax[0].head == ax[0].tail && ax[1].head == ax[1].tail) return;
+  }
+}
 
 // Walks one piece of a track from the nodes in `node` (updated to the nodes at its end): `ext` its `n_ext` interior
 // extrema (sorted t in (-1, 1)), `closing` when it is the last piece of a closed path (its end is then
@@ -68,6 +173,21 @@ void walk_piece(const TrackPiece& pc, const double* ext, size_t n_ext, bool clos
       end[a] = (pc.q_b[a] + wg.offset[a]) / wg.res[a];
       if (closing && !std::isnan(wg.last_end[a])) end[a] = wg.last_end[a];
     }
+    // both axes' series on the two lanes of eval_gs2, zero above each axis's own degree (see there)
+    // and each axis's series with the arc length's on the two lanes of eval_gs_packed
+    Lane2 coef_g[kChebMaxDegree + 1], coef_s[kChebMaxDegree + 1], packed[2][kChebMaxDegree + 1];
+    const int n_axis[2] = {std::max(g[0].deg, pc.S.deg), std::max(g[1].deg, pc.S.deg)};
+    if constexpr (kEmit && Style::arc_in_solver) {
+      for (int k = 0; k <= kChebMaxDegree; ++k) {
+        coef_g[k] = Lane2{k <= n_axis[0] ? g[0].c[k] : 0.0, k <= n_axis[1] ? g[1].c[k] : 0.0};
+        coef_s[k] = Lane2{k <= n_axis[0] ? pc.S.c[k] : 0.0, k <= n_axis[1] ? pc.S.c[k] : 0.0};
+        for (int a = 0; a < 2; ++a) packed[a][k] = Lane2{g[a].c[k], pc.S.c[k]};
+      }
+    }
+    // bounds on |g_0''|, |g_1''| and |S''| (second_derivative_bound) over the series as evaluated
+    const double bound[3] = {second_derivative_bound(g[0].c.data(), n_axis[0]),
+                             second_derivative_bound(g[1].c.data(), n_axis[1]),
+                             second_derivative_bound(pc.S.c.data(), std::max(n_axis[0], n_axis[1]))};
     ts.assign(1, -1.0);
     for (size_t k = 0; k < n_ext; ++k) ts.push_back(ext[k]);
     ts.push_back(1.0);
@@ -86,6 +206,8 @@ void walk_piece(const TrackPiece& pc, const double* ext, size_t n_ext, bool clos
             if (v < static_cast<double>(node[a])) node[a] = static_cast<int64_t>(v);
           }
         }
+      } else if constexpr (Style::arc_in_solver) {
+        walk_sub_interval(packed, n_axis, bound, coef_g, coef_s, pc, base, fprev, fend, tl, th, h, node, emit);
       } else {
         Cursor cur[2];
         auto advance = [&](int a) {
