@@ -45,6 +45,7 @@ nlohmann::ordered_json summary_json(const Job& job, const ExportOptions& eo, con
                          ? "axis"
                          : "inverse-time";
     j["speed_mps"] = job.motion.speed;
+    if (job.motion.time_optimal) j["speed_profile"] = "time-optimal";
     j["lines"] = g.lines;
     j["g1"] = g.g1;
     j["limited"] = g.limited;
@@ -79,8 +80,10 @@ std::string summary_text(const Job& job, const ExportOptions& eo, const ExportRe
        << " at an axis limit, " << thousands(g.centre_turns) << " turning at the centre), "
        << significant(g.duration_s, 6) << " s\n";
     os << "  ball speed " << significant(g.ball_speed_min_mps * 1e3, 4) << " .. "
-       << significant(g.ball_speed_max_mps * 1e3, 4) << " mm/s (asked " << significant(job.motion.speed * 1e3, 4)
-       << " mm/s; largest error " << significant(g.max_speed_error_pct, 3) << " % on moves not limited)\n";
+       << significant(g.ball_speed_max_mps * 1e3, 4) << " mm/s ("
+       << (job.motion.time_optimal ? "the time-optimal schedule, at most " : "asked ")
+       << significant(job.motion.speed * 1e3, 4) << " mm/s; largest error " << significant(g.max_speed_error_pct, 3)
+       << " % on moves not limited)\n";
   }
   os << "  " << to_string(eo.format) << std::string(9 - std::string(to_string(eo.format)).size(), ' ') << "  " << out
      << " (" << thousands(bytes) << " bytes)\n";

@@ -342,6 +342,19 @@ Job load_job(const std::string& path) {
   // [load], [limits]: read by the dynamics (polarcam analyze); they do not change the tape
   job.load = jobfile::parse_load(top.subsection("load"));
   job.safety_factor = jobfile::parse_limits(top.subsection("limits"));
+  // [process]: the chatter structure, read whole here so that a bad file is refused before any work
+  Section proc = top.subsection("process");
+  if (auto cf = proc.string("chatter")) {
+    std::filesystem::path cp(*cf);
+    if (cp.is_relative()) cp = std::filesystem::path(base) / cp;
+    job.chatter_file = cp.lexically_normal().string();
+    try {
+      job.chatter = process::read_chatter_file(job.chatter_file);
+    } catch (const InputError& e) {
+      proc.fail("chatter", e.what());
+    }
+  }
+  proc.finish();
 
   top.finish();
   job.provenance = std::move(prov);

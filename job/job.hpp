@@ -16,6 +16,7 @@
 #include "machine/dynamics/axis_torque.hpp"
 #include "machine/dynamics/load.hpp"
 #include "machine/gcode/gcode.hpp"
+#include "process/chatter_file.hpp"
 
 namespace polarcam {
 
@@ -94,6 +95,10 @@ struct Job {
   PlacementOptions optimize;             // [optimize]: options of `polarcam optimize` (not part of the provenance)
   LoadSpec load;                         // [load]
   double safety_factor = 1.0;            // [limits]
+  // [process] chatter = "FILE.toml": the machine-workpiece structure and cut of the chatter analysis (the file format
+  // of `polarcam chatter`, docs/chatter.md; relative to the job's folder); the operator's report draws its lobes.
+  std::optional<process::ChatterProblem> chatter;
+  std::string chatter_file;              // the file as resolved (messages only; not part of the provenance)
   nlohmann::ordered_json provenance;     // canonical description of the job (SI values, no paths)
 };
 

@@ -29,6 +29,19 @@ std::optional<double> usable_speed_factor(const JobCapacity& c) {
 
 JobCapacity job_capacity(const Job& job, const PreparedDynamics& prep, std::optional<double> at_speed,
                          int curve_points) {
+  if (job.motion.time_optimal) {
+    // the schedule runs every stretch as fast as its limits allow: the capacity asked is that of a constant speed
+    if (!at_speed)
+      throw InputError("a time-optimal schedule has no speed margin (it runs every stretch at its limits) and is "
+                       "planned for the job's load: give --speed for the capacity at a constant speed, or run "
+                       "`polarcam optimize-speed` for the schedule and what binds it",
+                       job.file);
+    Job constant = job;
+    constant.motion.time_optimal = false;
+    if (!(*at_speed > 0.0)) throw InputError("--speed must be positive", job.file);
+    constant.motion.speed = *at_speed;
+    return job_capacity(constant, prep, std::nullopt, curve_points);
+  }
   JobCapacity c;
   try {
     const DynamicsSetup setup = dynamics_setup(job, DynamicsCase{std::nullopt, job.load});

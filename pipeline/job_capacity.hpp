@@ -32,6 +32,8 @@ struct JobCapacity {
 // `at_speed`: find the largest load at this speed instead of the job's (a constant-speed job). `curve_points`: that
 // many speeds, evenly from 15 % of the speed at which a motor reaches its top step rate to it (without a step-rate
 // limit: of twice the usable speed, at least twice the job's); 0: no curve. Throws InputError naming the job file.
+// A time-optimal job (docs/time-optimal.md, "Capacity"): refused without `at_speed`; with it, the capacity of the job
+// run at that constant speed.
 JobCapacity job_capacity(const Job& job, const PreparedDynamics& prep, std::optional<double> at_speed, int curve_points);
 
 // The largest usable speed factor: the torque-limited one, or the step-rate one when lower (nullopt: none).

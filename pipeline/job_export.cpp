@@ -1,5 +1,6 @@
 #include "pipeline/job_export.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
@@ -9,6 +10,7 @@
 #include "cam/svg_export.hpp"
 #include "cam/thr_export.hpp"
 #include "cam/thr_file.hpp"
+#include "pipeline/job_analysis.hpp"
 #include "pipeline/job_tape.hpp"
 
 #include <numbers>
@@ -45,10 +47,79 @@ GcodeSpec export_gcode_spec(const Job& job, const ExportOptions& o, double reach
     throw InputError("G-code export needs a constant speed: give [motion] speed (or --speed), not speed_profile", job.file);
   GcodeSpec spec = *job.machine.gcode;
   if (o.feed_mode) spec.feed_mode = *o.feed_mode;
+  if (job.motion.time_optimal && spec.feed_mode != FeedMode::inverse_time)
+    throw InputError("a time-optimal schedule needs the inverse-time feed mode (each move its own duration); the "
+                     "axis mode feeds at one rate: use --feed-mode inverse-time", job.file);
   if (spec.feed_mode == FeedMode::axis && !(spec.axis_feed > 0.0))
     throw InputError("the axis feed mode needs axis_feed in the machine's [gcode] table", job.file);
   check_reach(job, reach, spec.table_radius, "the [gcode] table radius");
   return spec;
+}
+
+// A time-optimal job's theta-rho vertices with a ball speed per segment (docs/time-optimal.md, "Export"). Each
+// segment is measured along its spiral at 64 points, the lengths scaled to the schedule's path length (the spiral
+// lies within the tolerance of the path, so its length is the path's but for a hair); a segment is cut at those
+// points (linear in theta and rho, on the spiral) wherever the schedule's speed changes by more than 5 % along it,
+// and each piece gets the smallest speed of the schedule over it, over a stretch a tolerance longer at both ends,
+// divided by 1.011, so that the moves' ball speed (within 1 % of it, docs/gcode.md) never exceeds the schedule. A
+// piece that reaches a station at rest (the start and the end) gets the speed at its other end: the controller
+// starts and stops the program under its own acceleration limit.
+struct ScheduledVertices {
+  std::vector<ThetaRho> v;
+  std::vector<double> speeds;  // m/s, one per segment
+};
+
+ScheduledVertices schedule_vertices(const std::vector<ThetaRho>& v, const SpeedProfile& prof, double tolerance) {
+  constexpr int kSamples = 64;
+  constexpr double kSpread = 1.05, kMargin = 1.011;
+  auto at = [](const ThetaRho& a, const ThetaRho& b, double f) {
+    return ThetaRho{a.theta + f * (b.theta - a.theta), a.rho + f * (b.rho - a.rho)};
+  };
+  auto xy = [](const ThetaRho& p) { return Vec2{p.rho * std::cos(p.theta), p.rho * std::sin(p.theta)}; };
+  const size_t n = v.size() - 1;
+  std::vector<double> cum(n * kSamples + 1, 0.0);  // spiral length at sample k of segment i: cum[i * kSamples + k]
+  for (size_t i = 0; i < n; ++i)
+    for (int k = 1; k <= kSamples; ++k) {
+      const double f0 = static_cast<double>(k - 1) / kSamples, f1 = static_cast<double>(k) / kSamples;
+      cum[i * kSamples + k] = cum[i * kSamples + k - 1] + norm(xy(at(v[i], v[i + 1], f1)) - xy(at(v[i], v[i + 1], f0)));
+    }
+  const double L = prof.length();
+  const double scale = cum.back() > 0.0 ? L / cum.back() : 0.0;
+  const std::vector<double> kinks = prof.kinks();
+  // the smallest and largest speed of the schedule over [sa, sb] (V^2 is linear between the kinks)
+  auto range = [&](double sa, double sb, double& lo, double& hi) {
+    sa = std::clamp(sa, 0.0, L);
+    sb = std::clamp(sb, 0.0, L);
+    lo = std::min(prof.speed_at(sa), prof.speed_at(sb));
+    hi = std::max(prof.speed_at(sa), prof.speed_at(sb));
+    for (auto it = std::upper_bound(kinks.begin(), kinks.end(), sa); it != kinks.end() && *it < sb; ++it) {
+      lo = std::min(lo, prof.speed_at(*it));
+      hi = std::max(hi, prof.speed_at(*it));
+    }
+  };
+  ScheduledVertices out;
+  out.v.push_back(v.front());
+  for (size_t i = 0; i < n; ++i) {
+    int k0 = 0;
+    while (k0 < kSamples) {
+      const double sa = scale * cum[i * kSamples + k0];
+      int k1 = k0 + 1;
+      for (; k1 < kSamples; ++k1) {
+        double lo, hi;
+        range(sa, scale * cum[i * kSamples + k1 + 1], lo, hi);
+        if (!(hi <= kSpread * lo)) break;
+      }
+      const double sb = scale * cum[i * kSamples + k1];
+      double lo, hi;
+      range(sa - tolerance, sb + tolerance, lo, hi);
+      if (!(lo > 0.0)) range(sa, sb, lo, hi);
+      if (!(lo > 0.0)) lo = std::max(prof.speed_at(std::clamp(sa, 0.0, L)), prof.speed_at(std::clamp(sb, 0.0, L)));
+      out.v.push_back(k1 == kSamples ? v[i + 1] : at(v[i], v[i + 1], static_cast<double>(k1) / kSamples));
+      out.speeds.push_back(lo / kMargin);
+      k0 = k1;
+    }
+  }
+  return out;
 }
 
 // The contours of a lifting job as theta-rho vertices within the tolerance, each on the arm's turn nearest the end
@@ -100,6 +171,9 @@ ExportResult export_lifting(const Job& job, const ExportOptions& o, std::ostream
     r.vertices += v.size();
     r.rho_max_m = std::max(r.rho_max_m, rho_max(v));
   }
+  if (job.motion.time_optimal)
+    throw InputError("G-code of a time-optimal schedule follows one contour: this machine lifts its tool between the "
+                     "drawing's contours; give [motion] speed without speed_profile", job.file);
   const GcodeSpec spec = export_gcode_spec(job, o, r.rho_max_m);
   r.gcode = in_file(job.file, [&] { return write_gcode_lifting(out, strokes, spec, job.motion.speed, source_lines(job, o)); });
   return r;
@@ -167,7 +241,17 @@ ExportResult export_job(const Job& job, const ExportOptions& o, std::ostream& ou
     write_thr(out, norm_v, head);
   } else {
     const GcodeSpec spec = export_gcode_spec(job, o, r.rho_max_m);
-    r.gcode = in_file(job.file, [&] { return write_gcode(out, v, spec, job.motion.speed, source_lines(job, o)); });
+    if (job.motion.time_optimal) {
+      // each move's feed from the schedule: inverse time gives every move its own duration (export_gcode_spec)
+      const SpeedProfilePtr prof = time_optimal_job_profile(job);
+      const ScheduledVertices sv = schedule_vertices(v, *prof, o.tolerance);
+      std::vector<std::string> head = source_lines(job, o);
+      head.push_back("speed: time-optimal schedule, " + significant(prof->total_time(), 6) + " s, at most " +
+                     significant(job.motion.speed * 1e3, 4) + " mm/s");
+      r.gcode = in_file(job.file, [&] { return write_gcode(out, sv.v, spec, sv.speeds, head); });
+    } else {
+      r.gcode = in_file(job.file, [&] { return write_gcode(out, v, spec, job.motion.speed, source_lines(job, o)); });
+    }
   }
   report_progress(progress, 1.0);
   return r;

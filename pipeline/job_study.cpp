@@ -23,6 +23,18 @@ class Tee final : public StepSink {
 
 }  // namespace
 
+ChatterStudy study_chatter(const process::ChatterProblem& p, int lobe_count) {
+  ChatterStudy c;
+  c.problem = p;
+  const process::TransferFunction g = process::workpiece_compliance(p.structure);
+  c.modes = process::modes(g);
+  c.nyquist = process::nyquist_limit(g, p.cut.overlap, p.cut.revolution_period);
+  c.simple = process::simple_criterion(g, p.cut.overlap);
+  const process::SpeedRange range = process::default_lobe_range(p.cut);
+  c.lobes = process::stability_lobes(g, p.cut.overlap, range.n_min, range.n_max, lobe_count);
+  return c;
+}
+
 JobStudy study_job(const Job& job, const StudyOptions& o, const Progress& progress) {
   JobStudy st;
   const int threads = o.threads > 0 ? o.threads : default_threads();
@@ -32,11 +44,48 @@ JobStudy study_job(const Job& job, const StudyOptions& o, const Progress& progre
                          " contours: the operator's report studies one contour; report on each contour as a job of "
                          "its own",
                      job.file);
+  // --- the dynamics at the job's placement first: a time-optimal job's tape follows its schedule
+  const PreparedDynamics prep = prepare_dynamics(job);
+  st.side = prep.side;
+  AnalysisOptions ao;
+  st.dyn = analyze_case(job, prep, DynamicsCase{std::nullopt, job.load}, ao, true);
+  st.limit = st.dyn.verdict.limit;
+
+  // --- both schedules: the time-optimal one and the best constant speed (a time-optimal job's came with its case)
+  try {
+    ScheduleStudy ss;
+    ss.plan = st.dyn.plan ? *st.dyn.plan : plan_speed(job, prep, job.load, ao);
+    if (ss.plan.constant_speed) {
+      DynamicsSetup cs;
+      cs.machine = &*job.machine.dynamics;
+      cs.load = make_load(job.load);
+      cs.motion.speed = *ss.plan.constant_speed;
+      cs.safety_factor = job.safety_factor;
+      try {
+        ss.constant = analyze_motion(placed_path(prep), cs, ao);
+      } catch (const InputError& e) {
+        throw e.in_file(job.file);
+      }
+    }
+    st.schedules = std::move(ss);
+  } catch (const InputError& e) {
+    if (job.motion.time_optimal) throw;  // its verdict needs the schedule: analyze_case has refused it already
+    st.schedules_note = e.what();
+  }
+  // a time-optimal job's capacity, area error and pole study at one constant speed: the best one that passes
+  Job cjob = job;
+  if (job.motion.time_optimal) {
+    cjob.motion.time_optimal = false;
+    if (st.schedules && st.schedules->plan.constant_speed) cjob.motion.speed = *st.schedules->plan.constant_speed;
+    st.study_speed = cjob.motion.speed;
+  }
+
   // --- the tape: digitize once, with the error meters and a log of the steps
   st.path = make_job_path(job);
   try {
     const PolarTrack track = job_polar_track(job, *st.path);
-    const SpeedProfilePtr prof = make_job_profile(job, *st.path, track.length());
+    const SpeedProfilePtr prof =
+        st.dyn.plan ? st.dyn.plan->schedule.profile : make_job_profile(job, *st.path, track.length());
     ErrorMeters meters;
     meters.reset(*st.path, track, job.machine.grid, job.optimize.segments);
     Tee tee(meters, st.staircase.steps);
@@ -50,14 +99,9 @@ JobStudy study_job(const Job& job, const StudyOptions& o, const Progress& progre
     throw e.in_file(job.file);
   }
 
-  // --- the dynamics at the job's placement, its capacity
-  const PreparedDynamics prep = prepare_dynamics(job);
-  st.side = prep.side;
-  AnalysisOptions ao;
-  st.dyn = analyze_case(job, prep, DynamicsCase{std::nullopt, job.load}, ao, true);
-  st.cap = job_capacity(job, prep, std::nullopt,
+  // --- the capacity at the job's placement
+  st.cap = job_capacity(cjob, prep, std::nullopt,
                         load_measure(job.load) == LoadMeasure::none ? 0 : o.curve_points);
-  st.limit = st.dyn.verdict.limit;
   report_progress(progress, 0.2);
 
   // --- the pole study: survey, balanced optimum, least area within the torque limit
@@ -67,18 +111,19 @@ JobStudy study_job(const Job& job, const StudyOptions& o, const Progress& progre
   po.torque_limit = false;
   po.threads = threads;
   if (o.max_evaluations > 0) po.max_evaluations = o.max_evaluations;
-  const PoleProblem prob = job_pole_problem(job, po, true);
+  const PoleProblem prob = job_pole_problem(cjob, po, true);
   try {
     st.survey = survey_poles(prob, feasible_box(prob, search_box(prob), 41, threads), o.map_size, o.map_size, threads,
                              progress_part(progress, 0.2, 0.6));
-    st.cands.push_back({"this job", job.placement, job_area(job, job.placement), st.dyn});
+    st.cands.push_back({"this job", job.placement, job_area(cjob, job.placement),
+                        job.motion.time_optimal ? job_dynamics_at(cjob, job.placement) : st.dyn});
     {
       PoleProblem pb = prob;
       pb.objective = PoleObjective::balanced;
       PlacementOptions ob = po;
       ob.objective = PoleObjective::balanced;
-      const PlacementResult r = optimize_placement(pb, job.placement, ob, progress_part(progress, 0.6, 0.78));
-      st.cands.push_back({"balanced torque", r.placement, job_area(job, r.placement), job_dynamics_at(job, r.placement)});
+      const PlacementResult r = optimize_placement(pb, cjob.placement, ob, progress_part(progress, 0.6, 0.78));
+      st.cands.push_back({"balanced torque", r.placement, job_area(cjob, r.placement), job_dynamics_at(cjob, r.placement)});
     }
     {
       PoleProblem pl = prob;
@@ -86,8 +131,8 @@ JobStudy study_job(const Job& job, const StudyOptions& o, const Progress& progre
       try {
         const PlacementResult r = optimize_placement(pl, job.placement, po, progress_part(progress, 0.78, 0.96));
         st.limited = r.placement;
-        st.cands.push_back({"least area error within the torque limit", r.placement, job_area(job, r.placement),
-                            job_dynamics_at(job, r.placement)});
+        st.cands.push_back({"least area error within the torque limit", r.placement, job_area(cjob, r.placement),
+                            job_dynamics_at(cjob, r.placement)});
       } catch (const InputError& e) {
         st.limited_note = e.what();
       }
@@ -109,7 +154,9 @@ JobStudy study_job(const Job& job, const StudyOptions& o, const Progress& progre
   }
   st.front = non_dominated(pts);
 
-  Job at0 = job;
+  if (job.chatter) st.chatter = study_chatter(*job.chatter);
+
+  Job at0 = cjob;
   at0.placement = Placement{0.0, 0.0};
   st.contour = segment_points(*make_job_path(at0), 1500);
   return st;

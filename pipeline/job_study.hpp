@@ -15,6 +15,7 @@
 #include "optimize/pareto.hpp"
 #include "pipeline/job_analysis.hpp"
 #include "pipeline/job_capacity.hpp"
+#include "process/stability.hpp"
 
 namespace polarcam {
 
@@ -39,6 +40,25 @@ struct Candidate {
   std::optional<CaseResult> dyn;
 };
 
+// The two schedules of a job with dynamics (docs/time-optimal.md): the time-optimal one and the best constant speed at
+// the job's safety factor, each analysed along the path (their series are what the report plots).
+struct ScheduleStudy {
+  SpeedPlan plan;                          // the schedule (plan.schedule.check holds its series), the constant speed
+  std::optional<TorqueAnalysis> constant;  // the torques at plan.constant_speed (none when no constant speed passes)
+};
+
+// The job's chatter structure ([process] chatter, docs/chatter.md): the limits `polarcam chatter` computes and the
+// stability lobes over its default spindle speeds (half to twice the cut's).
+struct ChatterStudy {
+  process::ChatterProblem problem;
+  std::vector<process::Mode> modes;
+  process::NyquistLimit nyquist;
+  process::SimpleLimit simple;
+  std::vector<process::LobePoint> lobes;
+};
+// The same for any structure; `lobe_count` spindle speeds.
+ChatterStudy study_chatter(const process::ChatterProblem& p, int lobe_count = 400);
+
 struct JobStudy {
   ToolPathPtr path;              // the tool-centre path in the machine frame
   std::vector<Vec2> contour;     // the tool path in the contour's own frame (placement C = 0), for the pole map
@@ -55,6 +75,12 @@ struct JobStudy {
   std::string limited_note;          // why there is none
   std::vector<ParetoPoint> cpts;     // the candidates as points of the trade-off
   std::vector<ParetoPoint> front;    // the non-dominated survey poles and candidates
+  std::optional<ScheduleStudy> schedules;  // both schedules (none when the planner refused the job: schedules_note)
+  std::string schedules_note;
+  // A time-optimal job: the constant speed at which the capacity and the pole study were computed (the best constant
+  // speed at the job's safety factor, or the job's top speed when none passes); their placements are compared at it.
+  std::optional<double> study_speed;
+  std::optional<ChatterStudy> chatter;  // a job with [process] chatter
 };
 
 // Throws InputError naming the job file.

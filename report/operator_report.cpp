@@ -11,6 +11,7 @@
 
 #include "report/analysis_report.hpp"
 #include "report/capacity_report.hpp"
+#include "report/chatter_report.hpp"
 #include "report/html.hpp"
 #include "report/report_figures.hpp"
 #include "cam/error.hpp"
@@ -148,7 +149,11 @@ OperatorReport operator_report(const Job& job, const JobStudy& study) {
                                       load_display_name(cap.measure)));
       }
     } else {
-      if (fu)
+      if (study.study_speed)
+        items.push_back(fmt::format("Speed: the time-optimal schedule already runs every stretch as fast as the "
+                                    "limits allow. The capacity and the placements below are at the best constant "
+                                    "speed, {}.", cms(*study.study_speed, 4)));
+      else if (fu)
         items.push_back(fmt::format("Speed: the job still passes up to {}{} (now {}).", cms(*fu * cap.top_speed, 4),
                                     cap.speed_cap.capped ? " or more" : "", cms(cap.top_speed, 4)));
       if (cap.measure != LoadMeasure::none && cap.load_cap.value) {
@@ -183,7 +188,9 @@ OperatorReport operator_report(const Job& job, const JobStudy& study) {
              {"machine", job.machine.name.empty() ? "(unnamed)" : job.machine.name},
              {"placement", placement_text(job.placement) + " (the machine pole seen from the contour's own origin)"},
              {"tool", fmt::format("radius {}, tool centre {} of the travel", mm(job.tool.radius), study.side > 0 ? "left" : "right")},
-             {"speed", dyn.speed ? cms(*dyn.speed) : "speed table"},
+             {"speed", dyn.speed ? cms(*dyn.speed)
+                                 : dyn.plan ? "time-optimal schedule, at most " + cms(job.motion.speed)
+                                            : "speed table"},
              {"load", load_text(job)},
              {"safety factor", fmt::format("{} (every torque ratio must stay within {})", g(job.safety_factor), g(limit))},
              {"stepping rule", to_string(job.motion.rule)}});
@@ -253,6 +260,64 @@ OperatorReport operator_report(const Job& job, const JobStudy& study) {
     rep.table({"drive", "largest ratio", "where", "needed", "available", "motor step rate"}, rows);
   }
 
+  // both schedules
+  if (study.schedules || !study.schedules_note.empty()) {
+    rep.heading(2, "Speed: constant or time-optimal", "speed");
+    if (!study.schedules) {
+      rep.paragraph("No time-optimal schedule: " + study.schedules_note + ".");
+    } else {
+      const ScheduleStudy& ss = *study.schedules;
+      const SpeedPlan& pl = ss.plan;
+      double top = 0.0;
+      for (const SpeedStation& x : pl.schedule.stations) top = std::max(top, x.v);
+      if (dyn.plan)
+        rep.paragraph("This job runs the time-optimal schedule: the fastest speed at each point of the path at which "
+                      "both motors stay within 1 / safety factor of their pull-out torque and within their step "
+                      "rates, from rest to rest. The verdict above is computed along it. The best constant speed is "
+                      "the one speed for the whole path, raised until the worst torque ratio reaches the limit (the "
+                      "thesis's Ch. 6 way).");
+      else
+        rep.paragraph("This job runs at one constant speed. The time-optimal schedule shows what the machine could "
+                      "do: the fastest speed at each point of the path at which both motors stay within 1 / safety "
+                      "factor of their pull-out torque and within their step rates, from rest to rest. The verdict "
+                      "above stays that of the job's own speed.");
+      std::vector<std::vector<std::string>> rows;
+      rows.push_back({"time-optimal schedule", g(pl.time(), 5) + " s", cms(top), g(pl.schedule.worst_ratio)});
+      if (pl.constant_speed)
+        rows.push_back({fmt::format("best constant speed at safety factor {}", g(job.safety_factor)),
+                        g(pl.constant_time, 5) + " s",
+                        cms(*pl.constant_speed) + (pl.constant_capped ? (pl.speed_cap ? " (the job's top speed)" : " or more") : ""),
+                        ss.constant ? g(worst_torque_ratio(*ss.constant)) : "-"});
+      else
+        rows.push_back({fmt::format("best constant speed at safety factor {}", g(job.safety_factor)), "-",
+                        "no constant speed passes", "-"});
+      if (!dyn.plan && dyn.speed)
+        rows.push_back({"this job", g(dig.duration_s, 5) + " s", cms(*dyn.speed), g(worst_torque_ratio(dyn.analysis))});
+      rep.table({"schedule", "time", "speed (top)", "largest torque ratio"}, rows,
+                fmt::format("Times of the path at each schedule; the limit of the torque ratios is {}.", g(limit)));
+      std::string saving;
+      if (pl.constant_speed)
+        saving = fmt::format("The time-optimal schedule saves {} s ({}) against the best constant speed", g(pl.saving(), 4),
+                             pct(pl.saving() / pl.constant_time));
+      else
+        saving = "No constant speed passes at this safety factor; the time-optimal schedule does";
+      if (!dyn.plan && dyn.speed && dig.duration_s > 0.0)
+        saving += fmt::format(", and {} s ({}) against this job's speed", g(dig.duration_s - pl.time(), 4),
+                              pct((dig.duration_s - pl.time()) / dig.duration_s));
+      if (dyn.plan)
+        rep.paragraph(saving + " (`polarcam optimize-speed " + name + "` shows where each limit binds).");
+      else
+        rep.paragraph(saving + ". Run it with [motion] speed_profile = \"time-optimal\" (`polarcam optimize-speed " +
+                      name + "` shows where each limit binds).");
+      rep.figure(schedules_figure(job, ss, limit, dyn.plan ? std::nullopt : dyn.speed),
+                 "Along the path, for the time-optimal schedule (solid) and the best constant speed (dashed): the "
+                 "speed, each motor's step rate with the drives' limits, and each drive's torque ratio with the "
+                 "limit 1 / safety factor. The schedule starts and ends at rest; the constant speed runs at full "
+                 "speed from the first step, as the thesis's does.",
+                 "speed, step rates and torque ratios along the path for both schedules");
+    }
+  }
+
   // capacity
   rep.heading(2, "Capacity: how much load and speed the drives could take", "capacity");
   {
@@ -270,7 +335,12 @@ OperatorReport operator_report(const Job& job, const JobStudy& study) {
                                                     ? " (a theoretical limit of the motors' torque only)"
                                                     : "")
                                          : "none passes"});
-    rep.table({"", "value"}, rows, "At the job's placement; the other quantity held at the job's value.");
+    rep.table({"", "value"}, rows,
+              study.study_speed
+                  ? fmt::format("At the job's placement, run at the best constant speed {} (a time-optimal schedule "
+                                "has no margin to report: it runs at the limits); the other quantity held at the "
+                                "job's value.", cms(*study.study_speed))
+                  : std::string("At the job's placement; the other quantity held at the job's value."));
     if (!cap.curve.empty())
       rep.figure(capacity_figure(job, cap),
                  fmt::format("The largest {} the drives can carry at each speed (the torque ratios then reach the "
@@ -288,6 +358,9 @@ OperatorReport operator_report(const Job& job, const JobStudy& study) {
       "shows the area error for every position of the machine pole relative to the contour's origin (blank: the "
       "contour would leave the work area); crosses mark positions where a torque ratio exceeds the limit, and the "
       "coloured line is where the worst one equals it.");
+  if (study.study_speed)
+    rep.paragraph(fmt::format("This job runs a time-optimal schedule; the map and the placements compare the "
+                              "torques at the best constant speed, {}.", cms(*study.study_speed)));
   std::vector<PoleMark> marks = {{job.placement.pole(), "this job", 1, 4}};
   if (cands.size() > 1) marks.push_back({cands[1].placement.pole(), "balanced torque", 2, 2});
   if (study.limited) marks.push_back({cands.back().placement.pole(), "least area within the limit", 0, 3});
@@ -328,6 +401,42 @@ OperatorReport operator_report(const Job& job, const JobStudy& study) {
     }
     rep.table({"C", "beta (rad)", "area error (mm^2)", "worst torque ratio", "torque limit"}, rows,
               "Points of the front (every " + std::to_string(step) + ")");
+  }
+
+  // chatter ([process] chatter)
+  if (study.chatter) {
+    const ChatterStudy& cs = *study.chatter;
+    const process::Cut& cut = cs.problem.cut;
+    rep.heading(2, "Chatter", "chatter");
+    rep.paragraph("Regenerative chatter of the cut on the job's machine-workpiece structure (" +
+                  std::filesystem::path(job.chatter_file).filename().string() +
+                  "; A. B. Dunckley, Active Suppression of Machine Tool Chatter, 1978, Ch. 2): the tool cuts the "
+                  "surface the previous revolution left, and above a limiting cutting gain K_c (N/m of depth) the "
+                  "vibration grows. The limit depends on the spindle speed: the lobes.");
+    std::vector<std::vector<std::string>> rows;
+    rows.push_back({"spindle speed of the cut", g(60.0 / cut.revolution_period, 5) + " rev/min (overlap " +
+                                                    g(cut.overlap, 3) + ")"});
+    rows.push_back({"critical cutting gain (Nyquist)",
+                    cs.nyquist.critical_gain
+                        ? fmt::format("{} N/m, chatter at {} rad/s", g(*cs.nyquist.critical_gain, 5),
+                                      g(cs.nyquist.chatter_frequency, 5))
+                        : std::string("no limit (the open loop never crosses the negative real axis)")});
+    rows.push_back({"simple criterion (any spindle speed)",
+                    cs.simple.gain ? g(*cs.simple.gain, 5) + " N/m" : std::string("no limit")});
+    for (size_t i = 0; i < cs.modes.size(); ++i)
+      rows.push_back({fmt::format("structural mode {}", i + 1),
+                      fmt::format("{} rad/s, damping ratio {}", g(cs.modes[i].omega_n, 5), g(cs.modes[i].zeta, 3))});
+    rep.table({"", "value"}, rows, "The cut is stable for a cutting gain below the critical gain.");
+    ChatterAnalysis a;
+    a.problem = cs.problem;
+    a.modes = cs.modes;
+    a.nyquist = cs.nyquist;
+    a.simple = cs.simple;
+    a.lobes = cs.lobes;
+    rep.figure(chatter_lobes_figure(a),
+               "The limiting cutting gain over spindle speed (stable below the line), the simple criterion that holds "
+               "at any speed (dashed), and this cut.",
+               "stability lobes: limiting cutting gain against spindle speed");
   }
 
   // glossary

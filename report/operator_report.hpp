@@ -1,8 +1,9 @@
 #pragma once
 // The operator's report (`polarcam report JOB.toml -o report.html`, docs/operator-report.md): one self-contained
 // HTML page to read before running a job. Sections (with these element ids): verdict, job, workarea, tape,
-// accuracy, torque, capacity, pole, tradeoff, glossary. Rendering only: every number comes from the job study
-// (pipeline/job_study: digitize, the error meters, analyze, capacity, the pole searches).
+// accuracy, torque, speed (both schedules: time-optimal and the best constant speed), capacity, pole, tradeoff,
+// glossary. Rendering only: every number comes from the job study (pipeline/job_study: digitize, the error meters,
+// analyze, the time-optimal schedule, capacity, the pole searches).
 #include <string>
 
 #include "job/job.hpp"

@@ -181,6 +181,99 @@ plot::Figure workarea_figure(const Job& job, const Curve& path, const Staircase&
   return f;
 }
 
+plot::Figure schedules_figure(const Job& job, const ScheduleStudy& ss, double limit, std::optional<double> job_speed) {
+  plot::Figure f = plot::figure(1100, 1150);
+  f.rows = 3;
+  const TorqueAnalysis& opt = ss.plan.schedule.check;
+  const TorqueAnalysis* con = ss.constant ? &*ss.constant : nullptr;
+  const std::string opt_name = fmt::format("time-optimal ({} s)", g(ss.plan.time(), 4));
+  const std::string con_name =
+      ss.plan.constant_speed ? fmt::format("best constant speed ({} s)", g(ss.plan.constant_time, 4)) : std::string();
+  // one series of a schedule: y(sample) against the distance in mm
+  auto series = [](const TorqueAnalysis& a, auto y, std::string label, int color, bool dashed) {
+    plot::Series s;
+    s.x.reserve(a.series.size());
+    s.y.reserve(a.series.size());
+    for (const TorqueSample& x : a.series) {
+      s.x.push_back(x.s * 1e3);
+      s.y.push_back(y(x));
+    }
+    s.label = std::move(label);
+    s.color = plot::palette(color);
+    s.width = dashed ? 1.3 : 1.8;
+    s.dashed = dashed;
+    return s;
+  };
+  double L = 0.0;
+  if (!opt.series.empty()) L = opt.series.back().s * 1e3;
+  auto level = [&](double y, std::string label, int color) {
+    plot::Series s;
+    s.x = {0.0, L};
+    s.y = {y, y};
+    s.label = std::move(label);
+    s.color = plot::palette(color);
+    s.width = 1.0;
+    s.dashed = true;
+    return s;
+  };
+  auto top = [](const plot::Panel& p) {
+    double hi = 0.0;
+    for (const plot::Series& s : p.series)
+      for (double y : s.y)
+        if (std::isfinite(y)) hi = std::max(hi, y);
+    return hi;
+  };
+  // speed
+  {
+    plot::Panel p = plot::panel("Speed along the path", "distance along the path (mm)", "speed (cm/s)");
+    p.series.push_back(series(opt, [](const TorqueSample& x) { return x.st.V * 1e2; }, opt_name, 0, false));
+    if (con) p.series.push_back(series(*con, [](const TorqueSample& x) { return x.st.V * 1e2; }, con_name, 1, true));
+    if (job_speed) p.series.push_back(level(*job_speed * 1e2, fmt::format("this job's speed ({} cm/s)", g(*job_speed * 1e2, 4)), 3));
+    p.ymin = 0.0;
+    p.ymax = top(p) * 1.45 + 1e-12;
+    f.panels.push_back(std::move(p));
+  }
+  // step rates
+  {
+    const MachineModel& m = *job.machine.dynamics;
+    plot::Panel p = plot::panel("Motor step rates", "distance along the path (mm)", "steps/s");
+    p.series.push_back(series(opt, [](const TorqueSample& x) { return x.radial.step_rate; }, "radial, time-optimal", 0, false));
+    p.series.push_back(series(opt, [](const TorqueSample& x) { return x.angular.step_rate; }, "angular, time-optimal", 2, false));
+    if (con) {
+      p.series.push_back(series(*con, [](const TorqueSample& x) { return x.radial.step_rate; }, "radial, constant", 0, true));
+      p.series.push_back(series(*con, [](const TorqueSample& x) { return x.angular.step_rate; }, "angular, constant", 2, true));
+    }
+    if (m.radial.max_step_rate && m.angular.max_step_rate && *m.radial.max_step_rate == *m.angular.max_step_rate) {
+      p.series.push_back(level(*m.radial.max_step_rate, fmt::format("limit of both drives ({} steps/s)", g(*m.radial.max_step_rate, 4)), 6));
+    } else {
+      if (m.radial.max_step_rate)
+        p.series.push_back(level(*m.radial.max_step_rate, fmt::format("radial limit ({} steps/s)", g(*m.radial.max_step_rate, 4)), 6));
+      if (m.angular.max_step_rate)
+        p.series.push_back(level(*m.angular.max_step_rate, fmt::format("angular limit ({} steps/s)", g(*m.angular.max_step_rate, 4)), 3));
+    }
+    p.ymin = 0.0;
+    p.ymax = top(p) * 1.45 + 1e-12;
+    f.panels.push_back(std::move(p));
+  }
+  // torque ratios
+  {
+    plot::Panel p = plot::panel("Torque ratios (torque needed / pull-out torque)", "distance along the path (mm)", "|torque ratio|");
+    auto rr = [](const TorqueSample& x) { return std::abs(x.radial.ratio); };
+    auto ar = [](const TorqueSample& x) { return std::abs(x.angular.ratio); };
+    p.series.push_back(series(opt, rr, "radial, time-optimal", 0, false));
+    p.series.push_back(series(opt, ar, "angular, time-optimal", 2, false));
+    if (con) {
+      p.series.push_back(series(*con, rr, "radial, constant", 0, true));
+      p.series.push_back(series(*con, ar, "angular, constant", 2, true));
+    }
+    p.series.push_back(level(limit, fmt::format("limit 1/SF = {}", g(limit, 4)), 6));
+    p.ymin = 0.0;
+    p.ymax = std::min(top(p), 2.0 * limit) * 1.45 + 1e-12;
+    f.panels.push_back(std::move(p));
+  }
+  return f;
+}
+
 plot::Figure torque_figure(const Job& job, const CaseResult& c) {
   plot::Figure f = plot::figure(1100, 820);
   f.rows = 2;

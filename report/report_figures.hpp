@@ -22,6 +22,11 @@ plot::Figure workarea_figure(const Job& job, const Curve& path, const Staircase&
 // along the path.
 plot::Figure torque_figure(const Job& job, const CaseResult& c);
 
+// Both schedules along the path (distance in mm): the speed, both motors' step rates with the drives' limits, and
+// both torque ratios with the limit 1 / safety factor; the time-optimal schedule solid, the best constant speed
+// dashed. `job_speed`: a constant-speed job's own speed, drawn in the speed panel.
+plot::Figure schedules_figure(const Job& job, const ScheduleStudy& s, double limit, std::optional<double> job_speed);
+
 // Points of the pole study drawn on the map.
 struct PoleMark {
   Vec2 pole;  // O - O1 (m)

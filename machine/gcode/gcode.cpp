@@ -96,6 +96,9 @@ class Writer {
     }
   }
 
+  // The ball speed of the segments that follow (a speed schedule: one per segment).
+  void set_speed(double V) { V_ = V; }
+
   GcodeStats& stats() { return st_; }
 
  private:
@@ -283,9 +286,17 @@ void validate(const GcodeSpec& s) {
 namespace {
 
 GcodeStats write_program(std::ostream& out, const std::vector<std::vector<ThetaRho>>& strokes, const GcodeSpec& spec,
-                         double ball_speed_mps, const std::vector<std::string>& comments, bool lift) {
+                         double ball_speed_mps, const std::vector<std::string>& comments, bool lift,
+                         const std::vector<double>* speeds = nullptr) {
   validate(spec);
   if (!(ball_speed_mps > 0.0) || !std::isfinite(ball_speed_mps)) throw InputError("the ball speed must be positive");
+  if (speeds) {
+    if (strokes.size() != 1 || speeds->size() + 1 != strokes.front().size())
+      throw InputError("a speed schedule needs one speed per segment");
+    for (size_t i = 0; i < speeds->size(); ++i)
+      if (!((*speeds)[i] > 0.0) || !std::isfinite((*speeds)[i]))
+        throw InputError("the ball speed must be positive", "segment " + std::to_string(i + 1));
+  }
   if (strokes.empty()) throw InputError("a pattern needs at least two points");
   for (size_t k = 0; k < strokes.size(); ++k) {
     const std::vector<ThetaRho>& v = strokes[k];
@@ -315,7 +326,10 @@ GcodeStats write_program(std::ostream& out, const std::vector<std::vector<ThetaR
     w.start(v.front(), k == 0 ? "to the start" : "rapid, tool up, to contour " + std::to_string(k + 1));
     if (k > 0) ++lifts.rapids;
     if (lift) pen(spec.pen_down, lifts.pen_downs);
-    for (size_t i = 0; i + 1 < v.size(); ++i) w.segment(v[i], v[i + 1]);
+    for (size_t i = 0; i + 1 < v.size(); ++i) {
+      if (speeds) w.set_speed((*speeds)[i]);
+      w.segment(v[i], v[i + 1]);
+    }
   }
   if (lift) pen(spec.pen_up, lifts.pen_ups);
   w.line("G94");
@@ -334,6 +348,13 @@ GcodeStats write_program(std::ostream& out, const std::vector<std::vector<ThetaR
 GcodeStats write_gcode(std::ostream& out, const std::vector<ThetaRho>& v, const GcodeSpec& spec,
                        double ball_speed_mps, const std::vector<std::string>& comments) {
   return write_program(out, {v}, spec, ball_speed_mps, comments, false);
+}
+
+GcodeStats write_gcode(std::ostream& out, const std::vector<ThetaRho>& v, const GcodeSpec& spec,
+                       const std::vector<double>& segment_speeds, const std::vector<std::string>& comments) {
+  double top = 0.0;
+  for (double x : segment_speeds) top = std::max(top, x);
+  return write_program(out, {v}, spec, top > 0.0 ? top : 1.0, comments, false, &segment_speeds);
 }
 
 GcodeStats write_gcode_lifting(std::ostream& out, const std::vector<std::vector<ThetaRho>>& contours,

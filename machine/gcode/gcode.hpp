@@ -82,6 +82,12 @@ struct GcodeStats {
 GcodeStats write_gcode(std::ostream& out, const std::vector<ThetaRho>& v, const GcodeSpec& spec,
                        double ball_speed_mps, const std::vector<std::string>& comments = {});
 
+// The same with a ball speed per segment (a speed schedule along the path, e.g. a time-optimal one):
+// `segment_speeds[i]` (m/s, > 0) for the segment from v[i] to v[i + 1]; each move keeps within 1 % of its segment's
+// speed, and max_speed_error_pct is against it. InputError unless there is one positive speed per segment.
+GcodeStats write_gcode(std::ostream& out, const std::vector<ThetaRho>& v, const GcodeSpec& spec,
+                       const std::vector<double>& segment_speeds, const std::vector<std::string>& comments = {});
+
 // The same for the contours of a drawing on a machine that lifts its tool between them: before each contour the
 // pen_up lines, a rapid G0 to its start (a straight line in axis space: linear in theta and rho, the move the
 // tape's rapid makes), the pen_down lines, then its moves; the pen_up lines after the last. So the program lifts

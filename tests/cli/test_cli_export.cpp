@@ -2,10 +2,14 @@
 // of the test sand table's limacon; the refusals (no [gcode], no r_max, a path beyond it, bad keys and options).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <set>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "cam/thr_file.hpp"
 #include "tests/cli_runner.hpp"
@@ -160,4 +164,140 @@ TEST(CliExport, GcodeKeysAreCheckedInTheMachineFile) {
   SandScratch sc(sand_machine() + "\n[spindle]\nspeed = 1\n");
   expect_bad_job(sc, "export", "-o", "ngc", cli_job("sand_limacon.toml"), "--format gcode", "unknown section 'spindle'",
                  "sand_table.toml:");
+}
+
+namespace {
+
+// V(s) of a schedule from `optimize-speed --csv` (s_m, t_s, speed_mps, ...): V^2 linear between the rows.
+struct CsvSchedule {
+  std::vector<double> s, v;
+  double at(double x) const {
+    if (x <= s.front()) return v.front();
+    if (x >= s.back()) return v.back();
+    const size_t i = static_cast<size_t>(std::upper_bound(s.begin(), s.end(), x) - s.begin()) - 1;
+    const double f = (x - s[i]) / (s[i + 1] - s[i]);
+    return std::sqrt(v[i] * v[i] + f * (v[i + 1] * v[i + 1] - v[i] * v[i]));
+  }
+  // the smallest and largest V over [a, b]: at the ends and the rows between (V^2 is monotone between rows)
+  void range(double a, double b, double& lo, double& hi) const {
+    lo = std::min(at(a), at(b));
+    hi = std::max(at(a), at(b));
+    for (size_t i = 0; i < s.size(); ++i)
+      if (s[i] > a && s[i] < b) lo = std::min(lo, v[i]), hi = std::max(hi, v[i]);
+  }
+};
+
+CsvSchedule read_schedule_csv(const std::string& file) {
+  CsvSchedule c;
+  std::istringstream in(read_file(file));
+  std::string line;
+  std::getline(in, line);
+  while (std::getline(in, line)) {
+    std::istringstream f(line);
+    std::string a, t, v;
+    std::getline(f, a, ',');
+    std::getline(f, t, ',');
+    std::getline(f, v, ',');
+    c.s.push_back(std::stod(a));
+    c.v.push_back(std::stod(v));
+  }
+  return c;
+}
+
+// The value after `letter` in a G-code line (NaN when it has none).
+double word(const std::string& line, char letter) {
+  const size_t p = line.find(std::string(" ") + letter);
+  if (p == std::string::npos) return std::nan("");
+  return std::stod(line.substr(p + 2));
+}
+
+}  // namespace
+
+TEST(CliExport, GcodeOfATimeOptimalJobFollowsItsSchedule) {
+  Scratch sc;
+  // the thesis machine with a [gcode] table: X the arm angle in radians, Y the radius in mm; limits far away
+  sc.write("machines/fahim_gcode.toml", read_file(sc.path("machines/fahim1983.toml")) +
+                                            "\n[gcode]\ntheta_units_per_rad = 1.0\nrho_units_per_radius = 330.2\n"
+                                            "theta_max_feed = 1000.0\nrho_max_feed = 100000.0\ndecimals = 6\n");
+  std::string text = read_file(std::string(POLARCAM_SOURCE_DIR) + "/examples/ch6/witch_inertial.toml");
+  text = replace(text, "../machines/fahim1983.toml", "machines/fahim_gcode.toml");
+  text = replace(text, "speed = \"1.524 cm/s\"", "speed = \"30 cm/s\"\nspeed_profile = \"time-optimal\"");
+  const std::string job = sc.write("witch.toml", text), out = sc.path("witch.ngc"), csv = sc.path("v.csv");
+  const auto j = cli_json("export " + job + " --format gcode -o " + out + " --json");
+  EXPECT_EQ(j["speed_profile"], "time-optimal");
+  EXPECT_EQ(j["limited"], 0);
+  const auto plan = cli_json("optimize-speed " + job + " --json --csv " + csv);
+  const CsvSchedule sched = read_schedule_csv(csv);
+  const double L = plan["path_length_m"];
+  // the moves: from the G0 to the start, each G1's ends in (theta, rho) and its duration 1 / F minutes
+  struct Move {
+    double th0, r0, th1, r1, T;
+  };
+  std::vector<Move> moves;
+  std::istringstream in(read_file(out));
+  std::string line;
+  double th = std::nan(""), rho = 0.0;
+  while (std::getline(in, line)) {
+    if (line.rfind("G0 ", 0) == 0 || line.rfind("G1 ", 0) == 0) {
+      const double x = word(line, 'X'), y = word(line, 'Y') / 330.2 * 0.3302;
+      if (line[1] == '1') moves.push_back({th, rho, x, y, 60.0 / word(line, 'F')});
+      th = x, rho = y;
+    }
+  }
+  ASSERT_GT(moves.size(), 50u);
+  // the arc length at each move's ends: the spiral (linear in theta and rho) measured at 64 points, scaled to L
+  auto xy = [](double t, double r) { return std::pair{r * std::cos(t), r * std::sin(t)}; };
+  std::vector<double> s0(moves.size()), s1(moves.size());
+  double acc = 0.0;
+  for (size_t i = 0; i < moves.size(); ++i) {
+    const Move& m = moves[i];
+    s0[i] = acc;
+    for (int k = 1; k <= 64; ++k) {
+      const auto [xa, ya] = xy(m.th0 + (m.th1 - m.th0) * (k - 1) / 64.0, m.r0 + (m.r1 - m.r0) * (k - 1) / 64.0);
+      const auto [xb, yb] = xy(m.th0 + (m.th1 - m.th0) * k / 64.0, m.r0 + (m.r1 - m.r0) * k / 64.0);
+      acc += std::hypot(xb - xa, yb - ya);
+    }
+    s1[i] = acc;
+  }
+  EXPECT_NEAR(acc, L, 1e-3 * L);
+  std::set<double> feeds;
+  size_t at_rest = 0;
+  for (size_t i = 0; i < moves.size(); ++i) {
+    const Move& m = moves[i];
+    const double a = s0[i] * L / acc, b = s1[i] * L / acc;
+    // the ball's speed at both ends of the move (the largest within it: g(rho) is monotone in rho)
+    const double dth = m.th1 - m.th0, dr = m.r1 - m.r0;
+    const double va = std::hypot(dr, m.r0 * dth) / m.T, vb = std::hypot(dr, m.r1 * dth) / m.T;
+    double lo, hi;
+    sched.range(a, b, lo, hi);
+    feeds.insert(m.T);
+    if (a < 1e-3 || b > L - 1e-3) {
+      // within a millimetre of the start or the end at rest: the piece touching rest runs at the schedule's speed at
+      // its other end (the controller starts and stops the ball), never above the schedule's speed near there
+      ++at_rest;
+      double lo1, hi1;
+      if (a < 1e-3)
+        sched.range(0.0, 1e-3, lo1, hi1);
+      else
+        sched.range(L - 1e-3, L, lo1, hi1);
+      EXPECT_LE(std::max(va, vb), hi1 * (1.0 + 2e-3)) << "move " << i;
+      continue;
+    }
+    EXPECT_LE(std::max(va, vb), lo * (1.0 + 2e-3)) << "move " << i << " at s = " << a << " .. " << b;
+    // and not far below it where the schedule varies little
+    if (hi < 1.02 * lo) {
+      EXPECT_GE(std::min(va, vb), 0.9 * lo) << "move " << i;
+    }
+  }
+  EXPECT_GT(moves.size() - at_rest, 100u);  // the moves held to the schedule strictly
+  EXPECT_GT(feeds.size(), 20u);  // the feed varies along the path
+  // the program's time: the schedule's, within a few per cent (every move at most the schedule's speed)
+  const double t = plan["time_optimal_s"];
+  EXPECT_GE(j["duration_s"].get<double>(), t * 0.99);
+  EXPECT_LE(j["duration_s"].get<double>(), t * 1.08);
+  expect_rs274_accepts(out);
+  // the axis feed mode cannot follow a schedule; a .thr has no speed at all
+  expect_one_line_error(run_cli("export " + job + " --format gcode --feed-mode axis -o " + sc.path("ax.ngc")),
+                        "inverse-time");
+  EXPECT_EQ(run_cli("export " + job + " --format thr -o " + sc.path("w.thr")).code, 0);
 }
