@@ -4,6 +4,8 @@
 // Inline: it is the innermost loop of both.
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <utility>
 
 #include "digitizer/chebyshev.hpp"
 
@@ -235,41 +237,11 @@ struct CrossingSolve {
     }
     return false;
   }
-  // One iteration from the values at t; true when done (r holds the result).
+  // One iteration from the values at t; true when done (r holds the result): next_lazy with no bounds, so that the
+  // second derivatives given always decide.
   bool next(const Cheb& S, double vg, double vg1, double vg2, double vs, double vs1, double vs2) {
-    const double f = vg - y;
-    if (f == 0.0) {
-      r = {t, vs};
-      return true;
-    }
-    if ((f < 0) == (flo < 0)) {
-      lo = t;
-      flo = f;
-    } else {
-      hi = t;
-    }
-    double tn = 0.5 * (lo + hi);
-    if (vg1 != 0.0) {
-      const double dt = -f / vg1;
-      if (t + dt > lo && t + dt < hi) {
-        tn = t + dt;
-        if (std::abs(dt) <= 1e-4 && std::abs(vg2 * dt * dt) <= 2e-15 * std::abs(vg1) &&
-            std::abs(vs2 * dt * dt) <= 2e-15 * std::abs(vs1)) {
-          r = {tn, vs + vs1 * dt};
-          return true;
-        }
-      }
-    }
-    if (hi - lo <= 4e-16) {
-      r = {tn, S(tn)};
-      return true;
-    }
-    t = tn;
-    if (++it >= 200) {
-      r = {t, S(t)};
-      return true;
-    }
-    return false;
+    constexpr double kNone = std::numeric_limits<double>::infinity();
+    return next_lazy(S, vg, vg1, vs, vs1, kNone, kNone, [&] { return std::pair<double, double>{vg2, vs2}; });
   }
 };
 
