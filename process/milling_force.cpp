@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <vector>
 
 #include "cam/error.hpp"
 
@@ -86,20 +87,58 @@ CutterForce mean_force(const SliceCutter& c, const Immersion& im, double feed_pe
 ForcePeaks force_peaks(const SliceCutter& c, const Immersion& im, double feed_per_tooth, double step_rad) {
   ForcePeaks p;
   if (!(im.angle() > 0.0)) return p;
-  const int slices = slice_count(c);
-  // the cutter's force repeats every tooth period
-  const int n_total = std::max(8, static_cast<int>(std::ceil(kTwoPi / c.teeth / step_rad)));
-  for (int k = 0; k < n_total; ++k) {
-    const CutterForce f = slice_force(c, im, feed_per_tooth, kTwoPi / c.teeth * k / n_total, slices);
+  // The rotation is sampled on a grid of M = N K steps (K per tooth pitch) and the helix is cut into slices that
+  // each lag the one below by exactly one step, so that every slice of every tooth stands on the grid: a tooth's
+  // force is then a sum of a slice force tabulated on the grid over a window of consecutive grid points, which
+  // prefix sums give at once (the helix's lag b tan(lambda) / r is rounded to whole steps).
+  const int N = c.teeth;
+  const long K = std::max(1L, std::lround(kTwoPi / N / step_rad));
+  const long M = N * K;
+  const double h = kTwoPi / M;
+  const double lag = c.axial_depth_m * std::tan(c.helix_rad) / c.radius_m;  // Eq. 5.1 over the whole depth
+  const long S = lag > 0.0 ? std::max(1L, std::lround(lag / h)) : 1;
+  const double db = c.axial_depth_m / static_cast<double>(S);
+  // the force of one slice at grid angle m h, and its prefix sums over two turns
+  std::vector<double> px(2 * M + 1, 0.0), py(2 * M + 1, 0.0), pz(2 * M + 1, 0.0);
+  for (long m = 0; m < 2 * M; ++m) {
+    const double phi = static_cast<double>(m % M) * h;
+    double gx = 0.0, gy = 0.0, gz = 0.0;
+    if (phi >= im.entry && phi <= im.exit) {
+      const double sn = std::sin(phi), cs = std::cos(phi), hh = feed_per_tooth * sn;
+      const double ft = c.K_t * db * hh, fr = c.K_r * db * hh;
+      gx = -ft * cs - fr * sn;
+      gy = ft * sn - fr * cs;
+      gz = c.K_a * db * hh;
+    }
+    px[m + 1] = px[m] + gx;
+    py[m + 1] = py[m] + gy;
+    pz[m + 1] = pz[m] + gz;
+  }
+  const long whole = S / M, rest = S % M;  // a helix may wrap more than a turn
+  // tooth j's force at the k-th rotation step: slices i = 0..S-1 at grid angle k + j K - i
+  auto tooth = [&](long k, int j) {
+    const long top = ((k + j * K) % M + M) % M + M;  // in [M, 2M): the window (top - rest, top] stays inside
+    CutterForce f;
+    f.x = whole * px[M] + px[top + 1] - px[top + 1 - rest];
+    f.y = whole * py[M] + py[top + 1] - py[top + 1 - rest];
+    f.z = whole * pz[M] + pz[top + 1] - pz[top + 1 - rest];
+    return f;
+  };
+  for (long k = 0; k < K; ++k) {  // the cutter's force repeats every tooth pitch
+    CutterForce f;
+    for (int j = 0; j < N; ++j) {
+      const CutterForce t = tooth(k, j);
+      f.x += t.x;
+      f.y += t.y;
+      f.z += t.z;
+    }
     p.resultant = std::max(p.resultant, std::hypot(f.x, f.y));
     p.normal = std::max(p.normal, std::abs(f.y));
     p.axial = std::max(p.axial, std::abs(f.z));
   }
-  // one tooth over a revolution
-  const int n_tooth = std::max(8, static_cast<int>(std::ceil(kTwoPi / step_rad)));
-  for (int k = 0; k < n_tooth; ++k) {
-    const CutterForce f = slice_force(c, im, feed_per_tooth, kTwoPi * k / n_tooth, slices, 0);
-    p.tooth = std::max(p.tooth, std::hypot(f.x, f.y));
+  for (long k = 0; k < M; ++k) {
+    const CutterForce t = tooth(k, 0);
+    p.tooth = std::max(p.tooth, std::hypot(t.x, t.y));
   }
   return p;
 }

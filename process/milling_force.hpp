@@ -63,7 +63,8 @@ CutterForce slice_force(const SliceCutter& c, const Immersion& im, double feed_p
 // N b f_t K_a / (2 pi) [-cos phi] (z), between entry and exit.
 CutterForce mean_force(const SliceCutter& c, const Immersion& im, double feed_per_tooth);
 
-// The force's extremes over a revolution, sampled every `step_rad` of rotation.
+// The force's extremes over a revolution, sampled every `step_rad` of rotation (rounded to a whole number of steps
+// per tooth pitch), the helix cut into slices that each lag by one step (its lag rounded to whole steps).
 struct ForcePeaks {
   double resultant = 0.0;  // max |(F_x, F_y)| of the cutter (N)
   double tooth = 0.0;      // max |(F_x, F_y)| of one tooth (N)
