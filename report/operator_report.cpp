@@ -53,6 +53,10 @@ std::string load_text(const Job& job) {
       s = fmt::format("a tool force of {} N against the travel and {} N off the material", g(l.force.tangential),
                       g(l.force.normal));
       break;
+    case LoadKind::milling:
+      s = fmt::format("milling: axial depth {}, radial width {}, the slice model's mean force along the path",
+                      mm(l.milling.axial_depth), mm(l.milling.radial_width));
+      break;
   }
   if (l.kind != LoadKind::inertial && l.mass > 0.0) s += fmt::format(", {} kg added to the carriage", g(l.mass));
   return s;
