@@ -394,6 +394,8 @@ ToolPathPtr make_job_path(const Job& job) {
 }
 
 SpeedProfilePtr make_job_profile(const Job& job, const ToolPath& path, double length) {
+  // the schedule depends on the path's arc length only, not on where it is placed (job/job_milling)
+  if (job.motion.constant_force) return constant_force_job_profile(job, length);
   if (!job.motion.rollers) return make_job_profile(job, length);
   const TemplateRollers& tr = *job.motion.rollers;
   return in_file(job.file, [&]() -> SpeedProfilePtr {

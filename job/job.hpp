@@ -117,7 +117,8 @@ Machine load_machine(const std::string& path, nlohmann::ordered_json* prov = nul
 // The tool-centre path in the machine frame.
 ToolPathPtr make_job_path(const Job& job);
 // The speed profile along the job's tool path (its arc length as the caller's track measured it). The template
-// profile needs the path's curvature; the overload without a path refuses it.
+// profile needs the path's curvature; the overload without a path refuses it, as it refuses the constant-force
+// schedule (the milling forces along the job's own tool path).
 SpeedProfilePtr make_job_profile(const Job& job, const ToolPath& path, double length);
 SpeedProfilePtr make_job_profile(const Job& job, double length);
 
