@@ -40,6 +40,7 @@ Register register_digitize, register_inspect, register_dda, register_play, regis
     register_report, register_check, register_preview, register_export, register_trace, register_template_speed,
     register_capture, register_chatter, register_identify, register_limits, register_cut_force, register_monitor,
     register_simulate, register_servo;
+Register register_process;
 
 // The subcommands, in the order `polarcam --help` lists them.
 inline constexpr Register* kCommands[] = {
@@ -47,6 +48,7 @@ inline constexpr Register* kCommands[] = {
     register_optimize, register_optimize_speed, register_analyze, register_motor, register_compare, register_capacity,
     register_report, register_check, register_preview, register_export, register_trace, register_template_speed,
     register_capture, register_chatter, register_identify, register_limits, register_cut_force, register_monitor,
-    register_simulate, register_servo};
+    register_simulate, register_servo,
+    register_process};
 
 }  // namespace polarcam::cli

@@ -8,6 +8,7 @@
 #include "job/job_optimize.hpp"
 #include "job/job_dynamics.hpp"
 #include "job/job_gcode.hpp"
+#include "job/job_milling.hpp"
 #include "job/toml_section.hpp"
 #include "cam/error.hpp"
 #include "digitizer/template_speed.hpp"
@@ -229,8 +230,24 @@ Job load_job(const std::string& path) {
   const toml::node* table = mo.node("speed_profile");
   const bool named = table && table->is_string();
   const bool topt = named && table->value<std::string>() == "time-optimal";
-  const bool templ = named && !topt;
-  if (topt) {
+  const bool cforce = named && table->value<std::string>() == "constant-force";
+  const bool templ = named && !topt && !cforce;
+  if (cforce) {
+    // the milling load's force held at nominal_force, within the tool's limits and `speed` (job/job_milling)
+    job.motion.speed = mo.require_quantity("speed", dim::speed);
+    if (!(job.motion.speed > 0.0)) mo.fail("speed", "must be positive (the top feed the schedule may reach)");
+    job.motion.nominal_force = mo.require_quantity("nominal_force", dim::force);
+    if (!(job.motion.nominal_force > 0.0)) mo.fail("nominal_force", "must be a positive force");
+    job.motion.entry_length = mo.quantity("entry_length", dim::length);
+    if (job.motion.entry_length && !(*job.motion.entry_length >= 0.0))
+      mo.fail("entry_length", "must be zero or a positive length");
+    job.motion.constant_force = true;
+    pmo["speed_mps"] = job.motion.speed;
+    pmo["speed_profile"] = "constant-force";
+    pmo["nominal_force_N"] = job.motion.nominal_force;
+    if (job.motion.entry_length) pmo["entry_length_m"] = *job.motion.entry_length;
+    table = nullptr;
+  } else if (topt) {
     // the fastest schedule the dynamics allow, never above `speed`
     if (!job.machine.dynamics)
       mo.fail("speed_profile", "\"time-optimal\" needs a machine with dynamics (mechanics and [machine.motor])");
@@ -242,7 +259,7 @@ Job load_job(const std::string& path) {
     table = nullptr;
   } else if (templ) {
     if (table->value<std::string>() != "template")
-      mo.fail("speed_profile", "must be \"template\", \"time-optimal\" or a list of [\"arc length\", \"speed\"] pairs");
+      mo.fail("speed_profile", "must be \"template\", \"time-optimal\", \"constant-force\" or a list of [\"arc length\", \"speed\"] pairs");
     job.motion.speed = mo.require_quantity("speed", dim::speed);
     if (!(job.motion.speed > 0.0)) mo.fail("speed", "must be positive");
     pmo["speed_mps"] = job.motion.speed;
@@ -276,6 +293,7 @@ Job load_job(const std::string& path) {
     if (!(*a > 0.0)) mo.fail("accel", "must be positive");
     if (table || templ) mo.fail("accel", "cannot be combined with 'speed_profile'");
     if (topt) mo.fail("accel", "cannot be combined with speed_profile = \"time-optimal\"; give the machine's max_acceleration");
+    if (cforce) mo.fail("accel", "cannot be combined with speed_profile = \"constant-force\"; give the machine's max_acceleration");
     job.motion.accel = *a;
     pmo["accel_mps2"] = *a;
   }
@@ -355,9 +373,20 @@ Job load_job(const std::string& path) {
     }
   }
   proc.finish();
+  if (cforce && job.load.kind != LoadKind::milling)
+    mo.fail("speed_profile", "\"constant-force\" needs a [load] with kind = \"milling\" (the force it holds)");
 
   top.finish();
+  if (job.load.kind == LoadKind::milling) {
+    // the cut changes a constant-force job's tape: it is part of the provenance
+    const MillingLoadSpec& ml = job.load.milling;
+    prov["milling"] = {{"tool_file", std::filesystem::path(ml.tool_file).filename().string()},
+                       {"spindle_speed_rad_s", ml.spindle_speed}, {"axial_depth_m", ml.axial_depth},
+                       {"radial_width_m", ml.radial_width}, {"K_t_Pa", ml.K_t}, {"K_r_Pa", ml.K_r},
+                       {"K_a_Pa", ml.K_a}, {"spindle_direction", ml.clockwise ? "cw" : "ccw"}};
+  }
   job.provenance = std::move(prov);
+  if (job.load.kind == LoadKind::milling) bind_milling(job);
   return job;
 }
 
@@ -378,6 +407,8 @@ ToolPathPtr make_job_path(const Job& job) {
 }
 
 SpeedProfilePtr make_job_profile(const Job& job, const ToolPath& path, double length) {
+  // the schedule depends on the path's arc length only, not on where it is placed (job/job_milling)
+  if (job.motion.constant_force) return constant_force_job_profile(job, length);
   if (!job.motion.rollers) return make_job_profile(job, length);
   const TemplateRollers& tr = *job.motion.rollers;
   return in_file(job.file, [&]() -> SpeedProfilePtr {
@@ -391,6 +422,9 @@ SpeedProfilePtr make_job_profile(const Job& job, double length) {
   if (job.motion.time_optimal)
     throw InputError("[motion] speed_profile = \"time-optimal\" is not available here: it needs the dynamics of the "
                      "whole path; give 'speed'", job.file);
+  if (job.motion.constant_force)
+    throw InputError("[motion] speed_profile = \"constant-force\" is not available here: it follows the milling "
+                     "force along the whole tool path; give 'speed'", job.file);
   if (job.motion.rollers)
     throw InputError("[motion] speed_profile = \"template\" is not available here: it follows the curvature of the "
                      "tool path; give 'speed'", job.file);

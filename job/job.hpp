@@ -3,6 +3,7 @@
 // read from a TOML job file (docs/job-format.md). Quantities are strings with units; the code works in SI. The CLI commands build
 // everything from a Job, so they contain no geometry or physics of their own.
 #include <nlohmann/json.hpp>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -20,6 +21,8 @@
 
 namespace polarcam {
 
+struct MillingSetup;  // job/job_milling.hpp
+
 // [template]: the template digitizer's roller pair ([motion] speed_profile = "template"; docs/template-digitizer.md).
 struct TemplateRollers {
   double thickness = 0.0;                // H, m: the template's thickness
@@ -35,6 +38,11 @@ struct MotionSpec {
   // speed_profile = "time-optimal": the fastest schedule within the torque ratios 1/SF, the machine's step rates,
   // max_angular_speed and max_acceleration, from rest to rest, never above `speed` (docs/time-optimal.md)
   bool time_optimal = false;
+  // speed_profile = "constant-force": the fastest feed that holds the milling load's mean force at nominal_force
+  // within the tool's limits and `speed` (docs/process.md); needs [load] kind = "milling"
+  bool constant_force = false;
+  double nominal_force = 0.0;            // N
+  std::optional<double> entry_length;    // m: the planned entry (default: the tool's radius)
   StepRule rule = StepRule::nearest;
   TravelSpec travel;
 };
@@ -99,6 +107,7 @@ struct Job {
   // of `polarcam chatter`, docs/chatter.md; relative to the job's folder); the operator's report draws its lobes.
   std::optional<process::ChatterProblem> chatter;
   std::string chatter_file;              // the file as resolved (messages only; not part of the provenance)
+  std::shared_ptr<const MillingSetup> milling;  // [load] kind = "milling": the tool and the forces along the path
   nlohmann::ordered_json provenance;     // canonical description of the job (SI values, no paths)
 };
 
@@ -113,7 +122,8 @@ Machine load_machine(const std::string& path, nlohmann::ordered_json* prov = nul
 // The tool-centre path in the machine frame.
 ToolPathPtr make_job_path(const Job& job);
 // The speed profile along the job's tool path (its arc length as the caller's track measured it). The template
-// profile needs the path's curvature; the overload without a path refuses it.
+// profile needs the path's curvature; the overload without a path refuses it, as it refuses the constant-force
+// schedule (the milling forces along the job's own tool path).
 SpeedProfilePtr make_job_profile(const Job& job, const ToolPath& path, double length);
 SpeedProfilePtr make_job_profile(const Job& job, double length);
 

@@ -1,6 +1,7 @@
 #include "job/job_dynamics.hpp"
 
 #include <deque>
+#include <filesystem>
 #include <set>
 
 #include "cam/error.hpp"
@@ -296,8 +297,25 @@ LoadSpec parse_load(Section s) {
     l.mass = mass(false);
     l.force.tangential = s.require_quantity("tangential", dim::force);
     l.force.normal = s.quantity("normal", dim::force, 0.0);
+  } else if (kind == "milling") {
+    // an end mill's cut (docs/process.md, "The milling load"); the job binds the model to its path (job_milling)
+    l.kind = LoadKind::milling;
+    l.mass = mass(false);
+    MillingLoadSpec& m = l.milling;
+    std::filesystem::path tf(s.require_string("tool"));
+    if (tf.is_relative()) tf = std::filesystem::path(s.file()).parent_path() / tf;
+    m.tool_file = tf.lexically_normal().string();
+    m.spindle_speed = positive(s, "spindle_speed", dim::angular_speed);
+    m.axial_depth = positive(s, "axial_depth", dim::length);
+    m.radial_width = positive(s, "radial_width", dim::length);
+    m.K_t = positive(s, "K_t", dim::pressure);
+    m.K_r = non_negative(s, "K_r", dim::pressure);
+    if (s.has("K_a")) m.K_a = non_negative(s, "K_a", dim::pressure);
+    const std::string dir = s.string("spindle_direction").value_or("cw");
+    if (dir != "cw" && dir != "ccw") s.fail("spindle_direction", "must be \"cw\" (M03) or \"ccw\" (M04)");
+    m.clockwise = dir == "cw";
   } else {
-    s.fail("kind", "must be none, inertial, grinding or force");
+    s.fail("kind", "must be none, inertial, grinding, force or milling");
   }
   s.finish();
   return l;

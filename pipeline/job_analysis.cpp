@@ -1,6 +1,7 @@
 #include "pipeline/job_analysis.hpp"
 
 #include "pipeline/job_tape.hpp"
+#include "job/job_milling.hpp"
 
 #include "cam/error.hpp"
 
@@ -32,6 +33,8 @@ MotionLaw motion_law(const Job& job, std::optional<double> speed) {
   m.speed = job.motion.speed;
   m.accel = job.motion.accel;
   m.table = job.motion.table;
+  if (job.motion.constant_force && !speed)  // the schedule's stations (V^2 linear between them on the tape)
+    for (const process::FeedStation& f : constant_force_job_schedule(job).stations) m.table.push_back({f.s, f.v});
   if (speed) {
     if (!m.table.empty()) throw InputError("a speed override needs a job with a constant speed, not a speed_profile");
     if (!(*speed > 0.0)) throw InputError("the speed must be positive");

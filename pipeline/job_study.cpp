@@ -155,6 +155,7 @@ JobStudy study_job(const Job& job, const StudyOptions& o, const Progress& progre
   st.front = non_dominated(pts);
 
   if (job.chatter) st.chatter = study_chatter(*job.chatter);
+  if (job.milling) st.cutting = run_process(job);
 
   Job at0 = cjob;
   at0.placement = Placement{0.0, 0.0};

@@ -15,6 +15,7 @@
 #include "optimize/pareto.hpp"
 #include "pipeline/job_analysis.hpp"
 #include "pipeline/job_capacity.hpp"
+#include "pipeline/job_process.hpp"
 #include "process/stability.hpp"
 
 namespace polarcam {
@@ -81,6 +82,7 @@ struct JobStudy {
   // speed at the job's safety factor, or the job's top speed when none passes); their placements are compared at it.
   std::optional<double> study_speed;
   std::optional<ChatterStudy> chatter;  // a job with [process] chatter
+  std::optional<ProcessRun> cutting;    // a job with a milling load: the cut along the path (pipeline/job_process)
 };
 
 // Throws InputError naming the job file.

@@ -1,6 +1,7 @@
 #include "pipeline/job_tape.hpp"
 
 #include "pipeline/job_analysis.hpp"
+#include "job/job_milling.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -192,8 +193,11 @@ DigitizedJob digitize_job(const Job& job, StepSink* sink, const Progress& progre
     if (job.motion.time_optimal && (trp || c != 0.0))
       throw InputError("[motion] speed_profile = \"time-optimal\" needs a plain polar machine and path (no coupling, "
                        "no theta-rho pattern)", job.file);
-    d.profile = job.motion.time_optimal ? time_optimal_job_profile(job)
-                                        : make_job_profile(job, *d.path, trp ? d.polyline->length() : d.track.length());
+    if (job.motion.constant_force)
+      d.profile = constant_force_job_profile(job, trp ? d.polyline->length() : d.track.length());
+    else
+      d.profile = job.motion.time_optimal ? time_optimal_job_profile(job)
+                                          : make_job_profile(job, *d.path, trp ? d.polyline->length() : d.track.length());
     ProgressSink counted(sink, progress, d.profile->total_time());
     if (progress) sink = &counted;
     if (trp) {

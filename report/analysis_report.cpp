@@ -67,6 +67,11 @@ json load_json(const CaseResult& c) {
     j["wheel_speed_mps"] = l.grinding.wheel_speed;
     j["K_c_Nspm"] = l.grinding.K_c();
   }
+  if (l.kind == LoadKind::milling) {
+    j["spindle_speed_rad_s"] = l.milling.spindle_speed;
+    j["axial_depth_m"] = l.milling.axial_depth;
+    j["radial_width_m"] = l.milling.radial_width;
+  }
   if (c.speed) {
     const ToolForce f = c.load.force(0.0, *c.speed);
     j["force_tangential_N"] = f.tangential;
@@ -85,7 +90,9 @@ std::string load_text(const CaseResult& c) {
   if (l.kind == LoadKind::grinding)
     s += ", depth " + mm(l.grinding.depth) + ", width " + mm(l.grinding.width) + ", K_c " + g(l.grinding.K_c()) +
          " N s/m";
-  if ((l.kind == LoadKind::grinding || l.kind == LoadKind::force) && c.speed) {
+  if (l.kind == LoadKind::milling)
+    s += ", milling: axial depth " + mm(l.milling.axial_depth) + ", radial width " + mm(l.milling.radial_width);
+  if ((l.kind == LoadKind::grinding || l.kind == LoadKind::force || l.kind == LoadKind::milling) && c.speed) {
     const ToolForce f = c.load.force(0.0, *c.speed);
     s += " (tool force " + g(f.tangential) + " N tangential, " + g(f.normal) + " N normal)";
   }
@@ -113,6 +120,7 @@ std::string case_label(const CaseResult& c) {
   if (l.kind == LoadKind::inertial || l.mass > 0.0) s += ", M = " + g(l.mass) + " kg";
   if (l.kind == LoadKind::grinding) s += ", d = " + mm(l.grinding.depth);
   if (l.kind == LoadKind::force) s += ", F = " + g(l.force.tangential) + " N";
+  if (l.kind == LoadKind::milling) s += ", milling b = " + mm(l.milling.axial_depth);
   return s;
 }
 

@@ -12,6 +12,7 @@
 #include "report/analysis_report.hpp"
 #include "report/capacity_report.hpp"
 #include "report/chatter_report.hpp"
+#include "report/cutting_report.hpp"
 #include "report/html.hpp"
 #include "report/report_figures.hpp"
 #include "cam/error.hpp"
@@ -53,6 +54,10 @@ std::string load_text(const Job& job) {
     case LoadKind::force:
       s = fmt::format("a tool force of {} N against the travel and {} N off the material", g(l.force.tangential),
                       g(l.force.normal));
+      break;
+    case LoadKind::milling:
+      s = fmt::format("milling: axial depth {}, radial width {}, the slice model's mean force along the path",
+                      mm(l.milling.axial_depth), mm(l.milling.radial_width));
       break;
   }
   if (l.kind != LoadKind::inertial && l.mass > 0.0) s += fmt::format(", {} kg added to the carriage", g(l.mass));
@@ -402,6 +407,9 @@ OperatorReport operator_report(const Job& job, const JobStudy& study) {
     rep.table({"C", "beta (rad)", "area error (mm^2)", "worst torque ratio", "torque limit"}, rows,
               "Points of the front (every " + std::to_string(step) + ")");
   }
+
+  // cutting (a milling load): the cut, the tool's limits, what binds the feed along the path
+  if (study.cutting) add_cutting_section(rep, job, *study.cutting);
 
   // chatter ([process] chatter)
   if (study.chatter) {

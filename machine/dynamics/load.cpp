@@ -7,7 +7,7 @@
 namespace polarcam {
 
 const char* to_string(LoadKind k) {
-  static constexpr const char* kNames[] = {"none", "inertial", "grinding", "force"};  // in the order of the enum
+  static constexpr const char* kNames[] = {"none", "inertial", "grinding", "force", "milling"};  // in the order of the enum
   return kNames[static_cast<int>(k)];
 }
 
@@ -43,6 +43,11 @@ Load make_load(const LoadSpec& spec) {
       if (!std::isfinite(spec.force.tangential) || !std::isfinite(spec.force.normal))
         throw InputError("the tool force must be finite");
       l.force_const = spec.force;
+      break;
+    case LoadKind::milling:
+      if (!spec.milling.model)
+        throw InputError("the milling load has no force model: it is bound to the job's tool path when the job is read");
+      l.force_at = spec.milling.model;
       break;
   }
   return l;

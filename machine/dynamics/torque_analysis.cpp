@@ -122,7 +122,12 @@ TorqueAnalysis analyze_torques(const DynamicsInput& in, const AnalysisOptions& o
   res.length = tr.length();
   res.duration = in.profile->total_time();
   const double h = opt.spacing > 0.0 ? opt.spacing : tr.length() / std::max(1, opt.target_samples);
-  const int min_n = std::max(2, opt.min_per_segment);
+  // at least min_per_segment samples a segment, but no more in all than about the target when the segments are
+  // many (a speed table of thousands of stations, as a constant-force schedule is: each station is a kink), and
+  // never fewer than 2 (the maxima inside a segment are refined by Brent's method between samples)
+  const size_t segments = pieces.size() + in.profile->kinks().size();
+  const int min_n = std::clamp(opt.target_samples / static_cast<int>(std::max<size_t>(1, segments)), 2,
+                               std::max(2, opt.min_per_segment));
   constexpr double kMaxSamples = 5e7;
   if (!(h > 0.0) || tr.length() / h > kMaxSamples)
     throw InputError("a sample spacing of " + num(h * 1e3) + " mm would need " + num(tr.length() / h) +
@@ -156,12 +161,14 @@ TorqueAnalysis analyze_torques(const DynamicsInput& in, const AnalysisOptions& o
   std::vector<double> ts, cuts, qv;
   bool have_prev = false;
   TorqueSample prev, first;
+  std::sort(kinks.begin(), kinks.end());
+  size_t next_kink = 0;
   for (size_t i = 0; i < pieces.size(); ++i) {
     const TrackPiece& p = pieces[i];
     cuts.assign({-1.0, 1.0});
     cheb_sign_changes(p.dQ[1], cuts);  // reversals of the arm
-    for (const auto& k : kinks)
-      if (k.first == i) cuts.push_back(k.second);
+    while (next_kink < kinks.size() && kinks[next_kink].first < i) ++next_kink;
+    for (; next_kink < kinks.size() && kinks[next_kink].first == i; ++next_kink) cuts.push_back(kinks[next_kink].second);
     std::sort(cuts.begin(), cuts.end());
     cuts.erase(std::unique(cuts.begin(), cuts.end(), [](double a, double b) { return b - a <= 1e-14; }), cuts.end());
     if (cuts.back() < 1.0) cuts.back() = 1.0;

@@ -5,7 +5,8 @@
 // Sampling. The path is cut into segments at the pieces of its polar track, at every reversal of the arm
 // (theta' = 0, where the Coulomb friction of the arm support changes sign) and where the speed profile's
 // acceleration jumps; every quantity is smooth inside a segment. Each segment gets at least `min_per_segment`
-// intervals, and more so that samples lie at most `spacing` apart along the path. Segment ends are evaluated as
+// intervals (fewer, down to 2, when the segments are so many that this would exceed `target_samples`: a speed
+// table of thousands of stations), and more so that samples lie at most `spacing` apart along the path. Segment ends are evaluated as
 // one-sided limits, so a jump appears as two samples at the same arc length.
 // Maxima. The largest samples of each quantity are refined by Brent's method inside their segment, so the maxima
 // do not depend on the sampling (beyond missing a peak narrower than the spacing).

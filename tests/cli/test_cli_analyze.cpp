@@ -154,7 +154,7 @@ TEST(CliAnalyze, TheLoadDoesNotChangeTheTape) {
 TEST(CliAnalyze, BadInputGivesOneClearLine) {
   Scratch sc;
   expect_bad(sc, replace(kCircle, "c1 = 1.66", "c1 = 1.66\nfoo = 2"), "unknown key 'load.foo'");
-  expect_bad(sc, replace(kCircle, "kind = \"grinding\"", "kind = \"milling\""), "load.kind");
+  expect_bad(sc, replace(kCircle, "kind = \"grinding\"", "kind = \"turning\""), "load.kind");
   expect_bad(sc, replace(kCircle, "depth = \"0.001 in\"\n", ""), "'depth' is missing");
   expect_bad(sc, replace(kCircle, "k_c = \"6.46e7 kN/m^2\"", "k_c = \"6.46e7 kN\""), "load.k_c");
   expect_bad(sc, replace(kCircle, "safety_factor = 1.0", "safety_factor = 0.5"), "limits.safety_factor");

@@ -1,9 +1,12 @@
 // The operator's report of a job with dynamics shows both schedules (the time-optimal one and the best constant
 // speed at the job's safety factor) and, with [process] chatter, the stability lobes; `capacity` of a time-optimal
-// job (refused without --speed, the constant-speed capacity with it) (docs/time-optimal.md, docs/chatter.md).
+// job (refused without --speed, the constant-speed capacity with it) (docs/time-optimal.md, docs/chatter.md); with
+// a milling load, the cut along the path (docs/process.md).
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -161,4 +164,29 @@ TEST(CliReportChatter, MissingStructureFileIsOneLineNamingTheKey) {
   // an unknown key of [process] too
   const std::string bad = sc.write("bad.toml", replace(example("witch_grinding_chatter.toml"), "chatter =", "chattr ="));
   expect_one_line_error(run_cli("analyze " + bad), "process.chattr");
+}
+
+// The report of a job with a milling load has its "Cutting" section with the figures of `polarcam process` (about
+// 15 s of CPU in a Release build: under the sanitizers only with POLARCAM_LONG_TESTS=1).
+TEST(CliReportCutting, MillingJobHasItsCuttingSection) {
+#ifdef POLARCAM_SANITIZED
+  const char* e = std::getenv("POLARCAM_LONG_TESTS");
+  if (!e || std::string(e) != "1") GTEST_SKIP() << "checked in the normal build";
+#endif
+  Scratch sc;
+  fs::create_directories(sc.dir / "process");
+  fs::create_directories(sc.dir / "machines");
+  for (const char* f : {"process/contour_milling.toml", "process/fussell_table1.toml", "machines/fahim1983.toml"})
+    sc.write(f, example(f));
+  const std::string job = sc.path("process/contour_milling.toml"), out = sc.path("cm.html");
+  const CliResult r = run_cli("report " + job + " -o " + out + " --map-size 4 --max-evaluations 20 --threads 2 --quiet");
+  ASSERT_TRUE(r.code == 0 || r.code == 1) << r.err;
+  const std::string cutting = section(read_file(out), "cutting");
+  ASSERT_FALSE(cutting.empty());
+  const json p = cli_json("process " + job + " --json");
+  char text[64];
+  std::snprintf(text, sizeof text, "the path takes %.4g s", p["duration_s"].get<double>());
+  EXPECT_NE(cutting.find(text), std::string::npos) << cutting;
+  EXPECT_NE(cutting.find("<td>the nominal force</td>"), std::string::npos) << cutting;
+  EXPECT_NE(cutting.find("<img"), std::string::npos);
 }
