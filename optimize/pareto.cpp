@@ -94,6 +94,7 @@ ParetoResult pareto_front(const PoleProblem& p0, const Placement& start, const P
   oa.objective = PoleObjective::area;
   oa.method = PoleMethod::nlopt;
   oa.threads = threads;
+  oa.box = box;  // the survey's: the same for the two ends, a bound for the levels' local searches
   const PlacementResult ra = optimize_placement(p, start, oa, progress_part(progress, 0.3, 0.4));
   PoleProblem pt = p;
   pt.objective = PoleObjective::torque;

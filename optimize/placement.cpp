@@ -122,14 +122,15 @@ struct Param {
   double scale(double len) const { return hold == PoleHold::C ? len / C : len; }
 };
 
-Param make_param(const PoleProblem& p, const Placement& start, PoleHold hold, int threads) {
+Param make_param(const PoleProblem& p, const Placement& start, PoleHold hold, int threads,
+                 const std::optional<SearchBox>& known) {
   Param q;
   q.hold = hold;
   q.C = start.C;
   q.beta = start.beta;
   SearchBox b = search_box(p);
   // the global stage searches where the constraints can be met (found from margins alone, without digitizing)
-  if (hold == PoleHold::none) b = feasible_box(p, b, 41, threads);
+  if (hold == PoleHold::none) b = known ? *known : feasible_box(p, b, 41, threads);
   if (hold == PoleHold::none) {
     q.lo = {b.x0, b.y0};
     q.hi = {b.x1, b.y1};
@@ -572,7 +573,7 @@ PlacementResult optimize_placement(const PoleProblem& p, const Placement& start,
     throw InputError(std::string("the ") + (torque ? to_string(p.objective) : "torque-limited") +
                      " pole placement needs the machine's dynamics and the job's load");
   const int threads = o.threads > 0 ? o.threads : default_threads();
-  const Param q = make_param(p, start, o.hold, threads);
+  const Param q = make_param(p, start, o.hold, threads, o.box);
   Search s(p, q, threads);
   s.set_progress(progress);
   s.keep_seen(torque);

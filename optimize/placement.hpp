@@ -17,6 +17,7 @@
 //    in a disc of 20 DeltaR around the local optimum and keeps the best exact value, because the placement is a
 //    number in the tape-making, not a fixture, and the fluctuation is as real as the trend.
 // Every evaluation is deterministic and the result never depends on the number of threads.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,10 @@ struct PlacementQuestion {
   int segments = 100;          // F1: chords of the piecewise-linear approximation
 };
 
+struct SearchBox {
+  double x0 = 0, x1 = 0, y0 = 0, y1 = 0;  // pole positions O - O1 (m)
+};
+
 // The solver: how the search runs. Changes the effort and (within the search's tolerance) where it stops, never
 // the question; the result does not depend on `threads`.
 struct PlacementSolver {
@@ -59,14 +64,14 @@ struct PlacementSolver {
   // centres): for starts already known to lie in the right basins (the Pareto front's searches start from the
   // best surveyed poles)
   std::vector<Placement> local_starts;
+  // The search box when the caller already has it (feasible_box of search_box, no hold): saves computing it (41 x 41
+  // margins, each with the torques when the problem has a torque limit).
+  std::optional<SearchBox> box;
 };
 
 // Both, as the CLI and the job file give them (fields are read as PlacementOptions::objective etc.).
 struct PlacementOptions : PlacementQuestion, PlacementSolver {};
 
-struct SearchBox {
-  double x0 = 0, x1 = 0, y0 = 0, y1 = 0;  // pole positions O - O1 (m)
-};
 
 struct PlacementStage {
   std::string name;
