@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "cam/curves.hpp"
 #include "cam/error.hpp"
 #include "process/constant_force.hpp"
 
@@ -16,21 +17,6 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kMm = 1e-3;
-
-class Circle final : public Curve {
- public:
-  explicit Circle(double r) : Curve(0.0, 2.0 * kPi, true, "circle"), r_(r) {}
-  CurvePoint eval(double u, int order) const override {
-    CurvePoint p;
-    p.p = {r_ * std::cos(u), r_ * std::sin(u)};
-    if (order >= 1) p.d1 = {-r_ * std::sin(u), r_ * std::cos(u)};
-    if (order >= 2) p.d2 = {-r_ * std::cos(u), -r_ * std::sin(u)};
-    return p;
-  }
-
- private:
-  double r_;
-};
 
 // Slotting (a = 2R) with straight flutes: engaged over [0, pi] wherever the path goes, whatever its curvature;
 // the mean force per f_t is (N b / 4) (-K_r, K_t) (x, y), |F| = N b f_t sqrt(K_t^2 + K_r^2) / 4, and the edge's
@@ -48,7 +34,7 @@ MillingPathSpec slot_spec() {
 }  // namespace
 
 TEST(ConstantForce, HoldsTheNominalForceWithAPlannedEntry) {
-  const MillingPath mp(Circle(30 * kMm), slot_spec());
+  const MillingPath mp(*make_circle({0, 0}, 30 * kMm), slot_spec());
   const double per_ft = 2 * 4 * kMm * std::hypot(800e6, 300e6) / 4;  // N per m of feed per tooth
   const double n = 100.0 / (2 * kPi);                                // rev/s
   const double F = 200.0, V = F / per_ft * 2 * n;                    // f_t = V / (N n)
@@ -97,7 +83,7 @@ TEST(ConstantForce, HoldsTheNominalForceWithAPlannedEntry) {
 }
 
 TEST(ConstantForce, KeepsTheLargestAcceleration) {
-  const MillingPath mp(Circle(30 * kMm), slot_spec());
+  const MillingPath mp(*make_circle({0, 0}, 30 * kMm), slot_spec());
   ConstantForceLimits lim;
   lim.nominal_force_N = 2000.0;
   lim.max_speed = 0.05;

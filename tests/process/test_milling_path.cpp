@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "cam/curves.hpp"
 #include "cam/error.hpp"
 #include "process/milling_path.hpp"
 
@@ -15,24 +16,6 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kMm = 1e-3;
-
-// A circle of radius r about the origin, counter-clockwise (ccw) or clockwise, over one turn.
-class Circle final : public Curve {
- public:
-  Circle(double r, bool ccw) : Curve(0.0, 2.0 * kPi, true, "circle"), r_(r), sg_(ccw ? 1.0 : -1.0) {}
-  CurvePoint eval(double u, int order) const override {
-    const double c = std::cos(sg_ * u), s = std::sin(sg_ * u);
-    CurvePoint p;
-    p.p = {r_ * c, r_ * s};
-    if (order >= 1) p.d1 = {-r_ * s * sg_, r_ * c * sg_};
-    if (order >= 2) p.d2 = {-r_ * c, -r_ * s};
-    if (order >= 3) p.d3 = {r_ * s * sg_, -r_ * c * sg_};
-    return p;
-  }
-
- private:
-  double r_, sg_;
-};
 
 // The engaged angle by geometry: the cutter's centre at distance rc from the arc's centre O; a point of the cutter
 // at angle psi from the direction towards the stock is in the stock when it lies beyond the finished contour's
@@ -114,8 +97,7 @@ TEST(MillingPath, AlongAHole) {
   spec.spindle_speed_rad_s = 2000.0 * 2.0 * kPi / 60.0;
   spec.tool_side = 1;
   spec.stations = 50;
-  const Circle path(rc, true);
-  const MillingPath mp(path, spec);
+  const MillingPath mp(*make_circle({0, 0}, rc), spec);
   EXPECT_EQ(mp.mode(), MillingMode::down);
   EXPECT_NEAR(mp.length(), 2 * kPi * rc, 1e-12);
   const double psi = engaged_by_bisection(spec.cutter.radius_m, a, rc, true);
@@ -148,7 +130,7 @@ TEST(MillingPath, AroundABoss) {
   spec.spindle_speed_rad_s = 200.0;
   spec.tool_side = -1;
   spec.stations = 20;
-  const MillingPath mp(Circle(rc, true), spec);
+  const MillingPath mp(*make_circle({0, 0}, rc), spec);
   EXPECT_EQ(mp.mode(), MillingMode::up);
   EXPECT_NEAR(mp.stations()[3].engaged_angle, engaged_by_bisection(spec.cutter.radius_m, a, rc, false), 1e-9);
   EXPECT_LT(mp.stations()[3].engaged_angle, straight_engaged_angle(a, spec.cutter.radius_m));
