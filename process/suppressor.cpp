@@ -196,13 +196,14 @@ SuppressorModel suppressor_model(const TwoMassStructure& st, const SuppressorSpe
   }
   check_stable(m, "suppressor.model");
   if (spec.source == ModelSource::discrete) {
-    // what the coefficients stand for (Eq. 4.8-4.9 and the static gain): complex poles a e^{+-j w_d T_s}
-    const double a = std::sqrt(m.B2), c = -m.B1 / (2.0 * a);
+    // what the coefficients stand for (Eq. 4.8-4.9 and the static gain), as identification reads them; w_n and
+    // zeta stay 0 when the poles are not a damped oscillation
     m.gain = (m.A1 + m.A2) / (1.0 + m.B1 + m.B2);
-    if (a > 0.0 && std::abs(c) < 1.0) {
-      const double sigma = -std::log(a) / spec.sample_period, wd = std::acos(c) / spec.sample_period;
-      m.omega_n = std::hypot(sigma, wd);
-      m.zeta = sigma / m.omega_n;
+    try {
+      const SecondOrder so = to_second_order(m, spec.sample_period);
+      m.omega_n = so.omega_n;
+      m.zeta = so.zeta;
+    } catch (const InputError&) {
     }
   }
   if (!std::isfinite(m.A1 + m.A2 + m.B1 + m.B2))

@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "process/identify.hpp"
 #include "process/simulate.hpp"
 #include "process/structure.hpp"
 
@@ -46,8 +47,8 @@ struct SuppressorSpec {
 };
 
 // The discrete model of Eq. 3.1 with what it stands for.
-struct SuppressorModel {
-  double A1 = 0.0, A2 = 0.0, B1 = 0.0, B2 = 0.0;
+// Eq. 3.2's coefficients (the identified model's form, process/identify.hpp) and what they stand for.
+struct SuppressorModel : DiscreteModel {
   double omega_n = 0.0, zeta = 0.0, gain = 0.0;  // rad/s, ratio, static gain (A1 + A2) / (1 + B1 + B2) (m/N)
 };
 
