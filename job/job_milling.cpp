@@ -84,7 +84,7 @@ process::ConstantForceLimits constant_force_limits(const Job& job) {
 
 process::ConstantForceSchedule constant_force_job_schedule(const Job& job) {
   const process::ConstantForceLimits l = constant_force_limits(job);
-  MillingSetup::ScheduleCache& c = *job.milling->schedule_cache;
+  MillingSetup::ScheduleCache& c = job.milling->schedule_cache;
   const std::lock_guard<std::mutex> lock(c.mutex);
   if (!c.schedule || !c.limits || !(*c.limits == l)) {
     c.schedule = std::make_shared<const process::ConstantForceSchedule>(

@@ -31,7 +31,7 @@ struct MillingSetup {
     std::optional<process::ConstantForceLimits> limits;
     std::shared_ptr<const process::ConstantForceSchedule> schedule;
   };
-  std::shared_ptr<ScheduleCache> schedule_cache = std::make_shared<ScheduleCache>();
+  mutable ScheduleCache schedule_cache;
 };
 
 // For a job whose [load] kind is "milling" (load_job calls it): reads the tool file, checks that the job's [tool]
