@@ -453,11 +453,11 @@ void torque_search(Search& s, const Param& q, const PoleProblem& p, const std::v
                       : (dim == 2 ? std::max(4, static_cast<int>(std::floor(std::sqrt(E / 3.0)))) : std::max(8, E / 3));
   std::vector<double> cell(dim);
   for (size_t i = 0; i < dim; ++i) cell[i] = (q.hi[i] - q.lo[i]) / n;
-  std::vector<std::vector<double>> lat;
   std::vector<std::vector<double>> starts;
   if (local) {
     for (const Placement& pl : o.local_starts) starts.push_back(start_t(q, pl));
   } else {
+    std::vector<std::vector<double>> lat;
     if (dim == 2) {
       for (int iy = 0; iy < n; ++iy)
         for (int ix = 0; ix < n; ++ix) lat.push_back({q.lo[0] + cell[0] * (ix + 0.5), q.lo[1] + cell[1] * (iy + 0.5)});

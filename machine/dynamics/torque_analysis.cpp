@@ -125,7 +125,8 @@ TorqueAnalysis analyze_torques(const DynamicsInput& in, const AnalysisOptions& o
   // at least min_per_segment samples a segment, but no more in all than about the target when the segments are
   // many (a speed table of thousands of stations, as a constant-force schedule is: each station is a kink), and
   // never fewer than 2 (the maxima inside a segment are refined by Brent's method between samples)
-  const size_t segments = pieces.size() + in.profile->kinks().size();
+  const std::vector<double> profile_kinks = in.profile->kinks();
+  const size_t segments = pieces.size() + profile_kinks.size();
   const int min_n = std::clamp(opt.target_samples / static_cast<int>(std::max<size_t>(1, segments)), 2,
                                std::max(2, opt.min_per_segment));
   constexpr double kMaxSamples = 5e7;
@@ -136,7 +137,7 @@ TorqueAnalysis analyze_torques(const DynamicsInput& in, const AnalysisOptions& o
 
   // speed-profile kinks, as (piece, t)
   std::vector<std::pair<size_t, double>> kinks;
-  for (double s : in.profile->kinks())
+  for (double s : profile_kinks)
     if (s > 0.0 && s < tr.length()) kinks.push_back(tr.locate(s));
 
   if (opt.keep_series)
