@@ -12,7 +12,7 @@
 #include "cam/units.hpp"
 
 namespace polarcam::cli {
-namespace {
+namespace cmd_analyze {  // named, not anonymous: the command files are compiled together (unity build)
 
 struct Opts {
   std::string job, csv, plot, spacing;
@@ -129,9 +129,10 @@ int run(const Opts& o) {
   return all_go ? 0 : 1;
 }
 
-}  // namespace
+}  // namespace cmd_analyze
 
 void register_analyze(CLI::App& app, Action& action) {
+  using namespace cmd_analyze;
   auto o = std::make_shared<Opts>();
   CLI::App* c =
       app.add_subcommand("analyze",

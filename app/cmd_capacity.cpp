@@ -11,7 +11,7 @@
 #include "cam/units.hpp"
 
 namespace polarcam::cli {
-namespace {
+namespace cmd_capacity {  // named, not anonymous: the command files are compiled together (unity build)
 
 struct Opts {
   std::string job, speed, csv, plot;
@@ -57,9 +57,10 @@ int run(const Opts& o) {
   return 0;
 }
 
-}  // namespace
+}  // namespace cmd_capacity
 
 void register_capacity(CLI::App& app, Action& action) {
+  using namespace cmd_capacity;
   auto o = std::make_shared<Opts>();
   CLI::App* c = app.add_subcommand(
       "capacity", "The largest speed and the largest load (mass, depth of cut or tool force) at which a job's worst "

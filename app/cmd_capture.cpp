@@ -21,7 +21,7 @@
 #endif
 
 namespace polarcam::cli {
-namespace {
+namespace cmd_capture {  // named, not anonymous: the command files are compiled together (unity build)
 
 const char* kAxis[2] = {"radial", "angular"};
 
@@ -243,9 +243,10 @@ void start_node(const std::string& text, const Grid& g, int64_t node[2]) {
   node[1] = static_cast<int64_t>(m);
 }
 
-}  // namespace
+}  // namespace cmd_capture
 
 void register_capture(CLI::App& app, Action& action) {
+  using namespace cmd_capture;
   struct Opts {
     std::string file, out, machine, signals, format, start, encoding = "quadrature", origin, invert_dir,
         dir_setup = "650 ns", compare, speed = "1", tick, time_tolerance;

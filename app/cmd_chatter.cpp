@@ -14,7 +14,7 @@
 #include "report/chatter_report.hpp"
 
 namespace polarcam::cli {
-namespace {
+namespace cmd_chatter {  // named, not anonymous: the command files are compiled together (unity build)
 
 struct Opts {
   std::string file, plot, spindle_min, spindle_max, simulate, duration, csv, steps_out;
@@ -118,9 +118,10 @@ int run(const Opts& o) {
   return 0;
 }
 
-}  // namespace
+}  // namespace cmd_chatter
 
 void register_chatter(CLI::App& app, Action& action) {
+  using namespace cmd_chatter;
   auto o = std::make_shared<Opts>();
   CLI::App* c = app.add_subcommand(
       "chatter", "Regenerative chatter of a two-mass machine-workpiece structure: the limiting cutting gain and the "

@@ -11,15 +11,16 @@
 #include "pipeline/job_tape.hpp"
 
 namespace polarcam::cli {
-namespace {
+namespace cmd_check {  // named, not anonymous: the command files are compiled together (unity build)
 
 std::string fmt(double v, int prec = 6) { return significant(v, prec); }
 
 const char* end_place(double rho) { return rho == 0.0 ? "centre" : rho == 1.0 ? "rim" : "neither centre nor rim"; }
 
-}  // namespace
+}  // namespace cmd_check
 
 void register_check(CLI::App& app, Action& action) {
+  using namespace cmd_check;
   struct Opts {
     std::string pattern, out;
     PatternArgs machine;

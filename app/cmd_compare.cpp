@@ -14,7 +14,7 @@
 #include "cam/units.hpp"
 
 namespace polarcam::cli {
-namespace {
+namespace cmd_compare {  // named, not anonymous: the command files are compiled together (unity build)
 
 std::string fmt(double v, int prec = 5) { return significant(v, prec); }
 
@@ -52,9 +52,10 @@ std::string summary_text(const Comparison& c) {
   return os.str();
 }
 
-}  // namespace
+}  // namespace cmd_compare
 
 void register_compare(CLI::App& app, Action& action) {
+  using namespace cmd_compare;
   struct Opts {
     std::string job, report, method = "dda", rate, speed_scale = "2", size_scale = "1/2";
     PatternArgs pattern;

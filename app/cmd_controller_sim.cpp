@@ -25,7 +25,7 @@
 #include "machine/link/serial_port.hpp"
 
 namespace polarcam::cli {
-namespace {
+namespace cmd_controller_sim {  // named, not anonymous: the command files are compiled together (unity build)
 
 std::atomic<bool> g_quit{false};
 extern "C" void on_term(int) { g_quit.store(true); }
@@ -49,9 +49,10 @@ speed_t speed_code(unsigned baud) {
   }
 }
 
-}  // namespace
+}  // namespace cmd_controller_sim
 
 void register_controller_sim(CLI::App& app, Action& action) {
+  using namespace cmd_controller_sim;
   struct Opts {
     bool pty = false;
     double tick_ns = 1000;

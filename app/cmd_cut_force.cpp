@@ -11,7 +11,7 @@
 #include "process/cutting_force.hpp"
 
 namespace polarcam::cli {
-namespace {
+namespace cmd_cut_force {  // named, not anonymous: the command files are compiled together (unity build)
 
 struct Opts {
   int teeth = 0;
@@ -89,9 +89,10 @@ int run(const Opts& o) {
   return 0;
 }
 
-}  // namespace
+}  // namespace cmd_cut_force
 
 void register_cut_force(CLI::App& app, Action& action) {
+  using namespace cmd_cut_force;
   auto o = std::make_shared<Opts>();
   CLI::App* c = app.add_subcommand(
       "cut-force", "The lumped cutting-force model F = C v(t - tau), C = K b a (Elbestawi Sec. 4.4): K from one cut, "

@@ -12,7 +12,7 @@
 #include "cam/units.hpp"
 
 namespace polarcam::cli {
-namespace {
+namespace cmd_dda {  // named, not anonymous: the command files are compiled together (unity build)
 
 nlohmann::ordered_json summary_json(const Job& job, const CartesianRun& run, const std::string& out) {
   const CartesianResult& r = run.result;
@@ -100,9 +100,10 @@ std::string summary_text(const Job& job, const CartesianRun& run, const std::str
   return os.str();
 }
 
-}  // namespace
+}  // namespace cmd_dda
 
 void register_dda(CLI::App& app, Action& action) {
+  using namespace cmd_dda;
   struct Opts {
     std::string job, out, method = "dda", rate;
     PatternArgs pattern;

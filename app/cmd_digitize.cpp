@@ -13,7 +13,7 @@
 #include "io/output.hpp"
 
 namespace polarcam::cli {
-namespace {
+namespace cmd_digitize {  // named, not anonymous: the command files are compiled together (unity build)
 
 const char* side_name(ToolSide s) {
   static const char* names[] = {"left", "right", "outside", "inside"};
@@ -144,9 +144,10 @@ std::string summary_text(const Job& job, const DigitizedJob& d, const std::strin
   return os.str();
 }
 
-}  // namespace
+}  // namespace cmd_digitize
 
 void register_digitize(CLI::App& app, Action& action) {
+  using namespace cmd_digitize;
   struct Opts {
     std::string job, out;
     PatternArgs pattern;

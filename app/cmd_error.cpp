@@ -13,7 +13,7 @@
 #include "metrics/error_metrics.hpp"
 
 namespace polarcam::cli {
-namespace {
+namespace cmd_error {  // named, not anonymous: the command files are compiled together (unity build)
 
 std::string fmt(double v, int prec = 6) { return significant(v, prec); }
 
@@ -59,9 +59,10 @@ int cartesian(const Opts& o, const Job& job) {
   return 0;
 }
 
-}  // namespace
+}  // namespace cmd_error
 
 void register_error(CLI::App& app, Action& action) {
+  using namespace cmd_error;
   auto o = std::make_shared<Opts>();
   CLI::App* c = app.add_subcommand("error", "Contouring error of a step tape against its job's tool path: exact area "
                                             "error, deviation, and for polar tapes the thesis's F_sum, F_dif and F1");

@@ -13,7 +13,7 @@
 #include "pipeline/job_tape.hpp"
 
 namespace polarcam::cli {
-namespace {
+namespace cmd_export {  // named, not anonymous: the command files are compiled together (unity build)
 
 struct Opts {
   std::string input, out, format, tolerance = "0.1 mm", feed_mode;
@@ -120,9 +120,10 @@ int run(const Opts& o) {
   return 0;
 }
 
-}  // namespace
+}  // namespace cmd_export
 
 void register_export(CLI::App& app, Action& action) {
+  using namespace cmd_export;
   auto o = std::make_shared<Opts>();
   CLI::App* c = app.add_subcommand("export", "Export the tool path as a theta-rho file, G-code or an SVG drawing");
   c->add_option("input", o->input, "job file (TOML) or pattern file")->required();

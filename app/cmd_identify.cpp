@@ -9,7 +9,7 @@
 #include "process/identify.hpp"
 
 namespace polarcam::cli {
-namespace {
+namespace cmd_identify {  // named, not anonymous: the command files are compiled together (unity build)
 
 struct Opts {
   std::string file;
@@ -74,9 +74,10 @@ int run(const Opts& o) {
   return 0;
 }
 
-}  // namespace
+}  // namespace cmd_identify
 
 void register_identify(CLI::App& app, Action& action) {
+  using namespace cmd_identify;
   auto o = std::make_shared<Opts>();
   CLI::App* c = app.add_subcommand(
       "identify", "A second-order structure from a measured response: logarithmic decrement, batch and recursive "

@@ -9,7 +9,7 @@
 #include "digitizer/replay.hpp"
 
 namespace polarcam::cli {
-namespace {
+namespace cmd_inspect {  // named, not anonymous: the command files are compiled together (unity build)
 
 const char* axis_name(const TapeHeader& h, int axis) {
   if (h.axes == TapeAxes::polar) return axis == 0 ? "r" : "theta";
@@ -68,9 +68,10 @@ nlohmann::ordered_json header_json(const TapeHeader& h, const std::string& path)
   return j;
 }
 
-}  // namespace
+}  // namespace cmd_inspect
 
 void register_inspect(CLI::App& app, Action& action) {
+  using namespace cmd_inspect;
   struct Opts {
     std::string tape;
     bool json = false, csv = false;

@@ -14,7 +14,7 @@
 #include "process/limits.hpp"
 
 namespace polarcam::cli {
-namespace {
+namespace cmd_limits {  // named, not anonymous: the command files are compiled together (unity build)
 
 struct Opts {
   std::string file, diameter, length;
@@ -95,9 +95,10 @@ int run(const Opts& o) {
   return 0;
 }
 
-}  // namespace
+}  // namespace cmd_limits
 
 void register_limits(CLI::App& app, Action& action) {
+  using namespace cmd_limits;
   auto o = std::make_shared<Opts>();
   CLI::App* c = app.add_subcommand(
       "limits", "A cutting tool's limits: breakage force, stiffness, rapid feed per tooth, shank, tooth, "

@@ -15,7 +15,7 @@
 #include "process/signal_file.hpp"
 
 namespace polarcam::cli {
-namespace {
+namespace cmd_monitor {  // named, not anonymous: the command files are compiled together (unity build)
 
 struct Opts {
   std::string file, spindle, signal, friction = "0.196 N m s/rad", rule = "peng";
@@ -163,9 +163,10 @@ int run(const Opts& o) {
   return r.events.empty() ? 0 : 1;
 }
 
-}  // namespace
+}  // namespace cmd_monitor
 
 void register_monitor(CLI::App& app, Action& action) {
+  using namespace cmd_monitor;
   auto o = std::make_shared<Opts>();
   CLI::App* c = app.add_subcommand(
       "monitor", "Tool breakage, chatter and overload from a recorded force or feed-motor current (Peng 1989, Sec. "

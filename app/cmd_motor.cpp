@@ -16,7 +16,7 @@
 #include "machine/dynamics/motor_fit.hpp"
 
 namespace polarcam::cli {
-namespace {
+namespace cmd_motor {  // named, not anonymous: the command files are compiled together (unity build)
 
 struct FitOpts {
   std::string points, machine, axis = "radial", voltage, resistance, energisation, rate_unit = "Hz",
@@ -202,9 +202,10 @@ int fit(const FitOpts& o) {
   return 0;
 }
 
-}  // namespace
+}  // namespace cmd_motor
 
 void register_motor(CLI::App& app, Action& action) {
+  using namespace cmd_motor;
   CLI::App* motor = app.add_subcommand("motor", "Stepping-motor models");
   motor->require_subcommand(1);
   auto o = std::make_shared<FitOpts>();

@@ -23,7 +23,7 @@
 #include "optimize/pareto.hpp"
 
 namespace polarcam::cli {
-namespace {
+namespace cmd_optimize {  // named, not anonymous: the command files are compiled together (unity build)
 
 using json = nlohmann::ordered_json;
 
@@ -281,9 +281,10 @@ int run(const Opts& o) {
   return 0;
 }
 
-}  // namespace
+}  // namespace cmd_optimize
 
 void register_optimize(CLI::App& app, Action& action) {
+  using namespace cmd_optimize;
   auto o = std::make_shared<Opts>();
   CLI::App* c = app.add_subcommand("optimize", "Place the machine pole for least contouring error (exact area error, "
                                                "or the thesis's F1), for balanced axis torque, or show the trade-off "

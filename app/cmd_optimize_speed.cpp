@@ -12,7 +12,7 @@
 #include "report/analysis_report.hpp"
 
 namespace polarcam::cli {
-namespace {
+namespace cmd_optimize_speed {  // named, not anonymous: the command files are compiled together (unity build)
 
 struct Opts {
   std::string job, csv;
@@ -49,9 +49,10 @@ int run(const Opts& o) {
   return v.go ? 0 : 1;
 }
 
-}  // namespace
+}  // namespace cmd_optimize_speed
 
 void register_optimize_speed(CLI::App& app, Action& action) {
+  using namespace cmd_optimize_speed;
   auto o = std::make_shared<Opts>();
   CLI::App* c = app.add_subcommand(
       "optimize-speed",

@@ -22,7 +22,7 @@
 #include "machine/controller/sim_machine.hpp"
 
 namespace polarcam::cli {
-namespace {
+namespace cmd_play {  // named, not anonymous: the command files are compiled together (unity build)
 
 std::atomic<bool> g_stop{false}, g_hold{false}, g_resume{false};
 extern "C" void on_sigint(int) { g_stop.store(true); }
@@ -78,9 +78,10 @@ void progress_bar(const PlayProgress& p) {
   std::fflush(stderr);
 }
 
-}  // namespace
+}  // namespace cmd_play
 
 void register_play(CLI::App& app, Action& action) {
+  using namespace cmd_play;
   struct Opts {
     std::string tape, port, speed = "1", size = "1", machine, accel, log;
     unsigned baud = 115200;

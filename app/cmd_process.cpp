@@ -12,7 +12,7 @@
 #include "report/process_report.hpp"
 
 namespace polarcam::cli {
-namespace {
+namespace cmd_process {  // named, not anonymous: the command files are compiled together (unity build)
 
 struct Opts {
   std::string job, csv, plot;
@@ -44,9 +44,10 @@ int run(const Opts& o) {
   return r.exceeded.empty() ? 0 : 1;
 }
 
-}  // namespace
+}  // namespace cmd_process
 
 void register_process(CLI::App& app, Action& action) {
+  using namespace cmd_process;
   auto o = std::make_shared<Opts>();
   CLI::App* c = app.add_subcommand(
       "process",

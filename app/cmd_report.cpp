@@ -12,7 +12,7 @@
 #include "cam/error.hpp"
 
 namespace polarcam::cli {
-namespace {
+namespace cmd_report {  // named, not anonymous: the command files are compiled together (unity build)
 
 struct Opts {
   std::string job, output;
@@ -42,9 +42,10 @@ int run(const Opts& o) {
   return r.go ? 0 : 1;
 }
 
-}  // namespace
+}  // namespace cmd_report
 
 void register_report(CLI::App& app, Action& action) {
+  using namespace cmd_report;
   auto o = std::make_shared<Opts>();
   CLI::App* c = app.add_subcommand("report", "The operator's report: one self-contained HTML page to read before "
                                              "running a job (verdict, accuracy, torques, capacity, placement)");

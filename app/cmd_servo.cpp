@@ -17,7 +17,7 @@
 #include "report/servo_report.hpp"
 
 namespace polarcam::cli {
-namespace {
+namespace cmd_servo {  // named, not anonymous: the command files are compiled together (unity build)
 
 struct Opts {
   std::string input, path, drives, feed, ramp, tolerance, csv, plot, corner;
@@ -121,9 +121,10 @@ int run(const Opts& o) {
   return a.result.within_tolerance() ? 0 : 1;
 }
 
-}  // namespace
+}  // namespace cmd_servo
 
 void register_servo(CLI::App& app, Action& action) {
+  using namespace cmd_servo;
   auto o = std::make_shared<Opts>();
   CLI::App* c = app.add_subcommand(
       "servo", "Servo feed drives: each axis's following error and the contour error of a job, a tape or a test "

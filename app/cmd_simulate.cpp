@@ -14,7 +14,7 @@
 #include "report/simulate_report.hpp"
 
 namespace polarcam::cli {
-namespace {
+namespace cmd_simulate {  // named, not anonymous: the command files are compiled together (unity build)
 
 struct Opts {
   std::string kind, file, plot, csv;
@@ -124,9 +124,10 @@ int run(const Opts& o) {
   return exceeded ? 1 : 0;
 }
 
-}  // namespace
+}  // namespace cmd_simulate
 
 void register_simulate(CLI::App& app, Action& action) {
+  using namespace cmd_simulate;
   auto o = std::make_shared<Opts>();
   CLI::App* c = app.add_subcommand(
       "simulate", "Simulate feed control of a milling cut: `ac`, the adaptive-control loop with its impact "

@@ -13,7 +13,7 @@
 #include "report/template_figure.hpp"
 
 namespace polarcam::cli {
-namespace {
+namespace cmd_template_speed {  // named, not anonymous: the command files are compiled together (unity build)
 
 struct Opts {
   std::string thickness, plot;
@@ -107,9 +107,10 @@ int run(const Opts& o) {
   return 0;
 }
 
-}  // namespace
+}  // namespace cmd_template_speed
 
 void register_template_speed(CLI::App& app, Action& action) {
+  using namespace cmd_template_speed;
   auto o = std::make_shared<Opts>();
   CLI::App* c = app.add_subcommand(
       "template-speed",
