@@ -10,6 +10,8 @@
 #include "cam/error.hpp"
 #include "cam/path.hpp"
 
+namespace tu_cam_test_arc_fit {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 
 namespace {
@@ -145,3 +147,5 @@ TEST(ArcFit, RefusesBadTolerances) {
   o.max_segments = 50;  // the limacon needs hundreds at 1 nm
   EXPECT_THROW(fit_lines_and_arcs(*c, o), InputError);
 }
+
+}  // namespace tu_cam_test_arc_fit

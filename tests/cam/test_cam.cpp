@@ -16,6 +16,8 @@
 #include "cam/toolpath.hpp"
 #include "tests/temp_path.hpp"
 
+namespace tu_cam_test_cam {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 constexpr double kPi = std::numbers::pi;
 
@@ -233,3 +235,5 @@ TEST(PointFiles, CsvAndThetaRho) {
   std::remove(csv.c_str());
   std::remove(thr.c_str());
 }
+
+}  // namespace tu_cam_test_cam

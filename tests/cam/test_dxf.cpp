@@ -11,6 +11,8 @@
 #include "cam/error.hpp"
 #include "tests/temp_path.hpp"
 
+namespace tu_cam_test_dxf {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 
 namespace {
@@ -243,3 +245,5 @@ TEST(Dxf, VertexCountsThatDisagreeWithTheVerticesAreRefused) {
   EXPECT_NE(e.find("aftereof.dxf:3"), std::string::npos) << e;
   EXPECT_NE(e.find("after the EOF record"), std::string::npos) << e;
 }
+
+}  // namespace tu_cam_test_dxf

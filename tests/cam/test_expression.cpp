@@ -12,6 +12,8 @@
 #include "cam/expr_curves.hpp"
 #include "cam/expression.hpp"
 
+namespace tu_cam_test_expression {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 
 namespace {
@@ -281,3 +283,5 @@ TEST(ExpressionCurves, ErrorsArePlacedAtTheirKeys) {
 }
 
 }  // namespace
+
+}  // namespace tu_cam_test_expression

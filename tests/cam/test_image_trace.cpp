@@ -16,6 +16,8 @@
 #include "cam/image_trace.hpp"
 #include "cam/svg_import.hpp"
 
+namespace tu_cam_test_image_trace {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 
 namespace {
@@ -301,3 +303,5 @@ TEST(ImageTrace, BadImagesAreOneLineErrors) {
   o.threshold = 0;
   EXPECT_NE(message([&] { trace_image(speck, o, "s.pgm"); }).find("threshold"), std::string::npos);
 }
+
+}  // namespace tu_cam_test_image_trace

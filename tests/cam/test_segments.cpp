@@ -10,6 +10,8 @@
 #include "cam/error.hpp"
 #include "cam/segments.hpp"
 
+namespace tu_cam_test_segments {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 constexpr double kPi = std::numbers::pi;
 
@@ -167,3 +169,5 @@ TEST(Segments, RefusesGapsDegenerateSegmentsAndFalseClosure) {
   EXPECT_EQ(c->eval(c->u_end(), 0).p, c->eval(0, 0).p);
   EXPECT_EQ(c->eval(1.0, 0).p, (Vec2{1, 0}));
 }
+
+}  // namespace tu_cam_test_segments

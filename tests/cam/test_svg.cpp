@@ -12,6 +12,8 @@
 #include "cam/error.hpp"
 #include "cam/svg_import.hpp"
 
+namespace tu_cam_test_svg {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 constexpr double kPi = std::numbers::pi;
 
@@ -433,3 +435,5 @@ TEST(Svg, RefusalsAreOneLineNamingFileLineAndElement) {
     EXPECT_EQ(e.place(), data("missing.svg"));
   }
 }
+
+}  // namespace tu_cam_test_svg

@@ -12,6 +12,8 @@
 #include "cam/error.hpp"
 #include "cam/svg_export.hpp"
 
+namespace tu_cam_test_svg_export {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 
 namespace {
@@ -131,3 +133,5 @@ TEST(SvgExport, ExtentFromThePointsWithoutAWorkArea) {
 TEST(SvgExport, RefusesABadTolerance) {
   EXPECT_THROW(sample_curve(*make_circle({0, 0}, 0.01), 0.0), InputError);
 }
+
+}  // namespace tu_cam_test_svg_export

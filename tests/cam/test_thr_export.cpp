@@ -15,6 +15,8 @@
 #include "cam/thr_export.hpp"
 #include "cam/toolpath.hpp"
 
+namespace tu_cam_test_thr_export {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 
 namespace {
@@ -226,3 +228,5 @@ TEST(ThrExport, RefusesABadTolerance) {
   EXPECT_THROW(to_theta_rho(*c, -1e-3), InputError);
   EXPECT_THROW(to_theta_rho(*c, std::nan("")), InputError);
 }
+
+}  // namespace tu_cam_test_thr_export

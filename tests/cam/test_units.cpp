@@ -6,6 +6,8 @@
 #include "cam/format.hpp"
 #include "cam/units.hpp"
 
+namespace tu_cam_test_units {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 
 TEST(Units, QuantitiesAreConvertedToSI) {
@@ -77,3 +79,5 @@ TEST(Share, PlainNumbersNeverInExponentForm) {
   EXPECT_EQ(polarcam::share(29.1), "29.1 times");
   EXPECT_EQ(polarcam::share(2909.92), "2910 times");
 }
+
+}  // namespace tu_cam_test_units

@@ -16,7 +16,7 @@
 #include "tests/quadrature_writer.hpp"
 
 namespace polarcam {
-namespace {
+namespace tu_capture_test_capture {  // named: the test files compile together
 
 // The steps a decoder emits, with their times (tests/helpers.hpp).
 using Step = test::Recorded;
@@ -359,11 +359,11 @@ TEST(Decode, OptionsAreChecked) {
   EXPECT_EQ(s.theta_b, "top.enc.B");
 }
 
-}  // namespace
+}  // namespace tu_capture_test_capture
 }  // namespace polarcam
 
 namespace polarcam {
-namespace {
+namespace tu_capture_test_capture {  // named: the test files compile together
 
 // A random walk of both axes (reversals, simultaneous steps of the two axes, bursts), written as quadrature
 // edges by the test's writer and decoded back: the same steps, in the same order, each within the resolution.
@@ -460,11 +460,11 @@ TEST(RoundTrip, JitteredEdgesSampledAt1MHzGiveTheStepsWithinTheResolution) {
   }
 }
 
-}  // namespace
+}  // namespace tu_capture_test_capture
 }  // namespace polarcam
 
 namespace polarcam {
-namespace {
+namespace tu_capture_test_capture {  // named: the test files compile together
 
 // The fuzzing entry point on damaged input: every prefix of a good recording, and the good one with bytes
 // overwritten, either decodes or is refused with an InputError (never a crash, a hang or another exception).
@@ -504,5 +504,5 @@ TEST(Robustness, TruncatedAndDamagedRecordingsDecodeOrAreRefused) {
   }
 }
 
-}  // namespace
+}  // namespace tu_capture_test_capture
 }  // namespace polarcam

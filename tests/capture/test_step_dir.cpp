@@ -19,7 +19,7 @@
 #include "tests/temp_path.hpp"
 
 namespace polarcam {
-namespace {
+namespace tu_capture_test_step_dir {  // named: the test files compile together
 
 // The steps a decoder emits, with their times (tests/helpers.hpp).
 using Step = test::Recorded;
@@ -433,5 +433,5 @@ TEST(CompareTapes, TheComparerTakesTheDecodersStepsDirectly) {
   EXPECT_THROW(TapeComparer(t.expected, o), InputError);
 }
 
-}  // namespace
+}  // namespace tu_capture_test_step_dir
 }  // namespace polarcam

@@ -8,6 +8,8 @@
 
 #include "tests/cli_runner.hpp"
 
+namespace tu_cli_test_cli {  // the test files of a program compile together (unity build)
+
 using namespace polarcam::test;
 using json = nlohmann::json;
 
@@ -147,3 +149,5 @@ TEST(Cli, AbsurdNumbersAreRefusedNamingTheBound) {
   };
   for (const auto& c : cases) expect_bad(sc, replace(kGoodJob, c.from, c.to), c.mention);
 }
+
+}  // namespace tu_cli_test_cli

@@ -12,6 +12,8 @@
 #include "tests/cli_runner.hpp"
 #include "tests/dynamics_helpers.hpp"
 
+namespace tu_cli_test_cli_analyze {  // the test files of a program compile together (unity build)
+
 using namespace polarcam::test;
 using json = nlohmann::json;
 
@@ -278,3 +280,5 @@ TEST(CliAnalyze, StepRateLimitIsNamedAndTheSpeedFollowsFromIt) {
   EXPECT_LE(v, 5500 / (k_R * 400));
   EXPECT_GT(v, 5500 / (k_R * 400) * (1 - 2e-4));
 }
+
+}  // namespace tu_cli_test_cli_analyze

@@ -15,6 +15,8 @@
 #include "tests/cli_runner.hpp"
 #include "tests/quadrature_writer.hpp"
 
+namespace tu_cli_test_cli_capture {  // the test files of a program compile together (unity build)
+
 using namespace polarcam::test;
 using json = nlohmann::json;
 
@@ -447,3 +449,5 @@ TEST(CliCaptureStepDir, OptionsThatDoNotApplyAndBadInput) {
 }
 
 }  // namespace
+
+}  // namespace tu_cli_test_cli_capture

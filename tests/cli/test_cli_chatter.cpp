@@ -13,7 +13,7 @@
 #include "tests/scratch.hpp"
 
 namespace polarcam::test {
-namespace {
+namespace tu_cli_test_cli_chatter {  // named: the test files compile together
 
 const std::string kExamples = std::string(POLARCAM_SOURCE_DIR) + "/examples/process/";
 
@@ -221,5 +221,5 @@ TEST(CliIdentify, BadInputIsOneLine) {
                         "--forgetting");
 }
 
-}  // namespace
+}  // namespace tu_cli_test_cli_chatter
 }  // namespace polarcam::test

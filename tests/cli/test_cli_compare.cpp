@@ -7,6 +7,8 @@
 
 #include "tests/cli_runner.hpp"
 
+namespace tu_cli_test_cli_compare {  // the test files of a program compile together (unity build)
+
 using namespace polarcam::test;
 using json = nlohmann::json;
 
@@ -117,3 +119,5 @@ TEST(CompareCli, ErrorReadsCartesianTapes) {
   const std::string other = sc.write("other.toml", moved);
   expect_one_line_error(run_cli("error " + tape + " --job " + other), "does not follow this path");
 }
+
+}  // namespace tu_cli_test_cli_compare

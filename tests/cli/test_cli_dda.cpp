@@ -8,6 +8,8 @@
 
 #include "tests/cli_runner.hpp"
 
+namespace tu_cli_test_cli_dda {  // the test files of a program compile together (unity build)
+
 using namespace polarcam::test;
 using json = nlohmann::json;
 
@@ -166,3 +168,5 @@ TEST(CliDda, BadInputGivesOneClearLine) {
   std::string ramp = sc.write("ramp.toml", replace(kCircleJob, "speed = \"20 mm/s\"", "speed = \"20 mm/s\"\naccel = \"1 m/s^2\""));
   EXPECT_EQ(run_cli("dda " + ramp + " --method exact").code, 0);
 }
+
+}  // namespace tu_cli_test_cli_dda

@@ -14,6 +14,8 @@
 #include "cam/thr_file.hpp"
 #include "tests/cli_runner.hpp"
 
+namespace tu_cli_test_cli_export {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 using namespace polarcam::test;
 
@@ -301,3 +303,5 @@ TEST(CliExport, GcodeOfATimeOptimalJobFollowsItsSchedule) {
                         "inverse-time");
   EXPECT_EQ(run_cli("export " + job + " --format thr -o " + sc.path("w.thr")).code, 0);
 }
+
+}  // namespace tu_cli_test_cli_export

@@ -13,6 +13,8 @@
 
 #include "tests/cli_runner.hpp"
 
+namespace tu_cli_test_cli_expressions {  // the test files of a program compile together (unity build)
+
 using namespace polarcam::test;
 using nlohmann::json;
 
@@ -193,3 +195,5 @@ TEST(CliExpressions, AStepFunctionIsRefusedNamingTheKeyAndTheFunction) {
 }
 
 }  // namespace
+
+}  // namespace tu_cli_test_cli_expressions

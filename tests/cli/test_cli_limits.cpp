@@ -7,6 +7,8 @@
 
 #include "tests/cli_runner.hpp"
 
+namespace tu_cli_test_cli_limits {  // the test files of a program compile together (unity build)
+
 using namespace polarcam::test;
 
 namespace {
@@ -90,3 +92,5 @@ TEST(CliLimits, BadToolFilesAreRefusedInOneLine) {
                                 "--axial-depth \"10 mm\" --force \"4200 N\""),
                         "--feed-per-tooth");
 }
+
+}  // namespace tu_cli_test_cli_limits

@@ -9,6 +9,8 @@
 
 #include "tests/cli_runner.hpp"
 
+namespace tu_cli_test_cli_messages {  // the test files of a program compile together (unity build)
+
 using namespace polarcam::test;
 
 namespace {
@@ -80,3 +82,5 @@ TEST(Messages, AnalyzeNamesAnExceededStepRate) {
   EXPECT_NE(verdict.find("radial motor must also step at"), std::string::npos) << verdict;
   EXPECT_NE(verdict.find("above its limit of 5500 Hz"), std::string::npos) << verdict;
 }
+
+}  // namespace tu_cli_test_cli_messages

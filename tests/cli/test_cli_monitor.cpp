@@ -8,6 +8,8 @@
 
 #include "tests/cli_runner.hpp"
 
+namespace tu_cli_test_cli_monitor {  // the test files of a program compile together (unity build)
+
 using namespace polarcam::test;
 
 namespace {
@@ -108,3 +110,5 @@ TEST(CliMonitor, BadInputIsOneLine) {
   r = run_cli("monitor --generate " + out + kArgs + " --rate \"-5 Hz\"");
   expect_refused(r, sc, out, "--rate");
 }
+
+}  // namespace tu_cli_test_cli_monitor

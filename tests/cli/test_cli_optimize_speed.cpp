@@ -10,6 +10,8 @@
 
 #include "tests/cli_runner.hpp"
 
+namespace tu_cli_test_cli_optimize_speed {  // the test files of a program compile together (unity build)
+
 using namespace polarcam::test;
 using json = nlohmann::json;
 
@@ -109,3 +111,5 @@ TEST(CliOptimizeSpeed, BadInputGivesOneClearLine) {
   expect_bad_job(sc, "optimize-speed", "--csv", "csv", replace(kCircle, "machines/fahim1983.toml", "machines/bare.toml"),
                  "", "no dynamics");
 }
+
+}  // namespace tu_cli_test_cli_optimize_speed

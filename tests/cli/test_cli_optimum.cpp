@@ -12,6 +12,8 @@
 
 #include "tests/cli_runner.hpp"
 
+namespace tu_cli_test_cli_optimum {  // the test files of a program compile together (unity build)
+
 using namespace polarcam::test;
 using json = nlohmann::json;
 namespace fs = std::filesystem;
@@ -272,3 +274,5 @@ TEST(CliReport, RendersInHeadlessChromium) {
   EXPECT_GT(ink, 0.03) << ink;
   EXPECT_LT(ink, 0.9) << ink;
 }
+
+}  // namespace tu_cli_test_cli_optimum

@@ -10,6 +10,8 @@
 
 #include "tests/cli_runner.hpp"
 
+namespace tu_cli_test_cli_pattern_report {  // the test files of a program compile together (unity build)
+
 using namespace polarcam::test;
 
 namespace {
@@ -75,3 +77,5 @@ TEST(PatternReport, AMotorTooSlowForThePatternIsNoGoWithTheSpeedThatWouldDo) {
   EXPECT_NE(html.find("above its limit of 200 Hz"), std::string::npos);
   EXPECT_NE(html.find("Run at"), std::string::npos);
 }
+
+}  // namespace tu_cli_test_cli_pattern_report

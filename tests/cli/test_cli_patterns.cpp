@@ -13,6 +13,8 @@
 
 #include "tests/cli_runner.hpp"
 
+namespace tu_cli_test_cli_patterns {  // the test files of a program compile together (unity build)
+
 using namespace polarcam::test;
 using json = nlohmann::json;
 
@@ -262,3 +264,5 @@ TEST(Patterns, TheCartesianMachinesStepAThetaRhoPatternAndACoupledArmIsNamed) {
   cli_json("digitize " + rose + " --machine " + kTable + " --speed \"40 mm/s\" -o " + sc.path("x.tape") + " --json");
   expect_one_line_error(run_cli("error " + sc.path("x.tape") + " --job " + rose + " --machine " + kTable + " --speed \"40 mm/s\""), "coupled");
 }
+
+}  // namespace tu_cli_test_cli_patterns

@@ -13,6 +13,8 @@
 
 #include "tests/cli_runner.hpp"
 
+namespace tu_cli_test_cli_penup {  // the test files of a program compile together (unity build)
+
 using namespace polarcam::test;
 
 namespace {
@@ -215,3 +217,5 @@ TEST(CliPenUp, ReadersThatCannotTakeToolEventsRefuseInOneLine) {
   const CliResult r = run_cli("export " + kPattern + " --format thr -o " + thr);
   expect_refused(r, sc, thr, "cannot lift the tool");
 }
+
+}  // namespace tu_cli_test_cli_penup

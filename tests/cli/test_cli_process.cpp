@@ -9,6 +9,8 @@
 
 #include "tests/cli_runner.hpp"
 
+namespace tu_cli_test_cli_process {  // the test files of a program compile together (unity build)
+
 using namespace polarcam::test;
 
 namespace {
@@ -84,3 +86,5 @@ TEST(CliProcess, AJobWithoutAMillingCutIsRefused) {
   expect_one_line_error(r, "milling");
   EXPECT_NE(r.err.find("limacon.toml"), std::string::npos) << r.err;
 }
+
+}  // namespace tu_cli_test_cli_process

@@ -9,6 +9,8 @@
 
 #include "tests/cli_runner.hpp"
 
+namespace tu_cli_test_cli_progress {  // the test files of a program compile together (unity build)
+
 using namespace polarcam::test;
 
 namespace {
@@ -101,3 +103,5 @@ TEST(Progress, LongCommandsAreSilentWhenPiped) {
       EXPECT_FALSE(r.out.empty()) << c.args << extra;
     }
 }
+
+}  // namespace tu_cli_test_cli_progress

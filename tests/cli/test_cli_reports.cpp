@@ -13,6 +13,8 @@
 
 #include "tests/cli_runner.hpp"
 
+namespace tu_cli_test_cli_reports {  // the test files of a program compile together (unity build)
+
 using namespace polarcam::test;
 using json = nlohmann::json;
 namespace fs = std::filesystem;
@@ -190,3 +192,5 @@ TEST(CliReportCutting, MillingJobHasItsCuttingSection) {
   EXPECT_NE(cutting.find("<td>the nominal force</td>"), std::string::npos) << cutting;
   EXPECT_NE(cutting.find("<img"), std::string::npos);
 }
+
+}  // namespace tu_cli_test_cli_reports

@@ -19,6 +19,8 @@
 
 extern char** environ;
 
+namespace tu_cli_test_cli_robust {  // the test files of a program compile together (unity build)
+
 using namespace polarcam::test;
 namespace fs = std::filesystem;
 
@@ -279,3 +281,5 @@ TEST(CliRobust, ExitStatusesAreDocumentedAndReportSaysNoGo) {
 }
 
 }  // namespace
+
+}  // namespace tu_cli_test_cli_robust

@@ -15,7 +15,7 @@
 #include "tests/scratch.hpp"
 
 namespace polarcam::test {
-namespace {
+namespace tu_cli_test_cli_servo {  // named: the test files compile together
 
 const std::string kDrives = std::string(POLARCAM_SOURCE_DIR) + "/examples/drives/";
 const std::string kPeng = " --drives " + kDrives + "peng1989.toml";
@@ -166,5 +166,5 @@ TEST(CliServo, RefusesBadInput) {
   }
 }
 
-}  // namespace
+}  // namespace tu_cli_test_cli_servo
 }  // namespace polarcam::test

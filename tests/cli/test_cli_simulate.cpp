@@ -9,7 +9,7 @@
 #include "tests/scratch.hpp"
 
 namespace polarcam::test {
-namespace {
+namespace tu_cli_test_cli_simulate {  // named: the test files compile together
 
 const std::string kExamples = std::string(POLARCAM_SOURCE_DIR) + "/examples/process/";
 
@@ -105,5 +105,5 @@ TEST(CliSimulate, BadInputIsOneLine) {
   expect_one_line_error(run_cli("simulate ac " + sc.path("missing.toml")), "missing.toml");
 }
 
-}  // namespace
+}  // namespace tu_cli_test_cli_simulate
 }  // namespace polarcam::test

@@ -10,6 +10,8 @@
 
 #include "tests/cli_runner.hpp"
 
+namespace tu_cli_test_cli_template {  // the test files of a program compile together (unity build)
+
 using namespace polarcam::test;
 using json = nlohmann::json;
 
@@ -160,3 +162,5 @@ TEST(CliTemplate, TemplateSpeedCommandTabulatesAndDrawsFigure32) {
   expect_one_line_error(run_cli("template-speed --thickness \"0 mm\" --roller-radius \"1 mm\""), "--thickness");
   expect_one_line_error(run_cli("template-speed --thickness \"3 mm\" --roller-radius \"1 kg\""), "--roller-radius");
 }
+
+}  // namespace tu_cli_test_cli_template

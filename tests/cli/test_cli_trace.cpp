@@ -9,6 +9,8 @@
 
 #include "tests/cli_runner.hpp"
 
+namespace tu_cli_test_cli_trace {  // the test files of a program compile together (unity build)
+
 using namespace polarcam::test;
 
 namespace {
@@ -96,3 +98,5 @@ TEST(Trace, BadImagesAndOptionsAreOneLineErrors) {
   expect_one_line_error(run_cli("digitize " + disk + " --machine " + kTable + " --speed \"20 mm/s\" -o " + sc.path("d.tape")),
                         "--pixel-size");
 }
+
+}  // namespace tu_cli_test_cli_trace

@@ -11,6 +11,8 @@
 #include "tests/cli_runner.hpp"
 #include "digitizer/tape.hpp"
 
+namespace tu_cli_test_optimize_cli {  // the test files of a program compile together (unity build)
+
 using namespace polarcam::test;
 using json = nlohmann::json;
 
@@ -144,3 +146,5 @@ TEST(OptimizeCli, F1HoldsAndBadInput) {
   // a job with [optimize] still digitizes as before
   EXPECT_EQ(run_cli("digitize " + job).code, 0);
 }
+
+}  // namespace tu_cli_test_optimize_cli

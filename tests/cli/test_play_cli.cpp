@@ -21,7 +21,7 @@
 extern char** environ;
 
 namespace polarcam {
-namespace {
+namespace tu_cli_test_play_cli {  // named: the test files compile together
 
 using test::example_tape;
 using test::run_cli;
@@ -356,5 +356,5 @@ TEST(PlayCli, ControllerWithoutAToolRefusesTheLiftingTape) {
   EXPECT_EQ(emu.lines(), std::vector<std::string>{"t_ns,axis,dir"});
 }
 
-}  // namespace
+}  // namespace tu_cli_test_play_cli
 }  // namespace polarcam

@@ -5,6 +5,8 @@
 #include "digitizer/chebyshev.hpp"
 #include "digitizer/polar_track.hpp"
 
+namespace tu_digitizer_test_chebyshev {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 
 namespace {
@@ -64,3 +66,5 @@ TEST(Chebyshev, SolveAndSignChanges) {
   EXPECT_NEAR(roots[0], 0.3 - 1e-4, 1e-12);
   EXPECT_NEAR(roots[1], 0.3 + 1e-4, 1e-12);
 }
+
+}  // namespace tu_digitizer_test_chebyshev

@@ -12,6 +12,8 @@
 #include "cam/spline.hpp"
 #include "tests/helpers.hpp"
 
+namespace tu_digitizer_test_digitizer_analytic {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 using polarcam::test::RecordingSink;
 using polarcam::test::run_digitizer;
@@ -318,3 +320,5 @@ TEST(DigitizerAnalytic, StepRatesBeyondOneTickAndGridsBeyondTheTapeAreRefused) {
   far.home_r = 1e12;  // 1e12 m / 25.4 um = 3.9e16 steps from node 0, beyond 2^50
   EXPECT_THROW(far.validate(), InputError);
 }
+
+}  // namespace tu_digitizer_test_digitizer_analytic

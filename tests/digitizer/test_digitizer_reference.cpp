@@ -9,6 +9,8 @@
 #include "tests/helpers.hpp"
 #include "tests/reference.hpp"
 
+namespace tu_digitizer_test_digitizer_reference {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 using namespace polarcam::testref;
 using polarcam::test::run_digitizer;
@@ -157,3 +159,5 @@ TEST(DigitizerReference, OffsetToolPathMatchesReference) {
     ASSERT_NEAR(static_cast<double>(run.steps[i].t_ns), static_cast<double>(steps[i].t_s * 1e9L), 1.0);
   }
 }
+
+}  // namespace tu_digitizer_test_digitizer_reference

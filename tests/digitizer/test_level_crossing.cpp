@@ -11,6 +11,8 @@
 
 #include "digitizer/level_crossing.hpp"
 
+namespace tu_digitizer_test_level_crossing {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 
 namespace {
@@ -138,3 +140,5 @@ TEST(LevelCrossing, IterationAtATimeSolverGivesTheCrossingsOfSolveCrossing) {
   }
   EXPECT_GT(compared, 9000);
 }
+
+}  // namespace tu_digitizer_test_level_crossing

@@ -15,6 +15,8 @@
 #include "tests/helpers.hpp"
 #include "digitizer/replay.hpp"
 
+namespace tu_digitizer_test_tape {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 using polarcam::test::RecordingSink;
 using polarcam::test::temp_path;
@@ -460,3 +462,5 @@ TEST(TapeEvents, ReadersThatDoNotHandleEventsRefuseInOneLine) {
   h.event_count = 0;
   EXPECT_NO_THROW(refuse_tool_events(h, "x.tape", "the error metrics", ""));
 }
+
+}  // namespace tu_digitizer_test_tape

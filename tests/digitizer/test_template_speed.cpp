@@ -13,6 +13,8 @@
 #include "digitizer/polar_track.hpp"
 #include "digitizer/template_speed.hpp"
 
+namespace tu_digitizer_test_template_speed {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 
 namespace {
@@ -194,3 +196,5 @@ TEST(TemplateSpeed, TooTightTemplatesAndCornersAreRefused) {
   EXPECT_THROW(make_template_speed(*make_circle({0, 0}, 0.05), 0.0, 0.01, TemplateSpec{0.0, Rr, 1}, 1.0), InputError);
   EXPECT_THROW(make_template_speed(*make_circle({0, 0}, 0.05), 0.0, 0.01, TemplateSpec{H, -1.0, 1}, 1.0), InputError);
 }
+
+}  // namespace tu_digitizer_test_template_speed

@@ -14,6 +14,8 @@
 #include "digitizer/theta_rho.hpp"
 #include "tests/helpers.hpp"
 
+namespace tu_digitizer_test_theta_rho {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 using polarcam::test::RecordingSink;
 using polarcam::test::thesis_grid;
@@ -211,3 +213,5 @@ TEST(ThetaRho, TheWorkAreaBoundsTheBallNotTheGearedRadialMotor) {
   g.r_max = 0.0516;
   EXPECT_NO_THROW(digitize(tr2, g, StepRule::nearest, *prof2, nullptr));
 }
+
+}  // namespace tu_digitizer_test_theta_rho

@@ -16,6 +16,8 @@
 #include "digitizer/theta_rho.hpp"
 #include "tests/helpers.hpp"
 
+namespace tu_digitizer_test_theta_rho_polyline {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 using polarcam::test::RecordingSink;
 
@@ -310,3 +312,5 @@ TEST(ThetaRhoPolyline, StreamedTrackRefusesWhatTheHeldTrackRefuses) {
   EXPECT_NE(held.find("r_max"), std::string::npos) << held;
   EXPECT_EQ(message(PolylineTrack(path, 0.0, 0.0)), held);
 }
+
+}  // namespace tu_digitizer_test_theta_rho_polyline

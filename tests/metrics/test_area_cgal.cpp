@@ -12,6 +12,8 @@
 #include "cam/path.hpp"
 #include "metrics/area_check.hpp"
 
+namespace tu_metrics_test_area_cgal {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 using namespace polarcam::test;
 
@@ -109,3 +111,5 @@ TEST(AreaCgal, SmoothCircleRichardson) {
   EXPECT_NEAR(r.area.area_m2, extrapolated, 1e-6 * extrapolated) << "M: " << a1 << ", 2M: " << a2;
   EXPECT_GT(std::abs(a1 - r.area.area_m2), std::abs(extrapolated - r.area.area_m2));
 }
+
+}  // namespace tu_metrics_test_area_cgal

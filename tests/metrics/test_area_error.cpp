@@ -8,6 +8,8 @@
 #include "cam/curves.hpp"
 #include "cam/error.hpp"
 
+namespace tu_metrics_test_area_error {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 using namespace polarcam::test;
 
@@ -92,3 +94,5 @@ TEST(AreaError, FastPathAgreesWithGeneralSweep) {
     }
   }
 }
+
+}  // namespace tu_metrics_test_area_error

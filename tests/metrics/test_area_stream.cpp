@@ -10,6 +10,8 @@
 #include "cam/curves.hpp"
 #include "metrics/error_metrics.hpp"
 
+namespace tu_metrics_test_area_stream {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 using namespace polarcam::test;
 
@@ -132,3 +134,5 @@ TEST(AreaStream, AStaircaseThatComesBackIsLeftToTheRecordedMode) {
   const AreaErrorResult a = m.finish(r.dig.start_n, r.dig.start_m);
   EXPECT_GT(a.area_m2, r.area.area_m2);  // the detour adds area
 }
+
+}  // namespace tu_metrics_test_area_stream

@@ -22,6 +22,8 @@
 #include "metrics/cartesian_error.hpp"
 #include "metrics/deviation.hpp"
 
+namespace tu_metrics_test_cartesian_error {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 using polarcam::test::outline_deviation;
 using polarcam::test::RecordingSink;
@@ -288,3 +290,5 @@ TEST(CartesianError, DeviationTrackingAgreesWithTheWindowSearch) {
     EXPECT_NEAR(dev[0], dev[1], 1e-12 * blu) << path->name();
   }
 }
+
+}  // namespace tu_metrics_test_cartesian_error

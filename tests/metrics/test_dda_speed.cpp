@@ -9,6 +9,8 @@
 #include "metrics/pulse_speed.hpp"
 #include "tests/cartesian_rig.hpp"
 
+namespace tu_metrics_test_dda_speed {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 using namespace polarcam::test::dda;
 
@@ -101,3 +103,5 @@ TEST(Dda, CircleStaysNearTheCircleAndItsSpeedIsWithinTheHandBounds) {
   // the mean over the whole circle: 2 pi R BLU in the measured cycles
   EXPECT_NEAR(2 * kPi * R * kBlu / o.res.duration_s, V, 0.01 * V);
 }
+
+}  // namespace tu_metrics_test_dda_speed

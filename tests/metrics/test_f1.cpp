@@ -10,6 +10,8 @@
 #include "metrics/error_metrics.hpp"
 #include "metrics/f1.hpp"
 
+namespace tu_metrics_test_f1 {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 using namespace polarcam::test;
 
@@ -124,3 +126,5 @@ TEST(F1, DeviationOfACircleAboutThePole) {
   const ErrorMetrics m = em.finish(r.dig.start_n, r.dig.start_m);
   EXPECT_NEAR(m.deviation_max_m, R - 50e-3, 1e-12);
 }
+
+}  // namespace tu_metrics_test_f1

@@ -11,6 +11,8 @@
 #include "metrics/pulse_speed.hpp"
 #include "tests/cartesian_rig.hpp"
 
+namespace tu_metrics_test_pulse_speed {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 using namespace polarcam::test::exact;
 using polarcam::test::RecordingSink;
@@ -142,3 +144,5 @@ TEST(PulseSpeed, TapeMeasurementEqualsTheInMemoryOne) {
   }
   std::remove(path.c_str());
 }
+
+}  // namespace tu_metrics_test_pulse_speed

@@ -11,6 +11,8 @@
 #include "optimize/hooke_jeeves.hpp"
 #include "optimize/placement.hpp"
 
+namespace tu_optimize_test_placement {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 using namespace polarcam::test;
 
@@ -186,3 +188,5 @@ TEST(Placement, MapIsTheSameOnOneOrTwoThreads) {
   }
   EXPECT_GT(feasible, 5);
 }
+
+}  // namespace tu_optimize_test_placement

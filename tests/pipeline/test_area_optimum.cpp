@@ -15,6 +15,8 @@
 #include "tests/dense_pole_search.hpp"
 #include "pipeline/job_placement.hpp"
 
+namespace tu_pipeline_test_area_optimum {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 
 namespace {
@@ -92,3 +94,5 @@ TEST(AreaOptimum, TheWorkAreaBeyondTheContourDoesNotMatter) {
   EXPECT_NEAR(a.pole.y, b.pole.y, 1e-6);
   EXPECT_NEAR(a.at.area_m2, b.at.area_m2, 1e-3 * b.at.area_m2);
 }
+
+}  // namespace tu_pipeline_test_area_optimum

@@ -27,6 +27,8 @@
 #include "metrics/cartesian_error.hpp"
 #include "metrics/error_metrics.hpp"
 
+namespace tu_pipeline_test_compare {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 using namespace polarcam::test;
 
@@ -297,3 +299,5 @@ TEST(CompareJob, ClosedFormsThroughTheComparison) {
     EXPECT_NEAR(c.polar.area_m2, ref, 1e-10 * ref);
   }
 }
+
+}  // namespace tu_pipeline_test_compare

@@ -8,6 +8,8 @@
 #include "job/job.hpp"
 #include "pipeline/job_export.hpp"
 
+namespace tu_pipeline_test_job_export {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 
 namespace {
@@ -51,3 +53,5 @@ TEST(JobExport, ThetaRhoPatternKeepsItsVertices) {
   job.placement.C = 0.005;
   EXPECT_GT(export_job(job, o).vertices, v.size());
 }
+
+}  // namespace tu_pipeline_test_job_export

@@ -12,6 +12,8 @@
 #include "cam/error.hpp"
 #include "pipeline/job_tape.hpp"
 
+namespace tu_pipeline_test_job_lift {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 
 namespace {
@@ -235,3 +237,5 @@ TEST(JobLift, AContourOutsideTheWorkAreaIsNamed) {
     EXPECT_NE(m.find("lift-test"), std::string::npos) << m;
   }
 }
+
+}  // namespace tu_pipeline_test_job_lift

@@ -9,6 +9,8 @@
 #include "job/job_dynamics.hpp"
 #include "tests/reference_data.hpp"
 
+namespace tu_pipeline_test_job_machine {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 using polarcam::test::read_reference;
 using polarcam::test::Reference;
@@ -38,3 +40,5 @@ TEST(DynamicsReference, ExampleMachineCarriesTable51) {
     EXPECT_EQ(e.energisation, Energisation::wave);
   }
 }
+
+}  // namespace tu_pipeline_test_job_machine

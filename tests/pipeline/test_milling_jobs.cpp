@@ -18,6 +18,8 @@
 #include "process/milling_force.hpp"
 #include "tests/scratch.hpp"
 
+namespace tu_pipeline_test_milling_jobs {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 using namespace polarcam::test;
 
@@ -234,3 +236,5 @@ TEST(MillingJobs, ForceAtNominalAndNoLimitExceeded) {
     EXPECT_LE(run.max_peak_force_N, lim.breakage_force_N);
   }
 }
+
+}  // namespace tu_pipeline_test_milling_jobs

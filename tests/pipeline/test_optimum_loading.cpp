@@ -22,6 +22,8 @@
 #include "optimize/placement.hpp"
 #include "tests/dense_pole_search.hpp"
 
+namespace tu_pipeline_test_optimum_loading {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 
 namespace {
@@ -144,3 +146,5 @@ TEST(ParetoFront, NoDenseSearchFindsALevelMoreThanOnePercentBetter) {
                                          << " mm^2, dense " << best * 1e6 << " mm^2";
   }
 }
+
+}  // namespace tu_pipeline_test_optimum_loading

@@ -12,6 +12,8 @@
 #include "tests/big_pattern.hpp"
 #include "tests/scratch.hpp"
 
+namespace tu_pipeline_test_pattern_stream {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 using namespace polarcam::test;
 
@@ -104,3 +106,5 @@ TEST(PatternStream, ThePreviewComesFromOnePassAndDrawsTheTapesNodes) {
   for (const Polyline& s : pv.slowed)
     for (size_t i = 0; i < s.x.size(); ++i) EXPECT_LE(std::hypot(s.x[i], s.y[i]), 40.0 / 3.0 + 1e-6);
 }
+
+}  // namespace tu_pipeline_test_pattern_stream

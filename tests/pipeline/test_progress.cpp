@@ -18,7 +18,7 @@
 #include "pipeline/job_tape.hpp"
 
 namespace polarcam {
-namespace {
+namespace tu_pipeline_test_progress {  // named: the test files compile together
 
 // Records every call (from any thread).
 struct Recorder {
@@ -125,5 +125,5 @@ TEST(Progress, StudyJobGoesThroughEveryPart) {
   r.check("study_job", 10, 0.2);
 }
 
-}  // namespace
+}  // namespace tu_pipeline_test_progress
 }  // namespace polarcam

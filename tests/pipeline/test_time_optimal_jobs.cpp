@@ -14,6 +14,8 @@
 #include "pipeline/job_tape.hpp"
 #include "tests/scratch.hpp"
 
+namespace tu_pipeline_test_time_optimal_jobs {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 using namespace polarcam::test;
 
@@ -138,3 +140,5 @@ TEST(TimeOptimalJobs, MachineAndMotionKeysAreChecked) {
   refused(topp_job("10 cm/s", "", "accel = \"1 m/s^2\"\n"), "accel");
   refused(topp_job("0 cm/s"), "speed");
 }
+
+}  // namespace tu_pipeline_test_time_optimal_jobs

@@ -10,6 +10,8 @@
 #include "process/ac_loop.hpp"
 #include "process/sim_file.hpp"
 
+namespace tu_process_test_ac_loop {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 using namespace polarcam::process;
 
@@ -249,3 +251,5 @@ force = "3 kN"
   }
   EXPECT_THROW(parse_ac_toml("[control]\nK_ac = 1\n", "ac.toml"), InputError);
 }
+
+}  // namespace tu_process_test_ac_loop

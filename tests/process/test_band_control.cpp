@@ -8,6 +8,8 @@
 #include "process/band_control.hpp"
 #include "process/sim_file.hpp"
 
+namespace tu_process_test_band_control {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 using namespace polarcam::process;
 
@@ -176,3 +178,5 @@ upper = "0.0035 in"
     EXPECT_EQ(e.place(), "b.toml:20: key 'band.tooth failure.quantity'");
   }
 }
+
+}  // namespace tu_process_test_band_control

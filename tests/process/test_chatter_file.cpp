@@ -8,7 +8,7 @@
 #include "process/chatter_file.hpp"
 
 namespace polarcam::test {
-namespace {
+namespace tu_process_test_chatter_file {  // named: the test files compile together
 
 const std::string kGood = R"([structure]
 M_m = 0.03
@@ -109,5 +109,5 @@ TEST(ChatterFile, MissingFile) {
   }
 }
 
-}  // namespace
+}  // namespace tu_process_test_chatter_file
 }  // namespace polarcam::test

@@ -10,6 +10,8 @@
 #include "cam/error.hpp"
 #include "process/constant_force.hpp"
 
+namespace tu_process_test_constant_force {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 using namespace polarcam::process;
 
@@ -109,3 +111,5 @@ TEST(ConstantForce, RefusesBadLimits) {
   lim.entry_fraction = 0.0;
   EXPECT_THROW(check_constant_force_limits(lim), InputError);
 }
+
+}  // namespace tu_process_test_constant_force

@@ -8,6 +8,8 @@
 #include "cam/error.hpp"
 #include "process/cutting_force.hpp"
 
+namespace tu_process_test_cutting_force {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 using namespace polarcam::process;
 
@@ -64,3 +66,5 @@ TEST(ProcessCuttingForce, OutOfRangeNumbersAreRefusedNotInfinite) {
   EXPECT_THROW(calibrate_lumped_model(1e300, 1e-300, 1e-3, 1e-3, 1.0), InputError);
   EXPECT_THROW(lumped_forces(LumpedForceModel{1e300, 0.03}, {1e200}, 1e200, 1.0), InputError);
 }
+
+}  // namespace tu_process_test_cutting_force

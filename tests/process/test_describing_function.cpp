@@ -10,7 +10,7 @@
 #include "process/describing_function.hpp"
 
 namespace polarcam::test {
-namespace {
+namespace tu_process_test_describing_function {  // named: the test files compile together
 
 // y(x) = x - Q(x): Q steps by D at +-(2i - 1) H / 2
 double quantisation_error(double x, double D, double H) {
@@ -80,5 +80,5 @@ TEST(DescribingFunction, GainsFadeForLargeAmplitudes) {
   EXPECT_THROW(process::quantiser_error_didf(1.0, 0.3, 1.0, -1.0), InputError);
 }
 
-}  // namespace
+}  // namespace tu_process_test_describing_function
 }  // namespace polarcam::test

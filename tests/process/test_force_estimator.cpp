@@ -15,7 +15,7 @@
 #include "process/force_estimator.hpp"
 
 namespace polarcam::test {
-namespace {
+namespace tu_process_test_force_estimator {  // named: the test files compile together
 
 using process::FeedDrive;
 
@@ -137,5 +137,5 @@ TEST(ForceEstimator, SteadyForceFromCurrent) {
   EXPECT_NEAR(process::steady_force_from_current(process::peng1989_drive(), 3.5, 2.5), 0.3 * 1058.0, 1e-9);
 }
 
-}  // namespace
+}  // namespace tu_process_test_force_estimator
 }  // namespace polarcam::test

@@ -12,7 +12,7 @@
 #include "process/identify.hpp"
 
 namespace polarcam::test {
-namespace {
+namespace tu_process_test_identify {  // named: the test files compile together
 
 constexpr double kWn = 2.0 * std::numbers::pi * 50.0, kZeta = 0.04, kGain = 2e-6;  // rad/s, -, m/N
 constexpr double kDt = 1e-3;
@@ -132,5 +132,5 @@ TEST(Identify, RefusesWhatIsNotAnOscillation) {
   EXPECT_THROW(process::to_second_order({1.0, 0.0, -2.5, 0.9}, 1e-3), InputError);
 }
 
-}  // namespace
+}  // namespace tu_process_test_identify
 }  // namespace polarcam::test

@@ -9,6 +9,8 @@
 #include "cam/error.hpp"
 #include "process/limits.hpp"
 
+namespace tu_process_test_limits {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 using namespace polarcam::process;
 
@@ -180,3 +182,5 @@ TEST(ProcessLimits, BadToolsAreRefusedNamingTheField) {
   t.length_m = 1e-200;  // positive, but L^3 underflows: no finite stiffness
   EXPECT_EQ(place(t), "tool");
 }
+
+}  // namespace tu_process_test_limits

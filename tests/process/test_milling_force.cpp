@@ -10,6 +10,8 @@
 #include "cam/error.hpp"
 #include "process/milling_force.hpp"
 
+namespace tu_process_test_milling_force {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 using namespace polarcam::process;
 
@@ -205,3 +207,5 @@ TEST(MillingForce, HelicalPeaksAgainstTheSampledModel) {
       EXPECT_NEAR(p.tooth, tooth, 0.01 * tooth) << psi;
     }
 }
+
+}  // namespace tu_process_test_milling_force

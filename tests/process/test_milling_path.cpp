@@ -9,6 +9,8 @@
 #include "cam/error.hpp"
 #include "process/milling_path.hpp"
 
+namespace tu_process_test_milling_path {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 using namespace polarcam::process;
 
@@ -149,3 +151,5 @@ TEST(MillingPath, RefusesABadSpec) {
   spec.spindle_speed_rad_s = 0;
   EXPECT_THROW(check_milling_path_spec(spec), InputError);
 }
+
+}  // namespace tu_process_test_milling_path

@@ -15,7 +15,7 @@
 #include "process/monitor.hpp"
 
 namespace polarcam::test {
-namespace {
+namespace tu_process_test_monitor {  // named: the test files compile together
 
 using process::EventKind;
 
@@ -236,11 +236,11 @@ TEST(Monitor, RefusesTooShortARecord) {
   }
 }
 
-}  // namespace
+}  // namespace tu_process_test_monitor
 }  // namespace polarcam::test
 
 namespace polarcam::test {
-namespace {
+namespace tu_process_test_monitor {  // named: the test files compile together
 
 TEST(SelectSignal, DefaultColumnQuantityAndEstimate) {
   process::SignalRecord r;
@@ -274,5 +274,5 @@ TEST(SelectSignal, DefaultColumnQuantityAndEstimate) {
   }
 }
 
-}  // namespace
+}  // namespace tu_process_test_monitor
 }  // namespace polarcam::test

@@ -8,7 +8,7 @@
 #include "process/signal_file.hpp"
 
 namespace polarcam::test {
-namespace {
+namespace tu_process_test_signal_file {  // named: the test files compile together
 
 TEST(SignalFile, ReadsColumnsCommentsAndCrlf) {
   const std::string text =
@@ -73,5 +73,5 @@ TEST(SignalFile, MissingFileIsAnInputError) {
   EXPECT_THROW(process::read_signal_csv("/nonexistent/signal.csv"), InputError);
 }
 
-}  // namespace
+}  // namespace tu_process_test_signal_file
 }  // namespace polarcam::test

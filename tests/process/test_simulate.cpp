@@ -11,7 +11,7 @@
 #include "tests/process/dunckley_cases.hpp"
 
 namespace polarcam::test {
-namespace {
+namespace tu_process_test_simulate {  // named: the test files compile together
 
 TEST(ChatterSimulation, UnderTheLimitDecaysOverItGrows) {
   for (int i : {1, 3}) {  // systems 2 and 4
@@ -69,5 +69,5 @@ TEST(ChatterSimulation, RefusesANegativeGain) {
   EXPECT_THROW(process::simulate_chatter(dunckley_structure(kDunckleyCases[0]), cut, -1.0, {}), InputError);
 }
 
-}  // namespace
+}  // namespace tu_process_test_simulate
 }  // namespace polarcam::test

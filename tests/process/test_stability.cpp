@@ -13,7 +13,7 @@
 #include "tests/process/dunckley_cases.hpp"
 
 namespace polarcam::test {
-namespace {
+namespace tu_process_test_stability {  // named: the test files compile together
 
 using C = std::complex<double>;
 using process::TwoMassStructure;
@@ -172,5 +172,5 @@ TEST(ChatterStability, LobesRepeatTheLimitAtEachSpeed) {
   for (const auto& l : lobes) EXPECT_GE(*l.limit.critical_gain, *s.gain * (1.0 - 1e-9));
 }
 
-}  // namespace
+}  // namespace tu_process_test_stability
 }  // namespace polarcam::test

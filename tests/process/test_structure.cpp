@@ -9,7 +9,7 @@
 #include "tests/process/dunckley_cases.hpp"
 
 namespace polarcam::test {
-namespace {
+namespace tu_process_test_structure {  // named: the test files compile together
 
 using C = std::complex<double>;
 using process::TwoMassStructure;
@@ -121,5 +121,5 @@ TEST(ChatterStructure, CheckNamesTheKey) {
   EXPECT_EQ(place(good, c), "accepted");
 }
 
-}  // namespace
+}  // namespace tu_process_test_structure
 }  // namespace polarcam::test

@@ -17,7 +17,7 @@
 #include "tests/process/dunckley_cases.hpp"
 
 namespace polarcam::test {
-namespace {
+namespace tu_process_test_suppressor {  // named: the test files compile together
 
 // The suppression simulation of Sec. 3.3 and App. B.5: U0 = 0.02, S_s = 0.00067; a sample period of 1 ms and a
 // stepper that allows 5 steps a period.
@@ -306,5 +306,5 @@ TEST(Suppressor, GivenAndDiscreteModelsAreTheSameModel) {
   EXPECT_NEAR(c.model.gain, m.gain, 1e-9 * std::abs(m.gain));
 }
 
-}  // namespace
+}  // namespace tu_process_test_suppressor
 }  // namespace polarcam::test

@@ -10,6 +10,8 @@
 #include "pipeline/job_process.hpp"
 #include "report/cutting_report.hpp"
 
+namespace tu_report_test_cutting_report {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 
 TEST(CuttingReport, TheExamplesSection) {
@@ -27,3 +29,5 @@ TEST(CuttingReport, TheExamplesSection) {
   EXPECT_EQ(s.find("EXCEEDED"), std::string::npos);
   EXPECT_NE(s.find("<img"), std::string::npos);
 }
+
+}  // namespace tu_report_test_cutting_report

@@ -6,6 +6,9 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <vector>
+
+#include <png.h>
 
 #include "report/plot.hpp"
 #include "cam/error.hpp"
@@ -71,6 +74,8 @@ TEST(Plot, RendersPngAndSvgDeterministically) {
 
 #include "report/html.hpp"
 
+namespace tu_report_test_plot {  // the test files of a program compile together (unity build)
+
 TEST(Html, ReportIsSelfContained) {
   EXPECT_EQ(html::base64("Man"), "TWFu");
   EXPECT_EQ(html::base64("Ma"), "TWE=");
@@ -91,9 +96,6 @@ TEST(Html, ReportIsSelfContained) {
 
 // ---- pixels: legend colours and titles ------------------------------------------------------------------
 
-#include <png.h>
-
-#include <vector>
 
 namespace {
 
@@ -235,3 +237,5 @@ TEST(Plot, TitlesStayOnTheirSubpage) {
     EXPECT_TRUE(p.white(p.w / 2, y)) << "the titles meet at row " << y;
   }
 }
+
+}  // namespace tu_report_test_plot

@@ -12,6 +12,8 @@
 #include "tests/cartesian_rig.hpp"
 #include "machine/cartesian/cartesian_exact.hpp"
 
+namespace tu_machine_cartesian_test_cartesian_exact {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 using namespace polarcam::test::exact;
 using polarcam::test::RecordingSink;
@@ -113,3 +115,5 @@ TEST(CartesianExact, PathTooLargeForTheResolutionIsAnError) {
   auto pm = make_constant_speed(1.0, tm.length());
   EXPECT_THROW(step_exact(tm, 1e-12, *pm, nullptr), InputError);
 }
+
+}  // namespace tu_machine_cartesian_test_cartesian_exact

@@ -13,6 +13,8 @@
 #include "machine/cartesian/dda.hpp"
 #include "tests/cartesian_rig.hpp"
 
+namespace tu_machine_cartesian_test_dda {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 using namespace polarcam::test::dda;
 
@@ -179,3 +181,5 @@ TEST(Dda, RefusesAFeedTheInterruptsCannotCarry) {
   // a metre on a 1e-12 m grid: 10^12 steps, refused before any work
   EXPECT_THROW(make_dda_program({line_seg({0, 0}, {1.0, 0})}, false, 1e-12, 1e-9, DdaOptions{}), InputError);
 }
+
+}  // namespace tu_machine_cartesian_test_dda

@@ -14,7 +14,7 @@
 #include "tests/tape_log.hpp"
 
 namespace polarcam {
-namespace {
+namespace tu_machine_controller_test_link {  // named: the test files compile together
 
 using test::example_tape;
 
@@ -320,5 +320,5 @@ TEST(Controller, HoldAndResumeRampTheRateAndKeepEveryStep) {
   EXPECT_NEAR(static_cast<double>(shift), 3.0e6, 0.15e6);
 }
 
-}  // namespace
+}  // namespace tu_machine_controller_test_link
 }  // namespace polarcam

@@ -9,7 +9,7 @@
 #include "tests/player_helpers.hpp"
 
 namespace polarcam {
-namespace {
+namespace tu_machine_controller_test_schedule_exact {  // named: the test files compile together
 
 using test::example_tape;
 using test::read_tape;
@@ -54,5 +54,5 @@ TEST(Schedule, ExactOnAFineTickToo) {
   check_exact("limacon", 3, 250000);
 }
 
-}  // namespace
+}  // namespace tu_machine_controller_test_schedule_exact
 }  // namespace polarcam

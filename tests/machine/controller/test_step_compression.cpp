@@ -17,7 +17,7 @@
 #include "tests/player_helpers.hpp"
 
 namespace polarcam {
-namespace {
+namespace tu_machine_controller_test_step_compression {  // named: the test files compile together
 
 constexpr int64_t kTick = int64_t{1} << 32;
 
@@ -413,5 +413,5 @@ TEST(StepCompression, SlowStepsCostTheSameSearchAsFastOnes) {
   }
 }
 
-}  // namespace
+}  // namespace tu_machine_controller_test_step_compression
 }  // namespace polarcam

@@ -18,7 +18,7 @@
 #include "tests/temp_path.hpp"
 
 namespace polarcam {
-namespace {
+namespace tu_machine_controller_test_tool_link {  // named: the test files compile together
 
 using test::kLiftDownNs;
 using test::kLiftUpNs;
@@ -236,5 +236,5 @@ TEST(ToolLink, ControllerExecutesOrRefusesToolItems) {
   EXPECT_FALSE(c.tool_down());
 }
 
-}  // namespace
+}  // namespace tu_machine_controller_test_tool_link
 }  // namespace polarcam

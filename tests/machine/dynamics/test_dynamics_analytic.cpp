@@ -11,6 +11,8 @@
 #include "tests/dynamics_helpers.hpp"
 #include "machine/dynamics/verdict.hpp"
 
+namespace tu_machine_dynamics_test_dynamics_analytic {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 using namespace polarcam::test;
 
@@ -296,3 +298,5 @@ TEST(DynamicsAnalytic, ToolRadiusMovesTheCarriageOnTheOffsetPath) {
     ASSERT_NEAR(x.radial.torque, T_R, 1e-10 * std::abs(T_R));
   }
 }
+
+}  // namespace tu_machine_dynamics_test_dynamics_analytic

@@ -11,6 +11,8 @@
 #include "machine/dynamics/mechanics.hpp"
 #include "machine/dynamics/stepper.hpp"
 
+namespace tu_machine_dynamics_test_dynamics_model {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 using namespace polarcam::test;
 
@@ -140,3 +142,5 @@ TEST(Load, GrindingForceIsEquation522) {
   bad.kind = LoadKind::grinding;
   EXPECT_THROW(make_load(bad), InputError);
 }
+
+}  // namespace tu_machine_dynamics_test_dynamics_model

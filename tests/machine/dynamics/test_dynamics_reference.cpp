@@ -11,6 +11,8 @@
 #include "tests/dynamics_helpers.hpp"
 #include "tests/reference_data.hpp"
 
+namespace tu_machine_dynamics_test_dynamics_reference {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 
 namespace {
@@ -104,3 +106,5 @@ TEST(DynamicsReference, LimaconAgainstIndependentPolarForms) {
     EXPECT_GT(compared, 3000u);
   }
 }
+
+}  // namespace tu_machine_dynamics_test_dynamics_reference

@@ -8,6 +8,8 @@
 #include "tests/dynamics_helpers.hpp"
 #include "machine/dynamics/motor_fit.hpp"
 
+namespace tu_machine_dynamics_test_motor_fit {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 using namespace polarcam::test;
 
@@ -83,3 +85,5 @@ TEST(MotorFit, RefusesUnusableInput) {
   no_r.R_a = 0.0;
   EXPECT_THROW(fit_electrical_motor(curve_points(m, 0.0, 1), no_r), InputError);
 }
+
+}  // namespace tu_machine_dynamics_test_motor_fit

@@ -14,6 +14,8 @@
 #include "machine/dynamics/kinematics.hpp"
 #include "machine/dynamics/parametric.hpp"
 
+namespace tu_machine_dynamics_test_parametric {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 using namespace polarcam::test;
 
@@ -209,3 +211,5 @@ TEST(Parametric, RejectsWhatTheFormsCannotDescribe) {
   EXPECT_THROW(ratio_forms(m, ContourPoint{0.2, 0.0, 1.0}, ParametricLoad{}), InputError);  // sin gamma = 0
   EXPECT_THROW(ratio_forms(m, ContourPoint{0.0, 1.0, 1.0}, ParametricLoad{}), InputError);  // at the pole
 }
+
+}  // namespace tu_machine_dynamics_test_parametric

@@ -12,6 +12,8 @@
 #include "machine/dynamics/verdict.hpp"
 #include "tests/dynamics_helpers.hpp"
 
+namespace tu_machine_dynamics_test_time_optimal {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 using namespace polarcam::test;
 
@@ -165,3 +167,5 @@ TEST(TimeOptimal, RefusesAMachineThatCannotHoldTheLoadAtRest) {
   lim.safety_factor = 1e4;
   EXPECT_THROW(time_optimal_speed(c.placed(), c.rig.machine, c.rig.load, lim), InputError);
 }
+
+}  // namespace tu_machine_dynamics_test_time_optimal

@@ -18,6 +18,8 @@
 #include "machine/gcode/gcode.hpp"
 #include "tests/temp_path.hpp"
 
+namespace tu_machine_gcode_test_gcode {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 
 namespace {
@@ -571,3 +573,5 @@ TEST(Gcode, LiftingProgramLiftsAroundEachRapidAndLinuxCncAcceptsIt) {
     EXPECT_EQ(e.place(), "pen_down");
   }
 }
+
+}  // namespace tu_machine_gcode_test_gcode

@@ -14,7 +14,7 @@
 #include "machine/player/int128.hpp"
 
 namespace polarcam {
-namespace {
+namespace tu_machine_link_test_protocol {  // named: the test files compile together
 
 TEST(Protocol, FramesSurviveNoiseAndDamagedFramesAreRejected) {
   std::string stream;
@@ -178,5 +178,5 @@ TEST(Protocol, FaultSpecParsesAndNamesBadItems) {
   EXPECT_THROW(parse_faults("stall=3"), InputError);
 }
 
-}  // namespace
+}  // namespace tu_machine_link_test_protocol
 }  // namespace polarcam

@@ -12,7 +12,7 @@
 #include "tests/player_helpers.hpp"
 
 namespace polarcam {
-namespace {
+namespace tu_machine_player_test_player {  // named: the test files compile together
 
 using test::example_tape;
 using test::read_tape;
@@ -306,5 +306,5 @@ TEST(PlayerTool, ToolItemBytesByHand) {
   EXPECT_FALSE(ItemCodec{}.decode(odd, sizeof odd, pos, got));
 }
 
-}  // namespace
+}  // namespace tu_machine_player_test_player
 }  // namespace polarcam

@@ -11,6 +11,8 @@
 #include "machine/servo/drives_file.hpp"
 #include "machine/servo/step_reference.hpp"
 
+namespace tu_machine_servo_test_contour {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 using namespace polarcam::servo;
 
@@ -255,3 +257,5 @@ TEST(DrivesFile, PeakCurrent) {
   EXPECT_NE(error_of(axis_table("x", "peak_current = \"1 V\"\n") + axis_table("y")).find("key 'x.peak_current'"),
             std::string::npos);
 }
+
+}  // namespace tu_machine_servo_test_contour

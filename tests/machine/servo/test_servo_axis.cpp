@@ -12,6 +12,8 @@
 #include "machine/servo/drives_file.hpp"
 #include "machine/servo/servo_axis.hpp"
 
+namespace tu_machine_servo_test_servo_axis {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 using namespace polarcam::servo;
 
@@ -310,3 +312,5 @@ TEST(ServoAxis, ModelReport) {
   amp = 2.0 * std::hypot(re, im) / m;
   EXPECT_NEAR(amp, 1.0 / (std::sqrt(2.0) * p.K_t), 0.01 / p.K_t);
 }
+
+}  // namespace tu_machine_servo_test_servo_axis
