@@ -877,7 +877,7 @@ SearchBox feasible_box(const PoleProblem& p, const SearchBox& box, int n, int th
   };
   w.run(ok.size(), [&](size_t i, PoleEvaluator& ev) {
     const int ix = static_cast<int>(i % static_cast<size_t>(n)), iy = static_cast<int>(i / static_cast<size_t>(n));
-    ok[i] = ev.margin(at(ix, iy)).feasible() ? 1 : 0;
+    ok[i] = ev.geometry(at(ix, iy)).feasible() ? 1 : 0;
   }, progress);
   int x0 = n, x1 = -1, y0 = n, y1 = -1;
   for (int iy = 0; iy < n; ++iy)
@@ -930,7 +930,7 @@ PoleSurvey survey_poles(const PoleProblem& p, const SearchBox& box, int nx, int 
   w.run(sv.cells.size(), [&](size_t i, PoleEvaluator& ev) {
     const int ix = static_cast<int>(i % static_cast<size_t>(nx)), iy = static_cast<int>(i / static_cast<size_t>(nx));
     const Vec2 pole = sv.pole(ix, iy);
-    PoleValue m = ev.margin(pole);
+    PoleValue m = ev.geometry(pole);
     if (m.computed && m.geometry_margin >= 0.0) m = ev.full(pole);
     sv.cells[i] = m;
   }, progress);
