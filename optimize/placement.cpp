@@ -170,23 +170,55 @@ struct Candidate {
 
 class Search {
  public:
-  Search(const PoleProblem& p, const Param& q, int threads) : p_(p), q_(q), workers_(p, threads) {}
+  Search(const PoleProblem& p, const Param& q, int threads) : p_(p), q_(q), threads_(threads), workers_(p, threads) {}
 
   // exact evaluations of several points, in parallel; offered as candidates in index order
   std::vector<PoleValue> exact(const std::vector<std::vector<double>>& ts) {
     std::vector<PoleValue> out(ts.size());
     workers_.run(ts.size(), [&](size_t i, PoleEvaluator& ev) { out[i] = ev.evaluate(q_.pole(ts[i])); });
     for (size_t i = 0; i < ts.size(); ++i) offer({ts[i], q_.pole(ts[i]), out[i]});
-    evaluations_ += static_cast<int>(ts.size());
-    if (progress_ && budget_ > 0) {  // the share of the budget, short of 1 until the search ends
-      const double f = std::min(0.99, static_cast<double>(evaluations_) / budget_);
-      if (f > reported_) progress_(reported_ = f);
+    count(ts.size());
+    return out;
+  }
+  // The same for the stages that keep only a point better than the best so far (the sampling disc, the compass
+  // polish): with a torque limit, first the area error alone (on the problem without the limit), then the full
+  // evaluation only where it is below the best feasible area at the start of the batch. A point above it cannot become
+  // the best whatever its torques (the limit decides nothing there): it counts as an evaluation, is not offered, and
+  // comes back as not computed. The best point found is the same as exact()'s.
+  std::vector<PoleValue> exact_improving(const std::vector<std::vector<double>>& ts) {
+    if (!p_.torque_limit || p_.objective != PoleObjective::area || !have_) return exact(ts);
+    if (!area_only_) {
+      unlimited_ = p_;
+      unlimited_.torque_limit.reset();
+      area_only_ = std::make_unique<Workers>(unlimited_, threads_);
     }
+    const double below = best_.v.value;
+    std::vector<PoleValue> out(ts.size());
+    area_only_->run(ts.size(), [&](size_t i, PoleEvaluator& ev) { out[i] = ev.evaluate(q_.pole(ts[i])); });
+    std::vector<size_t> full;
+    for (size_t i = 0; i < ts.size(); ++i) {
+      if (out[i].computed && !(out[i].area_m2 < below)) {
+        out[i] = PoleValue{};
+        out[i].why = "above the best area error so far (the torque limit not checked)";
+      } else {
+        full.push_back(i);
+      }
+    }
+    workers_.run(full.size(), [&](size_t k, PoleEvaluator& ev) { out[full[k]] = ev.evaluate(q_.pole(ts[full[k]])); });
+    for (size_t i : full) offer({ts[i], q_.pole(ts[i]), out[i]});
+    count(ts.size());
     return out;
   }
   // Progress reported as the share of `budget` evaluations spent (a stage may stop early or overrun a little).
   void set_progress(const Progress& p) { progress_ = p; }
   void set_budget(int budget) { budget_ = std::max(budget_, static_cast<double>(budget)); }
+  void count(size_t n) {
+    evaluations_ += static_cast<int>(n);
+    if (progress_ && budget_ > 0) {  // the share of the budget, short of 1 until the search ends
+      const double f = std::min(0.99, static_cast<double>(evaluations_) / budget_);
+      if (f > reported_) progress_(reported_ = f);
+    }
+  }
 
   // objective in search units: area in mm^2 or F1; margin in mm
   static double scaled(const PoleProblem& p, const PoleValue& v) {
@@ -262,7 +294,10 @@ class Search {
  private:
   const PoleProblem& p_;
   const Param& q_;
+  int threads_;
   Workers workers_;
+  PoleProblem unlimited_;               // p_ without its torque limit (exact_improving's first look)
+  std::unique_ptr<Workers> area_only_;  // on unlimited_, made when first needed
   Candidate best_;
   bool have_ = false, have_any_ = false;
   PoleValue tightest_;
@@ -804,7 +839,7 @@ PlacementResult optimize_placement(const PoleProblem& p, const Placement& start,
           }
         }
         const int before = s.evaluations();
-        s.exact(ts);
+        s.exact_improving(ts);
         res.stages.push_back({"sampling (disc of 20 dR)", s.evaluations() - before,
                               s.have() ? Search::scaled(p, s.best().v) : 0.0});
       }
@@ -823,7 +858,7 @@ PlacementResult optimize_placement(const PoleProblem& p, const Placement& start,
               x[i] += sg * h;
               ts.push_back(x);
             }
-          const std::vector<PoleValue> v = s.exact(ts);
+          const std::vector<PoleValue> v = s.exact_improving(ts);  // f is the best so far
           const int bi = best_feasible(v, f);
           if (bi >= 0) {
             t = ts[static_cast<size_t>(bi)];
@@ -877,7 +912,7 @@ SearchBox feasible_box(const PoleProblem& p, const SearchBox& box, int n, int th
   };
   w.run(ok.size(), [&](size_t i, PoleEvaluator& ev) {
     const int ix = static_cast<int>(i % static_cast<size_t>(n)), iy = static_cast<int>(i / static_cast<size_t>(n));
-    ok[i] = ev.margin(at(ix, iy)).feasible() ? 1 : 0;
+    ok[i] = ev.geometry(at(ix, iy)).feasible() ? 1 : 0;
   }, progress);
   int x0 = n, x1 = -1, y0 = n, y1 = -1;
   for (int iy = 0; iy < n; ++iy)
@@ -930,7 +965,7 @@ PoleSurvey survey_poles(const PoleProblem& p, const SearchBox& box, int nx, int 
   w.run(sv.cells.size(), [&](size_t i, PoleEvaluator& ev) {
     const int ix = static_cast<int>(i % static_cast<size_t>(nx)), iy = static_cast<int>(i / static_cast<size_t>(nx));
     const Vec2 pole = sv.pole(ix, iy);
-    PoleValue m = ev.margin(pole);
+    PoleValue m = ev.geometry(pole);
     if (m.computed && m.geometry_margin >= 0.0) m = ev.full(pole);
     sv.cells[i] = m;
   }, progress);

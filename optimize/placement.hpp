@@ -65,7 +65,7 @@ struct PlacementSolver {
   // best surveyed poles)
   std::vector<Placement> local_starts;
   // The search box when the caller already has it (feasible_box of search_box, no hold): saves computing it (41 x 41
-  // margins, each with the torques when the problem has a torque limit).
+  // work-area margins).
   std::optional<SearchBox> box;
 };
 
@@ -95,8 +95,10 @@ struct PlacementResult {
 // again on every side). Throws InputError when the contour cannot fit within r_max at all.
 SearchBox search_box(const PoleProblem& p);
 
-// The part of `box` where the constraints can be met, from the margins on an n x n lattice (no digitizing),
-// widened by one lattice step and clipped to `box`; `box` itself when no lattice point is feasible.
+// The part of `box` where the geometric constraints (the work area, the pole outside the contour) can be met, from
+// their margins on an n x n lattice (no digitizing, no torques), widened by one lattice step and clipped to `box`;
+// `box` itself when no lattice point is feasible. A torque limit is not checked: the poles that meet it lie inside
+// the work area's feasible part, so the box holds them too, and the searches check the limit where they evaluate.
 SearchBox feasible_box(const PoleProblem& p, const SearchBox& box, int n, int threads, const Progress& progress = {});
 
 // `progress`: the share of the search's evaluation budget spent (1 at the end).

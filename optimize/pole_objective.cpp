@@ -116,8 +116,10 @@ PoleValue PoleEvaluator::evaluate_feasible(Vec2 pole) {
 PoleValue PoleEvaluator::area(Vec2 pole) { return run(pole, true, true); }
 PoleValue PoleEvaluator::full(Vec2 pole) { return run(pole, true, true, false, true); }
 PoleValue PoleEvaluator::margin(Vec2 pole) { return run(pole, false, false); }
+PoleValue PoleEvaluator::geometry(Vec2 pole) { return run(pole, false, false, false, false, false); }
 
-PoleValue PoleEvaluator::run(Vec2 pole, bool want_area, bool want_value, bool only_feasible, bool want_torque) {
+PoleValue PoleEvaluator::run(Vec2 pole, bool want_area, bool want_value, bool only_feasible, bool want_torque,
+                             bool torque_check) {
   PoleValue out;
   if (!std::isfinite(pole.x) || !std::isfinite(pole.y)) {
     out.why = "not finite";
@@ -160,10 +162,10 @@ PoleValue PoleEvaluator::run(Vec2 pole, bool want_area, bool want_value, bool on
     return out;
   }
   const bool torque_objective = is_torque_objective(p_.objective);
-  if (p_.torque && (want_torque || p_.torque_limit || (want_value && torque_objective))) {
+  if (p_.torque && (want_torque || (torque_check && p_.torque_limit) || (want_value && torque_objective))) {
     out.torque = evaluate_torques(*p_.torque, *path, tr);
     out.torque_computed = true;
-    if (p_.torque_limit) {
+    if (torque_check && p_.torque_limit) {
       // relative excess over the limits (> 0 infeasible), capped so that the margin stays finite
       const TorqueValue& t = out.torque;
       double excess = t.computed ? t.worst / *p_.torque_limit - 1.0 : 10.0;

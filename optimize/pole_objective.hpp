@@ -109,9 +109,13 @@ class PoleEvaluator {
   PoleValue full(Vec2 pole);
   // Only the margin (no digitizing).
   PoleValue margin(Vec2 pole);
+  // Only the work area (and pole-outside) margin: no digitizing and no torques, whatever the torque limit (margin
+  // and geometry_margin are the same).
+  PoleValue geometry(Vec2 pole);
 
  private:
-  PoleValue run(Vec2 pole, bool want_area, bool want_value, bool only_feasible = false, bool want_torque = false);
+  PoleValue run(Vec2 pole, bool want_area, bool want_value, bool only_feasible = false, bool want_torque = false,
+                bool torque_check = true);
   const PoleProblem& p_;
   Grid unlimited_;
   PolarAreaMeter meter_;

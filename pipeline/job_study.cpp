@@ -113,8 +113,9 @@ JobStudy study_job(const Job& job, const StudyOptions& o, const Progress& progre
   if (o.max_evaluations > 0) po.max_evaluations = o.max_evaluations;
   const PoleProblem prob = job_pole_problem(cjob, po, true);
   try {
-    st.survey = survey_poles(prob, feasible_box(prob, search_box(prob), 41, threads), o.map_size, o.map_size, threads,
-                             progress_part(progress, 0.2, 0.6));
+    // the feasible box of the area searches (the work area alone): the survey's, and the torque-limited search's
+    const SearchBox box = feasible_box(prob, search_box(prob), 41, threads);
+    st.survey = survey_poles(prob, box, o.map_size, o.map_size, threads, progress_part(progress, 0.2, 0.6));
     st.cands.push_back({"this job", job.placement, job_area(cjob, job.placement),
                         job.motion.time_optimal ? job_dynamics_at(cjob, job.placement) : st.dyn});
     {
@@ -128,8 +129,10 @@ JobStudy study_job(const Job& job, const StudyOptions& o, const Progress& progre
     {
       PoleProblem pl = prob;
       pl.torque_limit = st.limit;
+      PlacementOptions ol = po;
+      ol.box = box;
       try {
-        const PlacementResult r = optimize_placement(pl, job.placement, po, progress_part(progress, 0.78, 0.96));
+        const PlacementResult r = optimize_placement(pl, job.placement, ol, progress_part(progress, 0.78, 0.96));
         st.limited = r.placement;
         st.cands.push_back({"least area error within the torque limit", r.placement, job_area(cjob, r.placement),
                             job_dynamics_at(cjob, r.placement)});
