@@ -164,11 +164,12 @@ inline InverseScratch& inverse_scratch() {
   static thread_local InverseScratch s;
   return s;
 }
-template <class Emit>
+// When neither axis has kMinFitLevels levels on the sub-interval, walk_sub_interval walks it (legacy()).
+template <class Emit, class Legacy>
 void walk_sub_interval_inverse(const Cheb g[2], const Lane2 packed[2][kChebMaxDegree + 1], const int n_axis[2],
                                const TrackPiece& pc, const double base[2], const double fprev[2],
                                const double fend[2], double tl, double th, double h, int64_t node[2], double tol,
-                               InverseScratch& scr, Emit& emit) {
+                               InverseScratch& scr, Emit& emit, Legacy&& legacy) {
   constexpr size_t kMinFitLevels = 32;
   int dir[2];
   size_t m[2];
@@ -187,6 +188,11 @@ void walk_sub_interval_inverse(const Cheb g[2], const Lane2 packed[2][kChebMaxDe
     while (k > 0 && !reached(a, fend[a], level(a, k - 1))) --k;
     while (reached(a, fend[a], level(a, k))) ++k;
     m[a] = k;
+  }
+  if (m[0] < kMinFitLevels && m[1] < kMinFitLevels) {
+    scr.solved_levels += m[0] + m[1];
+    legacy();
+    return;
   }
   // The crossings of levels [j0, j1) of axis a on [ta, tb], fa and fb the axis values at the ends.
   auto one_by_one = [&](int a, double ta, double tb, double fa, double fb, size_t j0, size_t j1) {
@@ -334,11 +340,14 @@ void walk_piece(const TrackPiece& pc, const double* ext, size_t n_ext, bool clos
           }
         }
       } else if constexpr (Style::arc_in_solver) {
+        auto legacy = [&] {
+          walk_sub_interval(packed, n_axis, bound, coef_g, coef_s, pc, base, fprev, fend, tl, th, h, node, emit);
+        };
         if (arc_tol > 0.0)
           walk_sub_interval_inverse(g, packed, n_axis, pc, base, fprev, fend, tl, th, h, node, arc_tol, inv_scratch,
-                                    emit);
+                                    emit, legacy);
         else
-          walk_sub_interval(packed, n_axis, bound, coef_g, coef_s, pc, base, fprev, fend, tl, th, h, node, emit);
+          legacy();
       } else {
         Cursor cur[2];
         auto advance = [&](int a) {
