@@ -193,3 +193,53 @@ TEST(LevelInverse, WalkerGivesTheStepsOfTheCrossingSolver) {
   EXPECT_GT(st.solved_levels - solved0, 1000u);
   EXPECT_GT(st.refused - refused0, 10u);
 }
+
+TEST(LevelInverse, TiedAndNearlyTiedCrossingsKeepTheSolversOrder) {
+  // one piece whose two axes are the same coordinate (every crossing of axis 0 at the same point as one of axis
+  // 1: axis 0 first), then axis 1 ahead by 1e-9 of a step (its crossings 1e-12 earlier in t, closer in arc length
+  // than the fits can order: each pair is ordered by solving both crossings)
+  for (double ahead : {0.0, 1e-15}) {
+    SCOPED_TRACE(ahead);
+    TrackPiece pc;
+    pc.ua = 0;
+    pc.ub = 1;
+    for (int a = 0; a < 2; ++a) {
+      pc.Q[a].deg = 3;
+      pc.Q[a].c[0] = 0.0002;
+      pc.Q[a].c[1] = 0.001;
+      pc.Q[a].c[2] = 0.0002;
+      pc.Q[a].c[3] = 0.00005;
+      pc.q_a[a] = 0.05 + (a == 1 ? ahead : 0.0) + 0.4e-6;
+      pc.q_b[a] = pc.q_a[a] + pc.Q[a](1.0);
+    }
+    pc.Q[0].c[0] = pc.Q[1].c[0] = -(pc.Q[0].c[1] * -1.0 + pc.Q[0].c[2] * 1.0 + pc.Q[0].c[3] * -1.0);  // Q(-1) = 0
+    for (int a = 0; a < 2; ++a) pc.q_b[a] = pc.q_a[a] + pc.Q[a](1.0);
+    pc.S.deg = 1;
+    pc.S.c[0] = pc.S.c[1] = 0.002;
+    pc.len = pc.S(1.0);
+    WalkGrid wg;
+    wg.res[0] = wg.res[1] = 1e-6;
+    std::vector<StepRec> want, got;
+    std::vector<double> ts;
+    int64_t n0[2] = {50000, 50000}, n1[2] = {50000, 50000};
+    PlainEmit pe{&want};
+    walk_piece<true, WalkStyle<true, 3>>(pc, nullptr, 0, false, wg, n0, pe, ts);
+    InverseScratch& st = inverse_scratch();
+    const uint64_t ties0 = st.ties, fitted0 = st.fitted_levels;
+    InverseEmit ie{&got, 1.52e-14};
+    walk_piece<true, WalkStyle<true, 3>>(pc, nullptr, 0, false, wg, n1, ie, ts);
+    EXPECT_GT(st.fitted_levels - fitted0, 2000u);
+    EXPECT_GT(st.ties - ties0, 1000u);
+    ASSERT_GT(want.size(), 2000u);
+    ASSERT_EQ(got.size(), want.size());
+    EXPECT_EQ(n1[0], n0[0]);
+    EXPECT_EQ(n1[1], n0[1]);
+    for (size_t i = 0; i < want.size(); ++i) {
+      ASSERT_EQ(got[i].axis, want[i].axis) << "step " << i;
+      ASSERT_EQ(got[i].dir, want[i].dir) << "step " << i;
+      ASSERT_NEAR(got[i].s, want[i].s, 1.52e-14) << "step " << i;
+    }
+    // the order itself: axis 0 first at a tie, axis 1 first when it is ahead
+    EXPECT_EQ(want[0].axis, ahead == 0.0 ? 0 : 1);
+  }
+}
