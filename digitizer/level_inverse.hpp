@@ -116,6 +116,24 @@ inline bool fit_level_inverse(const Lane2* pk, int n, double ta, double tb, doub
       if (j != i) prod *= z[i] - z[j];
     w[i] = 1.0 / prod;
   }
+  // the interpolant in barycentric form at z (not a node)
+  auto bary = [&](double zz) {
+    double num = 0.0, den = 0.0;
+    for (int i = 0; i <= D; ++i) {
+      const double q = w[i] / (zz - z[i]);
+      num += q * s[i];
+      den += q;
+    }
+    return num / den;
+  };
+  // refused early at the outermost halfway points, where a turn of g at an end of the interval shows first (the
+  // same test as below, on the interpolant before its re-expansion)
+  for (int i : {0, D - 1}) {
+    const double t = tm + hw * std::cos(std::numbers::pi * (i + 0.5) / D);
+    const Lane2 v = eval_value_packed(pk, n, t);
+    const double zz = (v[0] - out.yc) * out.ik;
+    if (!(zz > z[i + 1] && zz < z[i]) || !(std::abs(bary(zz) - v[1]) <= 0.25 * tol)) return false;
+  }
   // the interpolant at the Chebyshev-Lobatto points of z, then its Chebyshev series (DCT)
   double f[D + 1];
   f[0] = s[0];
