@@ -157,20 +157,22 @@ struct InverseScratch {
   std::vector<double> s[2];
   LevelInverse inv;
   // what the inverse did on this thread (for tests and measurements): levels timed by a fit and one by one, fits
-  // accepted and refused, near-ties ordered by solving
-  uint64_t fitted_levels = 0, solved_levels = 0, fits = 0, refused = 0, ties = 0;
+  // accepted and refused, near-ties ordered by solving, sub-intervals walked in halves for their number of levels
+  uint64_t fitted_levels = 0, solved_levels = 0, fits = 0, refused = 0, ties = 0, halves = 0;
 };
 inline InverseScratch& inverse_scratch() {
   static thread_local InverseScratch s;
   return s;
 }
-// When neither axis has kMinFitLevels levels on the sub-interval, walk_sub_interval walks it (legacy()).
+// When neither axis has kMinFitLevels levels on the sub-interval, walk_sub_interval walks it
+// (legacy(fprev, fend, tl, th)). A sub-interval with more than kMaxLevels levels is walked in halves (of t), so that
+// the arc lengths held at once stay bounded however fine the grid: the walk streams in constant memory.
 template <class Emit, class Legacy>
 void walk_sub_interval_inverse(const Cheb g[2], const Lane2 packed[2][kChebMaxDegree + 1], const int n_axis[2],
                                const TrackPiece& pc, const double base[2], const double fprev[2],
                                const double fend[2], double tl, double th, double h, int64_t node[2], double tol,
                                InverseScratch& scr, Emit& emit, Legacy&& legacy) {
-  constexpr size_t kMinFitLevels = 32;
+  constexpr size_t kMinFitLevels = 32, kMaxLevels = size_t{1} << 16;
   int dir[2];
   size_t m[2];
   auto level = [&](int a, size_t j) {
@@ -191,8 +193,25 @@ void walk_sub_interval_inverse(const Cheb g[2], const Lane2 packed[2][kChebMaxDe
   }
   if (m[0] < kMinFitLevels && m[1] < kMinFitLevels) {
     scr.solved_levels += m[0] + m[1];
-    legacy();
+    legacy(fprev, fend, tl, th);
     return;
+  }
+  if (m[0] + m[1] > kMaxLevels) {
+    // the axis values at the middle, kept between those at the ends (an axis that does not move stays put), so
+    // that the two halves' levels are exactly this sub-interval's, in order
+    const double tm = 0.5 * (tl + th);
+    double fm[2];
+    for (int a = 0; a < 2; ++a) {
+      fm[a] = fprev[a];
+      if (dir[a] != 0)
+        fm[a] = std::clamp(base[a] + g[a](tm), std::min(fprev[a], fend[a]), std::max(fprev[a], fend[a]));
+    }
+    if (tm > tl && tm < th) {
+      ++scr.halves;
+      walk_sub_interval_inverse(g, packed, n_axis, pc, base, fprev, fm, tl, tm, h, node, tol, scr, emit, legacy);
+      walk_sub_interval_inverse(g, packed, n_axis, pc, base, fm, fend, tm, th, h, node, tol, scr, emit, legacy);
+      return;
+    }
   }
   // The crossings of levels [j0, j1) of axis a on [ta, tb], fa and fb the axis values at the ends.
   auto one_by_one = [&](int a, double ta, double tb, double fa, double fb, size_t j0, size_t j1) {
@@ -340,14 +359,14 @@ void walk_piece(const TrackPiece& pc, const double* ext, size_t n_ext, bool clos
           }
         }
       } else if constexpr (Style::arc_in_solver) {
-        auto legacy = [&] {
-          walk_sub_interval(packed, n_axis, bound, coef_g, coef_s, pc, base, fprev, fend, tl, th, h, node, emit);
+        auto legacy = [&](const double* fp, const double* fe, double ta, double tb) {
+          walk_sub_interval(packed, n_axis, bound, coef_g, coef_s, pc, base, fp, fe, ta, tb, h, node, emit);
         };
         if (arc_tol > 0.0)
           walk_sub_interval_inverse(g, packed, n_axis, pc, base, fprev, fend, tl, th, h, node, arc_tol, inv_scratch,
                                     emit, legacy);
         else
-          legacy();
+          legacy(fprev, fend, tl, th);
       } else {
         Cursor cur[2];
         auto advance = [&](int a) {
