@@ -172,7 +172,7 @@ void walk_sub_interval_inverse(const Cheb g[2], const Lane2 packed[2][kChebMaxDe
                                const TrackPiece& pc, const double base[2], const double fprev[2],
                                const double fend[2], double tl, double th, double h, int64_t node[2], double tol,
                                InverseScratch& scr, Emit& emit, Legacy&& legacy) {
-  constexpr size_t kMinFitLevels = 32, kMaxLevels = size_t{1} << 16;
+  constexpr size_t kMinFitLevels = 32, kMaxLevels = size_t{1} << 14;
   int dir[2];
   size_t m[2];
   auto level = [&](int a, size_t j) {

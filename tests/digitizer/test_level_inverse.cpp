@@ -170,7 +170,7 @@ TEST(LevelInverse, WalkerGivesTheStepsOfTheCrossingSolver) {
   const uint64_t fitted0 = st.fitted_levels, solved0 = st.solved_levels, refused0 = st.refused, halves0 = st.halves;
   for (const auto& c : cs) {
     for (double finer : {1.0, 10.0, 100.0}) {
-      if (finer == 100.0 && std::string(c.name) != "limacon") continue;  // over 2^16 levels a sub-interval: halves
+      if (finer == 100.0 && std::string(c.name) != "limacon") continue;  // over 2^14 levels a sub-interval: halves
       SCOPED_TRACE(std::string(c.name) + " x" + std::to_string(finer));
       auto path = make_tool_path(c.curve, c.pl, ToolSpec{}, TravelSpec{});
       const PolarTrack tr = PolarTrack::build(*path);
