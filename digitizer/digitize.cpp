@@ -110,6 +110,12 @@ struct Emitter {
   int64_t last_axis_ns[2] = {0, 0};
   uint64_t count[2] = {0, 0};
 
+  // How far the arc length of a step on [sa, sb] may be off (the step walker's inverse, level_inverse.hpp): the
+  // time it moves is at most that over the least speed there, here kTimeTolerance; 0 (solve every crossing)
+  // where the profile knows no positive least speed.
+  static constexpr double kTimeTolerance = 1e-12;  // s
+  double arc_tolerance(double sa, double sb) const { return kTimeTolerance * profile->min_speed(sa, sb); }
+
   void operator()(int axis, int dir, double s) {
     double t = profile->time_at(s);
     int64_t ns = round_ns(t * 1e9);

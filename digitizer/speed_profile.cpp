@@ -16,6 +16,7 @@ class Constant final : public SpeedProfile {
   double time_at(double s) const override { return s / v_; }
   double speed_at(double) const override { return v_; }
   double accel_at(double) const override { return 0.0; }
+  double min_speed(double, double) const override { return v_; }
 
  private:
   double v_;
@@ -50,6 +51,8 @@ class Trapezoid final : public SpeedProfile {
     if (s < sa_) return a_;
     return s < L - sa_ ? 0.0 : -a_;
   }
+  // the speed rises, holds and falls: its least value over an interval is at one of the ends
+  double min_speed(double sa, double sb) const override { return std::min(speed_at(sa), speed_at(sb)); }
   std::vector<double> kinks() const override {
     const double L = length();
     std::vector<double> k;
@@ -86,6 +89,14 @@ class Table final : public SpeedProfile {
     if (s < st_.front().s || s >= st_.back().s) return 0.0;
     size_t i = seg(s);
     return speed_at(s) * (st_[i + 1].v - st_[i].v) / (st_[i + 1].s - st_[i].s);
+  }
+  // linear between stations (monotone on each interval), held beyond the ends: the least value over an interval is
+  // at one of its ends or at a station inside it
+  double min_speed(double sa, double sb) const override {
+    double m = std::min(speed_at(sa), speed_at(sb));
+    for (const auto& p : st_)
+      if (p.s > sa && p.s < sb) m = std::min(m, p.v);
+    return m;
   }
   std::vector<double> kinks() const override {
     std::vector<double> k;
@@ -140,6 +151,14 @@ class SquaredTable final : public SpeedProfile {
     if (s < st_.front().s || s >= st_.back().s) return 0.0;
     const size_t i = seg(s);
     return (st_[i + 1].v * st_[i + 1].v - st_[i].v * st_[i].v) / (2.0 * (st_[i + 1].s - st_[i].s));
+  }
+  // linear between stations (monotone on each interval), held beyond the ends: the least value over an interval is
+  // at one of its ends or at a station inside it
+  double min_speed(double sa, double sb) const override {
+    double m = std::min(speed_at(sa), speed_at(sb));
+    for (const auto& p : st_)
+      if (p.s > sa && p.s < sb) m = std::min(m, p.v);
+    return m;
   }
   std::vector<double> kinks() const override {
     std::vector<double> k;

@@ -27,6 +27,13 @@ class SpeedProfile {
   virtual double accel_at(double s) const = 0;
   // Arc lengths strictly inside (0, length) where the acceleration jumps (ramp ends, table stations), sorted.
   virtual std::vector<double> kinks() const { return {}; }
+  // A lower bound on the speed over the arc lengths [sa, sb] (m/s); 0 where none is known. The digitizer turns it
+  // into how far an arc length may be off for a time to stay within a given fraction of a nanosecond.
+  virtual double min_speed(double sa, double sb) const {
+    (void)sa;
+    (void)sb;
+    return 0.0;
+  }
   double length() const { return length_; }     // m, the path length the profile was made for
   double total_time() const { return time_at(length_); }
 

@@ -20,6 +20,7 @@
 
 #include "digitizer/axis_track.hpp"
 #include "digitizer/level_crossing.hpp"
+#include "digitizer/level_inverse.hpp"
 
 namespace polarcam {
 
@@ -144,6 +145,152 @@ void walk_sub_interval(const Lane2 packed[2][kChebMaxDegree + 1], const int n_ax
   }
 }
 
+// The steps of both axes on one monotone sub-interval [tl, th] of a piece by the inverse (level_inverse.hpp): each
+// axis's levels are counted, the sub-interval is cut in halves until each part either carries a certified fit of
+// the arc length as a polynomial of the level (then every level of the part is one evaluation) or has fewer than
+// kMinFitLevels levels (then they are solved one by one from extrapolated guesses, solve_crossing, as before). The
+// arc lengths of the two axes are merged in order; where two are within 4 tol of each other (their order not
+// certain) both crossings are solved and ordered by t, axis 0 first at equal t, as walk_sub_interval orders them.
+// Every arc length is within tol of the exact one (to the rounding of the series), so a step's time moves by
+// less than tol over the speed; the steps, their axes, directions and order are those of walk_sub_interval.
+struct InverseScratch {
+  std::vector<double> s[2];
+  LevelInverse inv;
+  // what the inverse did on this thread (for tests and measurements): levels timed by a fit and one by one, fits
+  // accepted and refused, near-ties ordered by solving, sub-intervals walked in halves for their number of levels
+  uint64_t fitted_levels = 0, solved_levels = 0, fits = 0, refused = 0, ties = 0, halves = 0;
+};
+inline InverseScratch& inverse_scratch() {
+  static thread_local InverseScratch s;
+  return s;
+}
+// When neither axis has kMinFitLevels levels on the sub-interval, walk_sub_interval walks it
+// (legacy(fprev, fend, tl, th)). A sub-interval with more than kMaxLevels levels is walked in halves (of t), so that
+// the arc lengths held at once stay bounded however fine the grid: the walk streams in constant memory.
+template <class Emit, class Legacy>
+void walk_sub_interval_inverse(const Cheb g[2], const Lane2 packed[2][kChebMaxDegree + 1], const int n_axis[2],
+                               const TrackPiece& pc, const double base[2], const double fprev[2],
+                               const double fend[2], double tl, double th, double h, int64_t node[2], double tol,
+                               InverseScratch& scr, Emit& emit, Legacy&& legacy) {
+  constexpr size_t kMinFitLevels = 32, kMaxLevels = size_t{1} << 14;
+  int dir[2];
+  size_t m[2];
+  auto level = [&](int a, size_t j) {
+    return static_cast<double>(node[a] + dir[a] * static_cast<int64_t>(j)) + (dir[a] > 0 ? h : -h);
+  };
+  auto reached = [&](int a, double f, double lv) { return dir[a] > 0 ? f >= lv : f < lv; };
+  for (int a = 0; a < 2; ++a) {
+    dir[a] = fend[a] > fprev[a] ? 1 : (fend[a] < fprev[a] ? -1 : 0);
+    m[a] = 0;
+    if (dir[a] == 0) continue;
+    // the levels reached by fend: an estimate, then the exact test at its edge
+    const double est = dir[a] > 0 ? std::floor(fend[a] - h - static_cast<double>(node[a]))
+                                  : std::floor(static_cast<double>(node[a]) - h - fend[a]);
+    size_t k = est > 0 ? static_cast<size_t>(est) : 0;
+    while (k > 0 && !reached(a, fend[a], level(a, k - 1))) --k;
+    while (reached(a, fend[a], level(a, k))) ++k;
+    m[a] = k;
+  }
+  if (m[0] < kMinFitLevels && m[1] < kMinFitLevels) {
+    scr.solved_levels += m[0] + m[1];
+    legacy(fprev, fend, tl, th);
+    return;
+  }
+  if (m[0] + m[1] > kMaxLevels) {
+    // the axis values at the middle, kept between those at the ends (an axis that does not move stays put), so
+    // that the two halves' levels are exactly this sub-interval's, in order
+    const double tm = 0.5 * (tl + th);
+    double fm[2];
+    for (int a = 0; a < 2; ++a) {
+      fm[a] = fprev[a];
+      if (dir[a] != 0)
+        fm[a] = std::clamp(base[a] + g[a](tm), std::min(fprev[a], fend[a]), std::max(fprev[a], fend[a]));
+    }
+    if (tm > tl && tm < th) {
+      ++scr.halves;
+      walk_sub_interval_inverse(g, packed, n_axis, pc, base, fprev, fm, tl, tm, h, node, tol, scr, emit, legacy);
+      walk_sub_interval_inverse(g, packed, n_axis, pc, base, fm, fend, tm, th, h, node, tol, scr, emit, legacy);
+      return;
+    }
+  }
+  // The crossings of levels [j0, j1) of axis a on [ta, tb], fa and fb the axis values at the ends.
+  auto one_by_one = [&](int a, double ta, double tb, double fa, double fb, size_t j0, size_t j1) {
+    double lo = ta, flo = fa, hist[3] = {0, 0, 0};
+    int nh = 0;
+    for (size_t j = j0; j < j1; ++j) {
+      const double lv = level(a, j);
+      double guess = -2.0;
+      if (nh >= 3)
+        guess = 3.0 * hist[0] - 3.0 * hist[1] + hist[2];
+      else if (nh >= 2)
+        guess = 2.0 * hist[0] - hist[1];
+      const LevelCrossing r = solve_crossing<true>(g[a], pc.S, lv - base[a], lo, tb, flo - lv, fb - lv, guess);
+      scr.s[a][j] = r.s;
+      lo = r.t;
+      flo = lv;
+      hist[2] = hist[1];
+      hist[1] = hist[0];
+      hist[0] = r.t;
+      if (nh < 3) ++nh;
+    }
+  };
+  auto fill = [&](auto&& self, int a, double ta, double tb, double fa, double fb, size_t j0, size_t j1,
+                  int depth) -> void {
+    if (j1 == j0) return;
+    if (j1 - j0 >= kMinFitLevels) {
+      LevelInverse& inv = scr.inv;
+      if (fit_level_inverse(packed[a], n_axis[a], ta, tb, tol, inv)) {
+        ++scr.fits;
+        scr.fitted_levels += j1 - j0;
+        eval_levels(inv, static_cast<double>(node[a] + dir[a] * static_cast<int64_t>(j0)), dir[a],
+                    dir[a] > 0 ? h : -h, base[a], j1 - j0, scr.s[a].data() + j0);
+        return;
+      }
+      ++scr.refused;
+      if (depth < 40) {
+        const double tm = 0.5 * (ta + tb), fm = base[a] + g[a](tm);
+        size_t jm = j0;
+        while (jm < j1 && reached(a, fm, level(a, jm))) ++jm;
+        self(self, a, ta, tm, fa, fm, j0, jm, depth + 1);
+        self(self, a, tm, tb, fm, fb, jm, j1, depth + 1);
+        return;
+      }
+    }
+    scr.solved_levels += j1 - j0;
+    one_by_one(a, ta, tb, fa, fb, j0, j1);
+  };
+  for (int a = 0; a < 2; ++a) {
+    if (scr.s[a].size() < m[a]) scr.s[a].resize(m[a]);
+    fill(fill, a, tl, th, fprev[a], fend[a], 0, m[a], 0);
+  }
+  // merge by arc length
+  const double* s0 = scr.s[0].data();
+  const double* s1 = scr.s[1].data();
+  size_t i0 = 0, i1 = 0;
+  const double tie = 4.0 * tol;
+  auto exact_t = [&](int a, size_t j) {
+    const double lv = level(a, j);
+    return solve_crossing<false>(g[a], pc.S, lv - base[a], tl, th, fprev[a] - lv, fend[a] - lv, -2.0).t;
+  };
+  while (i0 < m[0] && i1 < m[1]) {
+    int a = s0[i0] <= s1[i1] ? 0 : 1;
+    if (std::abs(s0[i0] - s1[i1]) <= tie) {
+      ++scr.ties;
+      a = exact_t(0, i0) <= exact_t(1, i1) ? 0 : 1;
+    }
+    if (a == 0) {
+      emit(0, dir[0], pc.s0 + s0[i0]);
+      ++i0;
+    } else {
+      emit(1, dir[1], pc.s0 + s1[i1]);
+      ++i1;
+    }
+  }
+  for (; i0 < m[0]; ++i0) emit(0, dir[0], pc.s0 + s0[i0]);
+  for (; i1 < m[1]; ++i1) emit(1, dir[1], pc.s0 + s1[i1]);
+  for (int a = 0; a < 2; ++a) node[a] += dir[a] * static_cast<int64_t>(m[a]);
+}
+
 // Walks one piece of a track from the nodes in `node` (updated to the nodes at its end): `ext` its `n_ext` interior
 // extrema (sorted t in (-1, 1)), `closing` when it is the last piece of a closed path (its end is then
 // wg.last_end where that is known). With kEmit, emit(axis, dir, s) is called for every step, s the arc length
@@ -188,6 +335,11 @@ void walk_piece(const TrackPiece& pc, const double* ext, size_t n_ext, bool clos
     const double bound[3] = {second_derivative_bound(g[0].c.data(), n_axis[0]),
                              second_derivative_bound(g[1].c.data(), n_axis[1]),
                              second_derivative_bound(pc.S.c.data(), std::max(n_axis[0], n_axis[1]))};
+    // the inverse (walk_sub_interval_inverse) where the emitter says how far an arc length may be off
+    double arc_tol = 0.0;
+    if constexpr (kEmit && Style::arc_in_solver && requires { emit.arc_tolerance(0.0, 0.0); })
+      arc_tol = emit.arc_tolerance(pc.s0, pc.s0 + pc.len);
+    InverseScratch& inv_scratch = inverse_scratch();
     ts.assign(1, -1.0);
     for (size_t k = 0; k < n_ext; ++k) ts.push_back(ext[k]);
     ts.push_back(1.0);
@@ -207,7 +359,14 @@ void walk_piece(const TrackPiece& pc, const double* ext, size_t n_ext, bool clos
           }
         }
       } else if constexpr (Style::arc_in_solver) {
-        walk_sub_interval(packed, n_axis, bound, coef_g, coef_s, pc, base, fprev, fend, tl, th, h, node, emit);
+        auto legacy = [&](const double* fp, const double* fe, double ta, double tb) {
+          walk_sub_interval(packed, n_axis, bound, coef_g, coef_s, pc, base, fp, fe, ta, tb, h, node, emit);
+        };
+        if (arc_tol > 0.0)
+          walk_sub_interval_inverse(g, packed, n_axis, pc, base, fprev, fend, tl, th, h, node, arc_tol, inv_scratch,
+                                    emit, legacy);
+        else
+          legacy(fprev, fend, tl, th);
       } else {
         Cursor cur[2];
         auto advance = [&](int a) {

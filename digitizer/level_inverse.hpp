@@ -1,0 +1,168 @@
+#pragma once
+// The arc length at a level as a polynomial of the level: the digitizer's fast path (step_walker.hpp).
+//
+// On an interval [ta, tb] of a track piece where an axis coordinate g(t) is strictly monotone, the arc length at
+// the point where g reaches y, sigma(y) = S(g^-1(y)), is as smooth as g and S wherever g' stays away from zero.
+// Its Chebyshev interpolant in z = (y - yc) ik (z in [-1, 1] over [g(ta), g(tb)]) gives the arc length of every
+// level crossed on the interval by one evaluation each, with no root finding: the levels' crossings become
+// independent of one another (no chain of Newton solves from extrapolated guesses).
+//
+// The fit needs no root finding either: the points (g(t_i), S(t_i)) at the Chebyshev-Lobatto points t_i of
+// [ta, tb] lie on the graph of sigma exactly (up to the rounding of the series), so the interpolant through them is
+// formed in barycentric form and re-expanded as a Chebyshev series in z. It is accepted only when
+//  - g is strictly monotone at the points (as it must be on a monotone sub-interval),
+//  - the last two coefficients of the degree-16 series sum to less than tol / 10 (converged), and
+//  - at the 16 points of [ta, tb] halfway (in angle) between the interpolation points, which again lie on the graph
+//    of sigma exactly, the series is within tol / 4 of S.
+// Trailing coefficients summing to less than tol / 20 are then dropped. Where the fit is refused (an end of the
+// interval near an extremum of g, where sigma has a square-root singularity, or a piece too curved for one
+// polynomial) the caller splits the interval or solves the crossings one by one (level_crossing.hpp).
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "digitizer/chebyshev.hpp"
+#include "digitizer/level_crossing.hpp"
+
+namespace polarcam {
+
+// g and S at t on the two lanes of a vector, values only: pk[k] = {g.c[k], S.c[k]}, k = n..0 (eval_gs_packed
+// without derivatives).
+inline Lane2 eval_value_packed(const Lane2* pk, int n, double t) {
+  const Lane2 tv = {t, t}, tt = tv + tv;
+  Lane2 b1 = {0, 0}, b2 = b1;
+  for (int k = n; k >= 1; --k) {
+    const Lane2 b0 = pk[k] + tt * b1 - b2;
+    b2 = b1;
+    b1 = b0;
+  }
+  return pk[0] + tv * b1 - b2;
+}
+
+struct LevelInverse {
+  double yc = 0, ik = 0;  // z = (y - yc) ik
+  Cheb p;                 // sigma as a series in z
+
+  double z_of(double y) const { return std::clamp((y - yc) * ik, -1.0, 1.0); }
+  double operator()(double y) const { return p(z_of(y)); }
+};
+
+// sigma at the levels y_j = ((n0 + dn j) + hs) - base, j = 0..count-1 (n0, dn whole numbers: the levels of a
+// grid, formed as the step walker forms them), into out[j]. The levels are independent of one another: eight at a
+// time on four vectors of two lanes, so that four Clenshaw recurrences overlap, each ordered as
+// (c_k - b_{k+2}) + 2z b_{k+1} so that a link of the chain waits on one multiply and one add. The values differ
+// from LevelInverse::operator()'s by rounding alone (a few units in the last place of the arc length).
+inline void eval_levels(const LevelInverse& inv, double n0, double dn, double hs, double base, size_t count,
+                        double* out) {
+  const int n = inv.p.deg;
+  Lane2 c[kChebMaxDegree + 1];
+  for (int k = 0; k <= n; ++k) c[k] = Lane2{inv.p.c[k], inv.p.c[k]};
+  const Lane2 yc = {inv.yc, inv.yc}, ik = {inv.ik, inv.ik};
+  const Lane2 vn0 = {n0, n0}, vdn = {dn, dn}, vhs = {hs, hs}, vb = {base, base};
+  auto zs = [&](double j) {
+    const Lane2 jj = {j, j + 1.0};
+    const Lane2 z = (((vn0 + vdn * jj) + vhs) - vb - yc) * ik;
+    return Lane2{std::clamp(z[0], -1.0, 1.0), std::clamp(z[1], -1.0, 1.0)};
+  };
+  size_t j = 0;
+  constexpr int W = 4;  // vectors in flight
+  for (; j + 2 * W <= count; j += 2 * W) {
+    Lane2 z[W], t2[W], b1[W], b2[W];
+    for (int w = 0; w < W; ++w) {
+      z[w] = zs(static_cast<double>(j + 2 * w));
+      t2[w] = z[w] + z[w];
+      b1[w] = Lane2{0, 0};
+      b2[w] = b1[w];
+    }
+    for (int k = n; k >= 1; --k)
+      for (int w = 0; w < W; ++w) {
+        const Lane2 b0 = (c[k] - b2[w]) + t2[w] * b1[w];
+        b2[w] = b1[w];
+        b1[w] = b0;
+      }
+    for (int w = 0; w < W; ++w) {
+      const Lane2 r = (c[0] - b2[w]) + z[w] * b1[w];
+      out[j + 2 * w] = r[0];
+      out[j + 2 * w + 1] = r[1];
+    }
+  }
+  for (; j < count; ++j) out[j] = inv(((n0 + dn * static_cast<double>(j)) + hs) - base);
+}
+
+// Fits sigma on [ta, tb] for the series pk (as eval_value_packed) of degree n; false when the fit is refused (see
+// above). tol: the largest error in S accepted (the interpolant is checked to tol / 4).
+inline bool fit_level_inverse(const Lane2* pk, int n, double ta, double tb, double tol, LevelInverse& out) {
+  constexpr int D = kChebMaxDegree;
+  const auto& x = cheb_points();  // cos(pi j / D), from +1 down to -1
+  const double tm = 0.5 * (ta + tb), hw = 0.5 * (tb - ta);
+  double y[D + 1], s[D + 1];
+  for (int i = 0; i <= D; ++i) {
+    const double t = i == 0 ? tb : (i == D ? ta : tm + hw * x[i]);
+    const Lane2 v = eval_value_packed(pk, n, t);
+    y[i] = v[0];
+    s[i] = v[1];
+  }
+  const double span = y[0] - y[D];
+  if (!(span != 0.0) || !std::isfinite(span)) return false;
+  for (int i = 0; i < D; ++i)
+    if (!((y[i] - y[i + 1]) * span > 0.0)) return false;  // strictly monotone, in the direction of the ends
+  out.yc = 0.5 * (y[0] + y[D]);
+  out.ik = 2.0 / span;
+  double z[D + 1], w[D + 1];
+  for (int i = 0; i <= D; ++i) z[i] = i == 0 ? 1.0 : (i == D ? -1.0 : (y[i] - out.yc) * out.ik);
+  for (int i = 0; i <= D; ++i) {
+    double prod = 1.0;
+    for (int j = 0; j <= D; ++j)
+      if (j != i) prod *= z[i] - z[j];
+    w[i] = 1.0 / prod;
+  }
+  // the interpolant in barycentric form at z (not a node)
+  auto bary = [&](double zz) {
+    double num = 0.0, den = 0.0;
+    for (int i = 0; i <= D; ++i) {
+      const double q = w[i] / (zz - z[i]);
+      num += q * s[i];
+      den += q;
+    }
+    return num / den;
+  };
+  // refused early at the outermost halfway points, where a turn of g at an end of the interval shows first (the
+  // same test as below, on the interpolant before its re-expansion)
+  for (int i : {0, D - 1}) {
+    const double t = tm + hw * std::cos(std::numbers::pi * (i + 0.5) / D);
+    const Lane2 v = eval_value_packed(pk, n, t);
+    const double zz = (v[0] - out.yc) * out.ik;
+    if (!(zz > z[i + 1] && zz < z[i]) || !(std::abs(bary(zz) - v[1]) <= 0.25 * tol)) return false;
+  }
+  // the interpolant at the Chebyshev-Lobatto points of z, then its Chebyshev series (DCT)
+  double f[D + 1];
+  f[0] = s[0];
+  f[D] = s[D];
+  for (int k = 1; k < D; ++k) {
+    double num = 0.0, den = 0.0;
+    int hit = -1;
+    for (int i = 0; i <= D; ++i) {
+      const double dz = x[k] - z[i];
+      if (dz == 0.0) {
+        hit = i;
+        break;
+      }
+      const double q = w[i] / dz;
+      num += q * s[i];
+      den += q;
+    }
+    f[k] = hit >= 0 ? s[hit] : num / den;
+  }
+  out.p = cheb_fit(f, D);
+  if (!(std::abs(out.p.c[D]) + std::abs(out.p.c[D - 1]) <= 0.1 * tol)) return false;
+  // halfway points: on the graph of sigma, between the interpolation points
+  for (int i = 0; i < D; ++i) {
+    const double t = tm + hw * std::cos(std::numbers::pi * (i + 0.5) / D);
+    const Lane2 v = eval_value_packed(pk, n, t);
+    if (!(std::abs(out.p((v[0] - out.yc) * out.ik) - v[1]) <= 0.25 * tol)) return false;
+  }
+  cheb_chop(out.p, 0.05 * tol);
+  return true;
+}
+
+}  // namespace polarcam
