@@ -17,6 +17,8 @@
 #include "digitizer/polar_track.hpp"
 #include "digitizer/step_walker.hpp"
 
+namespace tu_digitizer_test_level_inverse {  // the test files of a program compile together (unity build)
+
 using namespace polarcam;
 
 namespace {
@@ -245,3 +247,5 @@ TEST(LevelInverse, TiedAndNearlyTiedCrossingsKeepTheSolversOrder) {
     EXPECT_EQ(want[0].axis, ahead == 0.0 ? 0 : 1);
   }
 }
+
+}  // namespace tu_digitizer_test_level_inverse
