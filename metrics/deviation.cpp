@@ -37,8 +37,16 @@ bool FootTracker::corner_in(double lo, double hi) const {
   return it != breaks_.end() && *it < hi;
 }
 
+const CurvePoint& FootTracker::eval2(double u) {
+  if (!(u == memo_u_)) {
+    memo_ = c_.eval(u, 2);
+    memo_u_ = u;
+  }
+  return memo_;
+}
+
 bool FootTracker::track(Vec2 p, double guess, double reach, double& u_out) {
-  CurvePoint c = c_.eval(wrap(guess), 2);
+  CurvePoint c = eval2(wrap(guess));
   const double speed = norm(c.d1);
   if (!(speed > 0.0)) return false;
   const double w = reach / speed, lo = guess - w, hi = guess + w;
@@ -46,7 +54,7 @@ bool FootTracker::track(Vec2 p, double guess, double reach, double& u_out) {
   if (corner_in(lo, hi)) return false;
   double u = guess;
   for (int it = 0; it < 8; ++it) {
-    if (it > 0) c = c_.eval(wrap(u), 2);
+    if (it > 0) c = eval2(wrap(u));
     const Vec2 q = c.p - p;
     const double s2 = dot(c.d1, c.d1), g = dot(q, c.d1), dg = s2 + dot(q, c.d2);
     if (!(dg > 0.0)) return false;
@@ -57,7 +65,7 @@ bool FootTracker::track(Vec2 p, double guess, double reach, double& u_out) {
       // the window's only minimum: the squared distance along the arc length has the second derivative
       // 2 (1 - kappa d) > 0 throughout when |kappa| (d + reach) <= 1/2
       const double kappa = std::abs(cross(c.d1, c.d2)) / (s2 * std::sqrt(s2));
-      const double d = norm(c_.eval(wrap(u), 0).p - p);
+      const double d = norm(eval2(wrap(u)).p - p);
       if (!(kappa * (d + reach) <= 0.5)) return false;
       dist_ = d;
       u_out = wrap(u);

@@ -12,6 +12,7 @@
 // Lipschitz bound (the distance changes at most as fast as the point moves) cannot beat the largest value found
 // so far.
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "cam/curve.hpp"
@@ -58,7 +59,12 @@ class FootTracker {
   bool newton(Vec2 p, double lo, double hi, double& u, double& d2) const;
   bool track(Vec2 p, double guess, double reach, double& u);
   bool corner_in(double lo, double hi) const;
+  // The curve to order 2 at u, remembered: a search ends where the next one starts (the foot it returns is the
+  // next guess), so the point a search measured its distance at is the next search's first point.
+  const CurvePoint& eval2(double u);
   const Curve& c_;
+  double memo_u_ = std::numeric_limits<double>::quiet_NaN();
+  CurvePoint memo_{};
   double u0_, u1_;
   bool closed_;
   std::vector<double> breaks_;
