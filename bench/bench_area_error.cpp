@@ -4,6 +4,8 @@
 //  - BM_AreaError: the meter alone, over a staircase recorded beforehand (reset, record every step, finish);
 //  - BM_AreaError/fine: the same contours on a grid 10x finer in both axes (the limacon also 100x);
 //  - BM_AreaErrorStreamed: the meter in its streamed mode (begin(), constant memory), the same staircases;
+//  - BM_ErrorMetersStreamed: the area and the deviation together as `polarcam error` runs them (ErrorMeters in
+//    the streamed mode: area, deviation, F_sum/F_dif step counts), the same staircases, the limacon also 100x;
 //  - BM_DigitizeAndArea: what one evaluation of the optimiser costs (track, digitize into the meter, finish);
 //  - BM_CartesianAreaError: the Cartesian meter (metrics/cartesian_error.hpp) alone over the exact Cartesian
 //    generator's staircase of the same contours in their own frames, BLU = 0.001 in and 10x finer;
@@ -20,6 +22,7 @@
 #include "machine/cartesian/cartesian_exact.hpp"
 #include "metrics/area_error.hpp"
 #include "metrics/cartesian_error.hpp"
+#include "metrics/error_metrics.hpp"
 
 using namespace polarcam;
 
@@ -102,6 +105,29 @@ void BM_AreaErrorStreamed(benchmark::State& state) {
 BENCHMARK(BM_AreaErrorStreamed)->ArgsProduct({{0, 1, 2}, {1, 10}})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_AreaErrorStreamed)->Args({1, 100})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_AreaError)->Args({1, 100})->Unit(benchmark::kMillisecond);
+
+// ErrorMeters streamed, as `polarcam error` feeds it from a tape (without reading the tape): the label gives the
+// area and the deviation.
+void BM_ErrorMetersStreamed(benchmark::State& state) {
+  const int which = static_cast<int>(state.range(0));
+  const auto [path, g, tr, d, rec] = staircase(which, static_cast<double>(state.range(1)));
+  ErrorMeters em;
+  ErrorMetrics m;
+  bool streamed = true;
+  for (auto _ : state) {
+    em.reset(*path, tr, g, 100);
+    em.stream_from(d.start_n, d.start_m);
+    for (const Step& s : rec.steps) em.record(s.axis, s.dir);
+    m = em.finish(d.start_n, d.start_m);
+    streamed = streamed && em.streamed();
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * static_cast<int64_t>(rec.steps.size()));
+  state.SetLabel(std::string(kNames[which]) + ", " + std::to_string(rec.steps.size()) + " steps, area " +
+                 std::to_string(m.area.area_m2 * 1e6) + " mm^2, deviation " + std::to_string(m.deviation_max_m * 1e3) +
+                 " mm" + (streamed ? "" : ", NOT STREAMED"));
+}
+BENCHMARK(BM_ErrorMetersStreamed)->ArgsProduct({{0, 1}, {1, 10}})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ErrorMetersStreamed)->Args({1, 100})->Unit(benchmark::kMillisecond);
 
 void BM_DigitizeAndArea(benchmark::State& state) {
   const int which = static_cast<int>(state.range(0));

@@ -1,6 +1,7 @@
 #include "metrics/area_error.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -26,6 +27,46 @@ void StairAreaMeter::Neumaier::add(double x) {
   const double t = s + x;
   c += std::abs(s) >= std::abs(x) ? (s - t) + x : (x - t) + s;
   s = t;
+}
+
+void StairAreaMeter::SlotIndex::clear() {
+  std::fill(keys_.begin(), keys_.end(), kNone);
+  size_ = 0;
+}
+
+void StairAreaMeter::SlotIndex::insert(uint32_t k, uint32_t slot) {
+  if (2 * (size_ + 1) > keys_.size()) {  // grow: at most half full
+    std::vector<uint32_t> ok = std::move(keys_), ov = std::move(vals_);
+    const size_t n = std::max<size_t>(256, 2 * ok.size());
+    keys_.assign(n, kNone);
+    vals_.assign(n, 0);
+    mask_ = n - 1;
+    shift_bits_ = 32 - std::countr_zero(n);
+    size_ = 0;
+    for (size_t i = 0; i < ok.size(); ++i)
+      if (ok[i] != kNone) insert(ok[i], ov[i]);
+  }
+  size_t i = home(k);
+  while (keys_[i] != kNone) i = (i + 1) & mask_;
+  keys_[i] = k;
+  vals_[i] = slot;
+  ++size_;
+}
+
+void StairAreaMeter::SlotIndex::erase(uint32_t k) {
+  size_t i = home(k);
+  while (keys_[i] != k) i = (i + 1) & mask_;
+  // backward shift: move up each later key of the run whose home is not between the hole and it
+  for (size_t j = (i + 1) & mask_; keys_[j] != kNone; j = (j + 1) & mask_) {
+    const size_t h = home(keys_[j]);
+    if (((j - h) & mask_) >= ((j - i) & mask_)) {
+      keys_[i] = keys_[j];
+      vals_[i] = vals_[j];
+      i = j;
+    }
+  }
+  keys_[i] = kNone;
+  --size_;
 }
 
 void StairAreaMeter::reset(sweep::TrackView track, const StairGrid& grid) {
@@ -79,7 +120,7 @@ Vec2 StairAreaMeter::path_point(double h, double g) const {
 void StairAreaMeter::close_visit() {
   if (open_ < 0) return;
   if (stream_) {
-    Slot& sl = slots_[slot_of_.at(static_cast<uint32_t>(open_key_))];
+    Slot& sl = slots_[open_slot_];
     Visit& v = sl.visits[static_cast<size_t>(open_)];
     const Sub& a = sl.subs[v.first];
     const Sub& b = sl.subs[v.first + v.count - 1];
@@ -107,7 +148,7 @@ void StairAreaMeter::add_sub(const Sub& s, int64_t j) {
     const uint32_t k = key(j);
     walk_key_ = k;
     if (open_ >= 0) {
-      Slot& o = slots_[slot_of_.at(static_cast<uint32_t>(open_key_))];
+      Slot& o = slots_[open_slot_];
       Visit& v = o.visits[static_cast<size_t>(open_)];
       if (v.j == j) {
         if (v.sigma != sg) v.sigma = 0;
@@ -122,6 +163,7 @@ void StairAreaMeter::add_sub(const Sub& s, int64_t j) {
     Slot* sl = slot(k);
     if (!sl) return;
     open_key_ = k;
+    open_slot_ = static_cast<uint32_t>(sl - slots_.data());
     open_ = static_cast<int>(sl->visits.size());
     sl->visits.push_back(Visit{j, static_cast<uint32_t>(sl->subs.size()), 1, -1, sg, false, lo, hi});
     sl->subs.push_back(s);
@@ -442,8 +484,8 @@ void StairAreaMeter::mark_finalized(uint32_t k) {
 }
 
 StairAreaMeter::Slot* StairAreaMeter::slot(uint32_t k) {
-  auto it = slot_of_.find(k);
-  if (it != slot_of_.end()) return &slots_[it->second];
+  const uint32_t at = slot_of_.find(k);
+  if (at != SlotIndex::kNone) return &slots_[at];
   if (finalized(k)) {
     failed_ = true;  // the staircase or the contour came back to a sector measured already
     return nullptr;
@@ -463,7 +505,7 @@ StairAreaMeter::Slot* StairAreaMeter::slot(uint32_t k) {
   sl.arcs.clear();
   sl.extra.clear();
   sl.forced = false;
-  slot_of_.emplace(k, i);
+  slot_of_.insert(k, i);
   order_.push_back(k);
   peak_slots_ = std::max(peak_slots_, slot_of_.size());
   return &sl;
@@ -496,17 +538,15 @@ void StairAreaMeter::evict(bool all) {
       if (key_distance(k, stair_key_) <= kStreamWindow) break;
       if (!walk_.done && key_distance(k, walk_key_) <= kStreamWindow) break;
     }
-    auto it = slot_of_.find(k);
-    finalize(it->second);
-    slot_of_.erase(it);
+    finalize(slot_of_.find(k));
+    slot_of_.erase(k);
     order_.pop_front();
     mark_finalized(k);
   }
   if (all) {
     for (uint32_t k : pinned_) {
-      auto it = slot_of_.find(k);
-      finalize(it->second);
-      slot_of_.erase(it);
+      finalize(slot_of_.find(k));
+      slot_of_.erase(k);
     }
     pinned_.clear();
   }

@@ -24,7 +24,6 @@
 #include <map>
 #include <memory>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 #include "digitizer/digitize.hpp"
@@ -136,6 +135,29 @@ class StairAreaMeter {
     std::vector<sweep::Strand> extra;
     bool forced = false;
   };
+  // The open sectors' slots by key: open addressing with linear probing on a power-of-two table at most half full,
+  // Fibonacci hashing (the keys held at once are runs of consecutive sectors, which it scatters); deletion by
+  // backward shift keeps every probe run unbroken.
+  class SlotIndex {
+   public:
+    static constexpr uint32_t kNone = 0xffffffffu;  // no key (keys are below 2^31)
+    void clear();
+    size_t size() const { return size_; }
+    uint32_t find(uint32_t k) const {  // the slot of k, or kNone
+      if (size_ == 0) return kNone;
+      for (size_t i = home(k);; i = (i + 1) & mask_) {
+        if (keys_[i] == k) return vals_[i];
+        if (keys_[i] == kNone) return kNone;
+      }
+    }
+    void insert(uint32_t k, uint32_t slot);  // k not present
+    void erase(uint32_t k);                  // k present
+   private:
+    size_t home(uint32_t k) const { return (k * 0x9E3779B1u) >> shift_bits_; }
+    std::vector<uint32_t> keys_, vals_;
+    size_t mask_ = 0, size_ = 0;
+    int shift_bits_ = 32;
+  };
   // The walk of the contour sector by sector, resumable (the streamed mode walks it alongside the steps).
   struct WalkPt {
     double t, g, h, A;
@@ -198,6 +220,7 @@ class StairAreaMeter {
   std::vector<int32_t> extra_head_, extra_next_;
   int open_ = -1;  // index of the visit being built
   int64_t open_key_ = -1;  // streamed: the key of the slot holding the visit being built
+  uint32_t open_slot_ = 0;  // streamed: and that slot
   Walk walk_;
   std::unique_ptr<sweep::SectorSolver> solver_;
   sweep::Frame frame_{};
@@ -209,7 +232,7 @@ class StairAreaMeter {
   int64_t h0_ = 0, g0_ = 0;
   uint64_t nrun_ = 0, subs_out_ = 0;
   std::string range_error_;  // the first angular step that left the path's range (thrown by finish())
-  std::unordered_map<uint32_t, uint32_t> slot_of_;
+  SlotIndex slot_of_;
   std::vector<Slot> slots_;
   std::vector<uint32_t> free_slots_;
   std::deque<uint32_t> order_;  // keys in the order their slots were opened

@@ -10,6 +10,7 @@ constexpr double kGolden = 0.6180339887498949;
 
 double FootTracker::wrap(double u) const {
   if (!closed_) return std::clamp(u, u0_, u1_);
+  if (u0_ == 0.0 && u > 0.0 && u < u1_) return u;  // what the remainder below gives, without the division
   const double span = u1_ - u0_;
   double v = std::fmod(u - u0_, span);
   if (v < 0) v += span;
@@ -37,27 +38,35 @@ bool FootTracker::corner_in(double lo, double hi) const {
   return it != breaks_.end() && *it < hi;
 }
 
+const CurvePoint& FootTracker::eval2(double u) {
+  if (!(u == memo_u_)) {
+    memo_ = c_.eval(u, 2);
+    memo_u_ = u;
+  }
+  return memo_;
+}
+
 bool FootTracker::track(Vec2 p, double guess, double reach, double& u_out) {
-  CurvePoint c = c_.eval(wrap(guess), 2);
-  const double speed = norm(c.d1);
+  CurvePoint c = eval2(wrap(guess));
+  const double speed = std::sqrt(dot(c.d1, c.d1));
   if (!(speed > 0.0)) return false;
   const double w = reach / speed, lo = guess - w, hi = guess + w;
   if (!closed_ && (lo < u0_ || hi > u1_)) return false;  // near an end the nearest point may be the end itself
   if (corner_in(lo, hi)) return false;
   double u = guess;
   for (int it = 0; it < 8; ++it) {
-    if (it > 0) c = c_.eval(wrap(u), 2);
+    if (it > 0) c = eval2(wrap(u));
     const Vec2 q = c.p - p;
     const double s2 = dot(c.d1, c.d1), g = dot(q, c.d1), dg = s2 + dot(q, c.d2);
     if (!(dg > 0.0)) return false;
     const double du = -g / dg, un = u + du;
     if (!(un > lo && un < hi)) return false;
     u = un;
-    if (std::abs(du) * std::sqrt(s2) <= 1e-9 * norm(q) + 1e-15) {
+    if (std::abs(du) * std::sqrt(s2) <= 1e-9 * std::sqrt(dot(q, q)) + 1e-15) {
       // the window's only minimum: the squared distance along the arc length has the second derivative
       // 2 (1 - kappa d) > 0 throughout when |kappa| (d + reach) <= 1/2
       const double kappa = std::abs(cross(c.d1, c.d2)) / (s2 * std::sqrt(s2));
-      const double d = norm(c_.eval(wrap(u), 0).p - p);
+      const double d = norm(eval2(wrap(u)).p - p);
       if (!(kappa * (d + reach) <= 0.5)) return false;
       dist_ = d;
       u_out = wrap(u);
@@ -67,11 +76,114 @@ bool FootTracker::track(Vec2 p, double guess, double reach, double& u_out) {
   return false;
 }
 
+double FootTracker::offset(double u) const {
+  double s = u - m_.uc;
+  if (closed_) {
+    const double span = u1_ - u0_;
+    if (s > 0.5 * span)
+      s -= span;
+    else if (s < -0.5 * span)
+      s += span;
+  }
+  return s;
+}
+
+bool FootTracker::anchor(double u, double w) {
+  m_.ok = false;
+  const CurvePoint c = c_.eval(u, 3);
+  m_.uc = u;
+  m_.p0 = c.p;
+  m_.p1 = c.d1;
+  m_.p2 = 0.5 * c.d2;
+  m_.p3 = (1.0 / 6.0) * c.d3;
+  const double tol = 4.0 * std::numeric_limits<double>::epsilon() * (norm(c.p) + c_.rounding_scale());
+  const double h_min = 8.0 * w;
+  double h = std::max(2.0 * h_good_, 4.0 * h_min);
+  if (!closed_) h = std::min({h, u - u0_, u1_ - u});
+  if (closed_) h = std::min(h, 0.125 * (u1_ - u0_));
+  for (; h >= h_min; h *= 0.5) {
+    if (corner_in(u - h, u + h)) continue;
+    // the polynomial against the curve at twice the stretch (where that is on the curve)
+    bool ok = true;
+    for (double sg : {-1.0, 1.0}) {
+      const double s = 2.0 * sg * h, su = u + s;
+      if (!closed_ && (su < u0_ || su > u1_)) continue;
+      const Vec2 m = m_.p0 + s * (m_.p1 + s * (m_.p2 + s * m_.p3));
+      if (!(norm(m - c_.eval(wrap(su), 0).p) <= tol)) {
+        ok = false;
+        break;
+      }
+    }
+    if (ok) {
+      m_.h = h;
+      m_.ok = true;
+      h_good_ = h;
+      ++anchors_;
+      return true;
+    }
+  }
+  h_good_ = 0.0;
+  return false;
+}
+
+bool FootTracker::model_track(Vec2 p, double guess, double reach, double& u_out) {
+  if (model_off_ > 0) {
+    --model_off_;
+    return false;
+  }
+  const double gw = wrap(guess);
+  double s = 0.0, w = 0.0;
+  bool inside = false;
+  if (m_.ok) {
+    s = offset(gw);
+    const Vec2 c1 = m_.p1 + s * (2.0 * m_.p2 + 3.0 * s * m_.p3);
+    const double speed = std::sqrt(dot(c1, c1));
+    if (speed > 0.0) {
+      w = reach / speed;
+      inside = std::abs(s) + w < m_.h;
+    }
+  }
+  if (!inside) {
+    const double speed = norm(eval2(gw).d1);
+    if (!(speed > 0.0)) return false;
+    w = reach / speed;
+    if (!anchor(gw, w)) {
+      model_off_ = 256;
+      return false;
+    }
+    s = 0.0;
+  }
+  // Newton on (C(s) - p) . C'(s) = 0 as in track(), on the polynomial; C - p first (nearby points: exact)
+  const double lo = s - w, hi = s + w;
+  const Vec2 d0 = m_.p0 - p;
+  for (int it = 0; it < 8; ++it) {
+    const Vec2 q = d0 + s * (m_.p1 + s * (m_.p2 + s * m_.p3));
+    const Vec2 c1 = m_.p1 + s * (2.0 * m_.p2 + 3.0 * s * m_.p3), c2 = 2.0 * m_.p2 + (6.0 * s) * m_.p3;
+    const double s2 = dot(c1, c1), g = dot(q, c1), dg = s2 + dot(q, c2);
+    if (!(dg > 0.0)) return false;
+    const double ds = -g / dg, sn = s + ds;
+    if (!(sn > lo && sn < hi)) return false;
+    s = sn;
+    if (std::abs(ds) * std::sqrt(s2) <= 1e-9 * std::sqrt(dot(q, q)) + 1e-15) {
+      const double kappa = std::abs(cross(c1, c2)) / (s2 * std::sqrt(s2));
+      const Vec2 qn = d0 + s * (m_.p1 + s * (m_.p2 + s * m_.p3));
+      const double d = std::sqrt(dot(qn, qn));
+      if (!(kappa * (d + reach) <= 0.5)) return false;
+      dist_ = d;
+      u_out = wrap(m_.uc + s);
+      return true;
+    }
+  }
+  return false;
+}
+
 double FootTracker::find(Vec2 p, double guess, double reach) {
   if (tracking_ && !full_) {
     double u;
+    if (model_on_ && model_track(p, guess, reach, u)) return u;
     if (track(p, guess, reach, u)) return u;
   }
+
   tracking_ = true;
   const double span = u1_ - u0_;
   double speed = norm(c_.eval(wrap(guess), 1).d1);

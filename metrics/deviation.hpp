@@ -12,6 +12,7 @@
 // Lipschitz bound (the distance changes at most as fast as the point moves) cannot beat the largest value found
 // so far.
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "cam/curve.hpp"
@@ -42,6 +43,16 @@ struct StairPiece {
 // open path, and the path's curvature at the foot is small enough (|kappa| (d + reach) <= 1/2) that the squared
 // distance is convex across the window, so that the stationary point Newton finds is the window's only minimum.
 // Otherwise, the window search.
+//
+// Where the grid is fine, tracking runs on a local model of the curve instead of the curve itself: its cubic
+// Taylor polynomial about an anchor, C(u_a + s) = C + C' s + C'' s^2 / 2 + C''' s^3 / 6, on a stretch |s| <= h
+// that holds no corner. A stretch is taken only when the polynomial agrees with the curve at s = +-2h to within
+// four units of rounding of a point of the curve (4 eps (|C| + its rounding scale)); its truncation error, of
+// order s^4, is then a sixteenth of that on the stretch, below the rounding of an evaluation of the curve. It
+// needs h to be at least eight search windows (on the thesis's grid the curve bends too much for that and the
+// curve is evaluated as before); each anchor costs three evaluations of the curve and serves the searches of
+// many steps. The same acceptance tests apply (the window inside the stretch, Newton settling inside the window,
+// the curvature bound).
 class FootTracker {
  public:
   explicit FootTracker(const Curve& c) : FootTracker(c, true) {}
@@ -50,6 +61,9 @@ class FootTracker {
   double distance() const { return dist_; }
   // Testing: always the window search.
   void set_full_search(bool on) { full_ = on; }
+  // Testing: never the local model (track on the curve itself); stretches of the model taken so far.
+  void set_model(bool on) { model_on_ = on; }
+  uint64_t anchors() const { return anchors_; }
 
  private:
   FootTracker(const Curve& c, bool);
@@ -58,11 +72,29 @@ class FootTracker {
   bool newton(Vec2 p, double lo, double hi, double& u, double& d2) const;
   bool track(Vec2 p, double guess, double reach, double& u);
   bool corner_in(double lo, double hi) const;
+  // The curve to order 2 at u, remembered: a search ends where the next one starts (the foot it returns is the
+  // next guess), so the point a search measured its distance at is the next search's first point.
+  const CurvePoint& eval2(double u);
+  // the local model (above)
+  struct Model {
+    bool ok = false;
+    double uc = 0.0, h = 0.0;  // anchor (wrapped) and half-width of the stretch
+    Vec2 p0, p1, p2, p3;       // C, C', C''/2, C'''/6 at the anchor
+  };
+  bool model_track(Vec2 p, double guess, double reach, double& u);
+  bool anchor(double u, double w);
+  double offset(double u) const;  // u - the anchor, on the anchor's turn of a closed path
   const Curve& c_;
+  Model m_;
+  double h_good_ = 0.0;  // the last stretch accepted
+  int model_off_ = 0;    // searches left before the model is tried again after a stretch was refused
+  uint64_t anchors_ = 0;
+  double memo_u_ = std::numeric_limits<double>::quiet_NaN();
+  CurvePoint memo_{};
   double u0_, u1_;
   bool closed_;
   std::vector<double> breaks_;
-  bool tracking_ = false, full_ = false;
+  bool tracking_ = false, full_ = false, model_on_ = true;
   double dist_ = 0.0;
 };
 
@@ -79,6 +111,8 @@ class DeviationMeter {
   Vec2 at() const { return at_; }  // the point of the machine path where the largest distance is
   uint64_t refined() const { return refined_; }  // pieces searched for an inside maximum
   void set_full_search(bool on) { ft_.set_full_search(on); }  // testing
+  void set_model(bool on) { ft_.set_model(on); }              // testing
+  uint64_t anchors() const { return ft_.anchors(); }          // testing
 
  private:
   void consider(double d, Vec2 p);

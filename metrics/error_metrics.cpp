@@ -15,12 +15,24 @@ void ErrorMeters::reset(const Curve& path, const PolarTrack& track, const Grid& 
   segments_ = std::max(1, segments);
   steps_.clear();
   dev_.reset();
+  node_m_ = std::numeric_limits<double>::quiet_NaN();  // the grid may be another
   area_.reset(track, grid);
 }
 
 Vec2 ErrorMeters::at(double n, double m) const {
   const double rho = n * grid_.dr, phi = m * grid_.dtheta;
   return Vec2{rho * std::cos(phi), rho * std::sin(phi)};
+}
+
+Vec2 ErrorMeters::node(double n, double m) {
+  if (!(m == node_m_)) {  // a radial step keeps the angle: its two nodes share one cosine and sine
+    const double phi = m * grid_.dtheta;
+    node_m_ = m;
+    node_cos_ = std::cos(phi);
+    node_sin_ = std::sin(phi);
+  }
+  const double rho = n * grid_.dr;
+  return Vec2{rho * node_cos_, rho * node_sin_};
 }
 
 double ErrorMeters::reach(double n) const { return 3.0 * std::max(grid_.dr, n * grid_.dr * grid_.dtheta) + 1e-12; }
@@ -46,8 +58,8 @@ void ErrorMeters::follow(int axis, int dir) {
   double& m = m_;
   StairPiece piece;
   if (axis == kAxisRadial) {
-    piece.a = at(n, m);
-    piece.b = at(n + dir, m);
+    piece.a = node(n, m);
+    piece.b = node(n + dir, m);
   } else {
     piece.arc = true;
     piece.rho = n * dr;

@@ -11,6 +11,7 @@
 // they come in a window of constant size (area_error.hpp: the streamed mode; the deviation and the step counts
 // are running values), with the same results.
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -56,6 +57,8 @@ class ErrorMeters final : public StepSink {
   void follow(int axis, int dir);  // the deviation and the step counts of one step
   void start_following(int64_t n0, int64_t m0);
   Vec2 at(double n, double m) const;
+  Vec2 node(double n, double m);  // at(n, m), the cosine and sine of the last angle remembered
+  double node_m_ = std::numeric_limits<double>::quiet_NaN(), node_cos_ = 0.0, node_sin_ = 0.0;
   double reach(double n) const;
   int segment_of(double u) const;
   std::unique_ptr<DeviationMeter> dev_;

@@ -291,4 +291,50 @@ TEST(CartesianError, DeviationTrackingAgreesWithTheWindowSearch) {
   }
 }
 
+// The deviation's local model (a cubic Taylor polynomial of the path about an anchor, taken only where it agrees
+// with the path to rounding) gives the same largest distance and the same place as tracking on the path itself,
+// where the grid is fine enough for it (here 200 times the BLU below, and it is used there); on a grid as coarse
+// as the thesis's it is never taken.
+TEST(CartesianError, DeviationLocalModelAgreesWithThePath) {
+  for (auto path : {make_limacon(0.0308, 0.0362), make_witch(0.02, -0.03, 0.03)}) {
+    CartesianTrack track = CartesianTrack::build(*path);
+    for (const double blu : {0.0254e-3, 0.25e-6}) {
+      auto prof = make_constant_speed(0.02, track.length());
+      RecordingSink rec;
+      const CartesianResult res = step_exact(track, blu, *prof, &rec);
+      double dev[2];
+      Vec2 at[2];
+      uint64_t anchors = 0;
+      for (int model = 0; model < 2; ++model) {
+        DeviationMeter dm(*path);
+        dm.set_model(model == 1);
+        int64_t node[2] = {res.start[0], res.start[1]};
+        dm.start(cartesian_position(node, blu), 3 * blu);
+        for (const auto& s : rec.steps) {
+          StairPiece piece;
+          piece.a = cartesian_position(node, blu);
+          node[s.axis] += s.dir;
+          piece.b = cartesian_position(node, blu);
+          dm.piece(piece, 3 * blu);
+        }
+        dev[model] = dm.max();
+        at[model] = dm.at();
+        if (model == 1) anchors = dm.anchors();
+      }
+      if (blu > 1e-5) {
+        EXPECT_EQ(anchors, 0u) << path->name();
+        EXPECT_EQ(dev[0], dev[1]) << path->name();
+      } else {
+        EXPECT_GT(anchors, 10u) << path->name();
+        EXPECT_LT(anchors, rec.steps.size() / 10) << path->name();  // a stretch serves tens of steps here
+      }
+      EXPECT_GT(dev[0], 0.5 * blu);
+      // the distance of one point differs by the rounding of the path's coordinates, about 1e-17 m
+      EXPECT_NEAR(dev[0], dev[1], 1e-9 * dev[0]) << path->name() << " blu " << blu;
+      EXPECT_EQ(at[0].x, at[1].x) << path->name() << " blu " << blu;
+      EXPECT_EQ(at[0].y, at[1].y) << path->name() << " blu " << blu;
+    }
+  }
+}
+
 }  // namespace tu_metrics_test_cartesian_error
