@@ -262,6 +262,19 @@ TEST(CartesianError, RefusesAStaircaseOfAnotherPath) {
   }
 }
 
+// The staircase of a recorded Cartesian run, piece by piece, into a deviation meter (window 3 BLU).
+void feed_staircase(DeviationMeter& dm, const CartesianResult& res, const RecordingSink& rec, double blu) {
+  int64_t node[2] = {res.start[0], res.start[1]};
+  dm.start(cartesian_position(node, blu), 3 * blu);
+  for (const auto& s : rec.steps) {
+    StairPiece piece;
+    piece.a = cartesian_position(node, blu);
+    node[s.axis] += s.dir;
+    piece.b = cartesian_position(node, blu);
+    dm.piece(piece, 3 * blu);
+  }
+}
+
 // The deviation's foot-point tracking (Newton from the previous foot) gives the same largest distance as the
 // window search at every point, on a smooth closed path with a dimple (a limacon) and on an open one with ends.
 TEST(CartesianError, DeviationTrackingAgreesWithTheWindowSearch) {
@@ -275,15 +288,7 @@ TEST(CartesianError, DeviationTrackingAgreesWithTheWindowSearch) {
     for (int full = 0; full < 2; ++full) {
       DeviationMeter dm(*path);
       dm.set_full_search(full == 1);
-      int64_t node[2] = {res.start[0], res.start[1]};
-      dm.start(cartesian_position(node, blu), 3 * blu);
-      for (const auto& s : rec.steps) {
-        StairPiece piece;
-        piece.a = cartesian_position(node, blu);
-        node[s.axis] += s.dir;
-        piece.b = cartesian_position(node, blu);
-        dm.piece(piece, 3 * blu);
-      }
+      feed_staircase(dm, res, rec, blu);
       dev[full] = dm.max();
     }
     EXPECT_GT(dev[0], 0.5 * blu);
@@ -308,15 +313,7 @@ TEST(CartesianError, DeviationLocalModelAgreesWithThePath) {
       for (int model = 0; model < 2; ++model) {
         DeviationMeter dm(*path);
         dm.set_model(model == 1);
-        int64_t node[2] = {res.start[0], res.start[1]};
-        dm.start(cartesian_position(node, blu), 3 * blu);
-        for (const auto& s : rec.steps) {
-          StairPiece piece;
-          piece.a = cartesian_position(node, blu);
-          node[s.axis] += s.dir;
-          piece.b = cartesian_position(node, blu);
-          dm.piece(piece, 3 * blu);
-        }
+        feed_staircase(dm, res, rec, blu);
         dev[model] = dm.max();
         at[model] = dm.at();
         if (model == 1) anchors = dm.anchors();
