@@ -195,9 +195,8 @@ double ink_fraction(const std::string& file) {
 
 }  // namespace
 
-namespace {
+// a fixture outside the anonymous namespace: the test class derived from it is in the file's namespace
 class ReportOf : public ::testing::TestWithParam<const char*> {};
-}  // namespace
 
 TEST_P(ReportOf, HasEverySectionAndNeedsNoNetwork) {
   const std::string name = GetParam();

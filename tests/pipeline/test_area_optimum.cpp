@@ -36,9 +36,10 @@ PlacementOptions area_options(const Job& job) {
   return o;
 }
 
-class AreaOptimum : public ::testing::TestWithParam<const char*> {};
-
 }  // namespace
+
+// the fixture outside the anonymous namespace: the test class derived from it is in the file's namespace
+class AreaOptimum : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(AreaOptimum, NoDenseSearchFindsMoreThanHalfAPercentBetter) {
   const std::string name = GetParam();

@@ -36,9 +36,10 @@ double balanced_at(const PoleValue& v) {
   return v.torque.balanced;
 }
 
-class BalancedOptimum : public ::testing::TestWithParam<const char*> {};
-
 }  // namespace
+
+// the fixture outside the anonymous namespace: the test class derived from it is in the file's namespace
+class BalancedOptimum : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(BalancedOptimum, NoDenseSearchFindsMoreThanOnePercentBetter) {
   const std::string name = GetParam();
@@ -75,9 +76,8 @@ INSTANTIATE_TEST_SUITE_P(Ch6, BalancedOptimum,
                                            "limacon_inertial", "limacon_grinding", "serpentine_inertial",
                                            "serpentine_grinding"));
 
-namespace {
+// a fixture outside the anonymous namespace: the test class derived from it is in the file's namespace
 class CapacityFeedback : public ::testing::TestWithParam<const char*> {};
-}  // namespace
 
 TEST_P(CapacityFeedback, LargestSpeedAndLoadGiveTheLimitInTheAnalysis) {
   const Job job = load_job(example(GetParam()));
