@@ -10,6 +10,15 @@
 namespace polarcam {
 namespace {
 
+// A table's speed is monotone between stations (linear in s or in V^2) and held beyond its ends: its least value
+// over [sa, sb] is at one of the ends (speeds va, vb there) or at a station inside.
+double least_speed(const std::vector<SpeedStation>& st, double sa, double sb, double va, double vb) {
+  double m = std::min(va, vb);
+  for (const auto& p : st)
+    if (p.s > sa && p.s < sb) m = std::min(m, p.v);
+  return m;
+}
+
 class Constant final : public SpeedProfile {
  public:
   Constant(double v, double L) : SpeedProfile(L), v_(v) {}
@@ -90,14 +99,7 @@ class Table final : public SpeedProfile {
     size_t i = seg(s);
     return speed_at(s) * (st_[i + 1].v - st_[i].v) / (st_[i + 1].s - st_[i].s);
   }
-  // linear between stations (monotone on each interval), held beyond the ends: the least value over an interval is
-  // at one of its ends or at a station inside it
-  double min_speed(double sa, double sb) const override {
-    double m = std::min(speed_at(sa), speed_at(sb));
-    for (const auto& p : st_)
-      if (p.s > sa && p.s < sb) m = std::min(m, p.v);
-    return m;
-  }
+  double min_speed(double sa, double sb) const override { return least_speed(st_, sa, sb, speed_at(sa), speed_at(sb)); }
   std::vector<double> kinks() const override {
     std::vector<double> k;
     for (const auto& p : st_)
@@ -152,14 +154,7 @@ class SquaredTable final : public SpeedProfile {
     const size_t i = seg(s);
     return (st_[i + 1].v * st_[i + 1].v - st_[i].v * st_[i].v) / (2.0 * (st_[i + 1].s - st_[i].s));
   }
-  // linear between stations (monotone on each interval), held beyond the ends: the least value over an interval is
-  // at one of its ends or at a station inside it
-  double min_speed(double sa, double sb) const override {
-    double m = std::min(speed_at(sa), speed_at(sb));
-    for (const auto& p : st_)
-      if (p.s > sa && p.s < sb) m = std::min(m, p.v);
-    return m;
-  }
+  double min_speed(double sa, double sb) const override { return least_speed(st_, sa, sb, speed_at(sa), speed_at(sb)); }
   std::vector<double> kinks() const override {
     std::vector<double> k;
     for (const auto& p : st_)
