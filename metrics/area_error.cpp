@@ -90,7 +90,6 @@ void StairAreaMeter::reset(sweep::TrackView track, const StairGrid& grid) {
   peak_slots_ = 0;
   walk_.done = true;
   open_ = -1;
-  open_key_ = -1;
 }
 
 uint32_t StairAreaMeter::key(int64_t j) const {
@@ -126,7 +125,6 @@ void StairAreaMeter::close_visit() {
     const Sub& b = sl.subs[v.first + v.count - 1];
     v.full = v.sigma != 0 && ((a.l0 == 0.0 && b.l1 == 1.0) || (a.l0 == 1.0 && b.l1 == 0.0));
     open_ = -1;
-    open_key_ = -1;
     return;
   }
   Visit& v = visits_[static_cast<size_t>(open_)];
@@ -162,7 +160,6 @@ void StairAreaMeter::add_sub(const Sub& s, int64_t j) {
     }
     Slot* sl = slot(k);
     if (!sl) return;
-    open_key_ = k;
     open_slot_ = static_cast<uint32_t>(sl - slots_.data());
     open_ = static_cast<int>(sl->visits.size());
     sl->visits.push_back(Visit{j, static_cast<uint32_t>(sl->subs.size()), 1, -1, sg, false, lo, hi});
@@ -579,7 +576,6 @@ void StairAreaMeter::begin(int64_t h0, int64_t g0) {
   pins_[2] = key_near((P.back().g_b + shift_) / dth);
   stair_key_ = walk_key_ = pins_[0];
   open_ = -1;
-  open_key_ = -1;
   walk_start();
 }
 

@@ -219,8 +219,7 @@ class StairAreaMeter {
   std::vector<sweep::Strand> extra_;  // connector segments
   std::vector<int32_t> extra_head_, extra_next_;
   int open_ = -1;  // index of the visit being built
-  int64_t open_key_ = -1;  // streamed: the key of the slot holding the visit being built
-  uint32_t open_slot_ = 0;  // streamed: and that slot
+  uint32_t open_slot_ = 0;  // streamed: the slot holding the visit being built
   Walk walk_;
   std::unique_ptr<sweep::SectorSolver> solver_;
   sweep::Frame frame_{};
