@@ -36,6 +36,22 @@ Analysed analyse(const PlacedPath& path, const DynamicsSetup& setup, const Analy
   return r;
 }
 
+// largest_passing at the searches' sampling (search_analysis), then the answer confirmed at `full`: it passes there
+// and, unless capped, a value two tolerances above it does not. Otherwise (or when nothing passed) the search runs
+// again at `full`. `pass(options, x)`.
+LargestPassing confirmed_passing(const std::function<bool(const AnalysisOptions&, double)>& pass,
+                                 const BracketSpec& spec, const AnalysisOptions& full) {
+  const AnalysisOptions quick = search_analysis();
+  const LargestPassing b = largest_passing([&](double x) { return pass(quick, x); }, spec);
+  if (b.x && pass(full, *b.x) && (b.capped || !pass(full, *b.x * (1.0 + 2.0 * spec.rel_tol)))) return b;
+  return largest_passing([&](double x) { return pass(full, x); }, spec);
+}
+
+AnalysisOptions maxima_only(AnalysisOptions a) {
+  a.keep_series = false;
+  return a;
+}
+
 }  // namespace
 
 double worst_ratio_at(const PlacedPath& path, const DynamicsSetup& setup, const AnalysisOptions& a, double f) {
@@ -45,39 +61,43 @@ double worst_ratio_at(const PlacedPath& path, const DynamicsSetup& setup, const 
 SpeedCapacity speed_capacity(const PlacedPath& path, const DynamicsSetup& setup, const CapacityOptions& o) {
   if (!(setup.safety_factor >= 1.0)) throw InputError("the safety factor must be a number of at least 1");
   const double limit = 1.0 / setup.safety_factor;
+  const AnalysisOptions full = maxima_only(o.analysis);
   SpeedCapacity out;
-  std::optional<double> last_f;
+  std::optional<double> last_f;  // the last passing factor at `full`, and its worst ratio
   double last_worst = kInf;
-  Analysed at1;
-  auto pass = [&](double f) {
+  Analysed at1;                  // at the job's speed, at `full`
+  auto pass = [&](const AnalysisOptions& a, double f) {
     ++out.evaluations;
-    const Analysed a = analyse(path, setup, o.analysis, f);
-    if (f == 1.0) at1 = a;
-    const bool ok = a.worst <= limit;
-    if (ok) {
+    const Analysed r = analyse(path, setup, a, f);
+    const bool at_full = &a == &full;
+    if (at_full && f == 1.0) at1 = r;
+    const bool ok = r.worst <= limit;
+    if (ok && at_full) {
       last_f = f;
-      last_worst = a.worst;
+      last_worst = r.worst;
     }
     return ok;
   };
-  const LargestPassing b = largest_passing(
-      pass, {1.0, o.min_speed_factor, o.max_speed_factor, [](double f) { return 1.25 * f; }, o.rel_tol, true, true});
+  const LargestPassing b = confirmed_passing(
+      pass, {1.0, o.min_speed_factor, o.max_speed_factor, [](double f) { return 1.25 * f; }, o.rel_tol, true, true},
+      full);
   out.factor = b.x;
   out.capped = b.capped;
-  if (b.x) out.worst = (last_f && *last_f == *b.x) ? last_worst : analyse(path, setup, o.analysis, *b.x).worst;
+  if (b.x) out.worst = (last_f && *last_f == *b.x) ? last_worst : analyse(path, setup, full, *b.x).worst;
   // the step-rate limit: exactly proportional to the speeds without a ramp; a ramp may not reach its cruise speed
   const MachineModel& m = *setup.machine;
   if (m.radial.max_step_rate || m.angular.max_step_rate) {
-    if (!(at1.rate_over > 0.0)) at1 = analyse(path, setup, o.analysis, 1.0);
+    if (!(at1.rate_over > 0.0)) at1 = analyse(path, setup, full, 1.0);
     if (!setup.motion.accel || !setup.motion.table.empty()) {
       if (at1.rate_over > 0.0) out.step_rate_factor = 1.0 / at1.rate_over;
     } else {
-      auto rate_ok = [&](double f) {
+      auto rate_ok = [&](const AnalysisOptions& a, double f) {
         ++out.evaluations;
-        return analyse(path, setup, o.analysis, f).rate_over <= 1.0;
+        return analyse(path, setup, a, f).rate_over <= 1.0;
       };
-      const LargestPassing r = largest_passing(
-          rate_ok, {1.0, o.min_speed_factor, o.max_speed_factor, [](double f) { return 1.25 * f; }, o.rel_tol, true, true});
+      const LargestPassing r = confirmed_passing(
+          rate_ok,
+          {1.0, o.min_speed_factor, o.max_speed_factor, [](double f) { return 1.25 * f; }, o.rel_tol, true, true}, full);
       out.step_rate_factor = r.x;
     }
   }
@@ -141,20 +161,21 @@ LoadCapacity load_capacity(const PlacedPath& path, const DynamicsSetup& setup, c
       break;
   }
   DynamicsSetup s = setup;
-  std::optional<double> last_x;
+  const AnalysisOptions full = maxima_only(o.analysis);
+  std::optional<double> last_x;  // the last passing value at `full`, and its worst ratio
   double last_worst = kInf;
-  auto pass = [&](double x) {
+  auto pass = [&](const AnalysisOptions& a, double x) {
     ++out.evaluations;
     s.load = make_load(scaled_load(spec, out.measure, x));
-    const double w = analyse(path, s, o.analysis, speed_factor).worst;
+    const double w = analyse(path, s, a, speed_factor).worst;
     const bool ok = w <= limit;
-    if (ok) {
+    if (ok && &a == &full) {
       last_x = x;
       last_worst = w;
     }
     return ok;
   };
-  const LargestPassing b = largest_passing(pass, {x0, x_min, cap, grow, o.rel_tol, true, false});
+  const LargestPassing b = confirmed_passing(pass, {x0, x_min, cap, grow, o.rel_tol, true, false}, full);
   out.value = b.x;
   out.capped = b.capped;
   if (b.x) {
@@ -162,7 +183,7 @@ LoadCapacity load_capacity(const PlacedPath& path, const DynamicsSetup& setup, c
       out.worst = last_worst;
     } else {
       s.load = make_load(scaled_load(spec, out.measure, *b.x));
-      out.worst = analyse(path, s, o.analysis, speed_factor).worst;
+      out.worst = analyse(path, s, full, speed_factor).worst;
     }
   }
   return out;

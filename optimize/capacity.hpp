@@ -16,7 +16,8 @@ struct CapacityOptions {
   double rel_tol = 1e-10;     // bisection, relative in the factor or load
   double max_speed_factor = 100.0;
   double min_speed_factor = 1e-3;
-  AnalysisOptions analysis;   // as `analyze` samples (keep_series is ignored)
+  AnalysisOptions analysis;   // as `analyze` samples: searched at search_analysis(), the answer confirmed at this
+                              // sampling (and searched again at it if not); keep_series is ignored
 };
 
 struct SpeedCapacity {

@@ -22,9 +22,10 @@ bool complete(const PoleValue& v) {
   return v.feasible() && v.area_m2 >= 0.0 && v.torque_computed && v.torque.computed && std::isfinite(v.torque.worst);
 }
 
-// Up to `most` poles of `known` that meet `ok`, least `key` first, each at least `apart` (m) from those taken.
-template <class Ok, class Key>
-std::vector<Placement> starts_from(const std::vector<ParetoPoint>& known, Ok ok, Key key, double apart, size_t most) {
+}  // namespace
+
+std::vector<Placement> starts_from(const std::vector<ParetoPoint>& known, const std::function<bool(const ParetoPoint&)>& ok,
+                                   const std::function<double(const ParetoPoint&)>& key, double apart, size_t most) {
   std::vector<const ParetoPoint*> c;
   for (const ParetoPoint& x : known)
     if (complete(x.v) && ok(x)) c.push_back(&x);
@@ -42,7 +43,20 @@ std::vector<Placement> starts_from(const std::vector<ParetoPoint>& known, Ok ok,
   return out;
 }
 
-}  // namespace
+std::vector<ParetoPoint> survey_points(const PoleSurvey& survey) {
+  std::vector<ParetoPoint> pts;
+  for (int iy = 0; iy < survey.ny; ++iy)
+    for (int ix = 0; ix < survey.nx; ++ix) {
+      const PoleValue& v = survey.cells[static_cast<size_t>(iy) * static_cast<size_t>(survey.nx) + static_cast<size_t>(ix)];
+      const Vec2 pole = survey.pole(ix, iy);
+      if (complete(v)) pts.push_back({pole, placement_of(pole), v, "survey"});
+    }
+  return pts;
+}
+
+double start_spacing(const PoleSurvey& s) {
+  return 1.5 * std::hypot((s.box.x1 - s.box.x0) / std::max(1, s.nx - 1), (s.box.y1 - s.box.y0) / std::max(1, s.ny - 1));
+}
 
 std::vector<ParetoPoint> non_dominated(std::vector<ParetoPoint> pts) {
   std::erase_if(pts, [](const ParetoPoint& x) { return !complete(x.v); });
@@ -72,18 +86,11 @@ ParetoResult pareto_front(const PoleProblem& p0, const Placement& start, const P
   res.survey = survey_poles(p, box, std::max(2, po.survey), std::max(2, po.survey), threads,
                             progress_part(progress, 0.0, 0.3));
   res.evaluations += static_cast<int>(res.survey.cells.size());
-  for (int iy = 0; iy < res.survey.ny; ++iy)
-    for (int ix = 0; ix < res.survey.nx; ++ix) {
-      const PoleValue& v = res.survey.cells[static_cast<size_t>(iy) * static_cast<size_t>(res.survey.nx) +
-                                            static_cast<size_t>(ix)];
-      const Vec2 pole = res.survey.pole(ix, iy);
-      if (complete(v)) pts.push_back({pole, placement_of(pole), v, "survey"});
-    }
+  pts = survey_points(res.survey);
 
   // The searches below start from the survey's best poles (at least one and a half survey cells apart): the
   // survey has mapped the basins, so each search is local (optimize_placement's local stages).
-  const double apart = 1.5 * std::hypot((res.survey.box.x1 - res.survey.box.x0) / std::max(1, res.survey.nx - 1),
-                                        (res.survey.box.y1 - res.survey.box.y0) / std::max(1, res.survey.ny - 1));
+  const double apart = start_spacing(res.survey);
   auto worst = [](const ParetoPoint& x) { return x.v.torque.worst; };
   auto area_of = [](const ParetoPoint& x) { return x.v.area_m2; };
   auto any = [](const ParetoPoint&) { return true; };

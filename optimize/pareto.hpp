@@ -9,6 +9,7 @@
 // with the worst ratio held below levels spread evenly between the two ends); the non-dominated set of everything
 // evaluated. The area error's fine structure (about 1 % when the pole moves by micrometres, docs/area-error.md)
 // makes the front a staircase at that scale.
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,17 @@ struct ParetoResult {
 // `progress`: the share done (the survey, the two ends, the levels, in that order).
 ParetoResult pareto_front(const PoleProblem& p, const Placement& start, const PlacementOptions& o,
                           const ParetoOptions& po = {}, const Progress& progress = {});
+
+// The survey's poles with both objectives computed (feasible, area and torques), as points.
+std::vector<ParetoPoint> survey_points(const PoleSurvey& survey);
+
+// Up to `most` placements of `known`'s points that meet `ok` and have both objectives, least `key` first, each at
+// least `apart` (m) from those taken: the starts of local searches from a survey.
+std::vector<Placement> starts_from(const std::vector<ParetoPoint>& known, const std::function<bool(const ParetoPoint&)>& ok,
+                                   const std::function<double(const ParetoPoint&)>& key, double apart, size_t most);
+
+// How far apart the local searches' starts from a survey are taken: one and a half cell diagonals.
+double start_spacing(const PoleSurvey& survey);
 
 // The non-dominated subset of points with both objectives computed (smaller is better in both), sorted by the worst
 // torque ratio.

@@ -24,7 +24,7 @@ struct TorqueProblem {
 
 // `setup.machine` may point anywhere: the machine is copied and the copy used.
 std::shared_ptr<const TorqueProblem> make_torque_problem(const MachineModel& machine, const DynamicsSetup& setup,
-                                                         int side, AnalysisOptions options = {});
+                                                         int side, AnalysisOptions options = search_analysis());
 
 struct TorqueValue {
   bool computed = false;     // false: a step rate left a motor's tabulated curve (`why`)

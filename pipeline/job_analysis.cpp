@@ -88,11 +88,12 @@ SpeedPlan plan_speed(const Job& job, const PreparedDynamics& prep, const LoadSpe
     const double base = lim.max_speed ? *lim.max_speed : top;
     setup.motion.speed = base;
     const MachineModel& m = *setup.machine;
-    AnalysisOptions quick;
-    quick.keep_series = false;
-    auto passes = [&](double f) {
+    // searched at the searches' sampling, checked at the default one (and searched again at that one if it fails)
+    AnalysisOptions full;
+    full.keep_series = false;
+    auto passes_with = [&](const AnalysisOptions& ao, double f) {
       try {
-        const TorqueAnalysis a = analyze_motion(placed, setup, quick, f);
+        const TorqueAnalysis a = analyze_motion(placed, setup, ao, f);
         if (!judge(a, m, setup.safety_factor).go) return false;
         if (lim.max_angular_speed) {
           // the arm's largest angular speed, from the angular motor's largest step rate
@@ -104,7 +105,12 @@ SpeedPlan plan_speed(const Job& job, const PreparedDynamics& prep, const LoadSpe
         return false;
       }
     };
-    const SpeedSearch sr = max_passing_speed_factor(passes, 1e-6, lim.max_speed ? 1.0 : 100.0);
+    auto passes_at = [&](const AnalysisOptions& ao) {
+      return [&, ao](double f) { return passes_with(ao, f); };
+    };
+    const double most = lim.max_speed ? 1.0 : 100.0;
+    SpeedSearch sr = max_passing_speed_factor(passes_at(search_analysis()), 1e-6, most);
+    if (sr.factor && !passes_with(full, *sr.factor)) sr = max_passing_speed_factor(passes_at(full), 1e-6, most);
     if (sr.factor) {
       plan.constant_speed = *sr.factor * base;
       plan.constant_capped = sr.capped;

@@ -123,6 +123,16 @@ JobStudy study_job(const Job& job, const StudyOptions& o, const Progress& progre
       pb.objective = PoleObjective::balanced;
       PlacementOptions ob = po;
       ob.objective = PoleObjective::balanced;
+      // local, from the survey's three best separated poles of the balanced objective: the survey has mapped its
+      // basins (the search from the whole box is `optimize --objective balanced`'s)
+      if (po.hold == PoleHold::none)
+        ob.local_starts = starts_from(
+            survey_points(st.survey), [](const ParetoPoint& x) { return std::isfinite(x.v.torque.balanced); },
+            [](const ParetoPoint& x) { return x.v.torque.balanced; }, start_spacing(st.survey), 3);
+      if (!ob.local_starts.empty()) {
+        ob.box = box;
+        if (o.max_evaluations <= 0) ob.max_evaluations = 300;
+      }
       const PlacementResult r = optimize_placement(pb, cjob.placement, ob, progress_part(progress, 0.6, 0.78));
       st.cands.push_back({"balanced torque", r.placement, job_area(cjob, r.placement), job_dynamics_at(cjob, r.placement)});
     }

@@ -37,8 +37,8 @@ CaseDynamics analyze_dynamics(const PlacedPath& p, const DynamicsSetup& s, const
   r.analysis = analyze_motion(p, s, o);
   r.verdict = judge(r.analysis, m, s.safety_factor);
   if (search_speed) {
-    // The search samples at the default density (its maxima are refined, so they barely depend on it) and checks
-    // its answer at the caller's density; only if that fails does it search again at that density.
+    // The search samples at the searches' density (search_analysis: its maxima are refined, so they barely depend
+    // on it) and checks its answer at the caller's density; only if that fails does it search again at that density.
     auto passes = [&](const AnalysisOptions& oo) {
       return [&, oo](double f) {
         if (f == 1.0) return r.verdict.go;
@@ -49,8 +49,7 @@ CaseDynamics analyze_dynamics(const PlacedPath& p, const DynamicsSetup& s, const
         }
       };
     };
-    AnalysisOptions quick;
-    quick.keep_series = false;
+    const AnalysisOptions quick = search_analysis();
     AnalysisOptions full = o;
     full.keep_series = false;
     r.search = max_passing_speed_factor(passes(quick));

@@ -51,18 +51,22 @@ class Evaluator {
  public:
   explicit Evaluator(const DynamicsInput& in) : in_(in) {}
 
-  TorqueSample at(size_t piece, double t, End end) const {
+  // `place`: also the machine angle and the time (for the series and the reported places; a search's samples
+  // do without)
+  TorqueSample at(size_t piece, double t, End end, bool place = true) const {
     const TrackPiece& p = in_.track->pieces()[piece];
     TorqueSample x;
     x.u = t >= 1.0 ? p.ub : (t <= -1.0 ? p.ua : p.u_at(t));
     double u_eval = x.u;
     if (end == End::finish && t >= 1.0) u_eval = std::nextafter(p.ub, p.ua);  // left limit at a path breakpoint
     x.s = std::clamp(in_.track->s(piece, t), 0.0, in_.track->length());
-    x.theta = in_.track->theta(piece, t) + in_.theta_shift;
     const SpeedProfile& prof = *in_.profile;
+    if (place) {
+      x.theta = in_.track->theta(piece, t) + in_.theta_shift;
+      x.t = prof.time_at(x.s);
+    }
     const double V = prof.speed_at(x.s);
     const double a_t = prof.accel_at(end == End::finish ? std::nextafter(x.s, -1.0) : x.s);
-    x.t = prof.time_at(x.s);
     const PathState st = path_state(in_.path->eval(u_eval, 2), V, a_t);
     x.r = st.r;
     const FrictionMode mode = end == End::finish ? FrictionMode::reversal_before : FrictionMode::moving;
@@ -70,6 +74,7 @@ class Evaluator {
     try {
       d = point_dynamics(st, x.s, *in_.machine, *in_.load, in_.side, mode);
     } catch (const OutsideCurveError& e) {
+      if (!place) x.theta = in_.track->theta(piece, t) + in_.theta_shift;
       throw OutsideCurveError(std::string(e.what()) + " at theta = " + num(x.theta) + " rad, r = " + num(x.r * 1e3) +
                               " mm, " + num(x.s * 1e3) + " mm along the path");
     }
@@ -87,8 +92,9 @@ class Evaluator {
 struct Candidate {
   double value = -std::numeric_limits<double>::infinity();
   size_t piece = 0;
+  double t = 0;           // where the sample is
   double lo = 0, hi = 0;  // bracket in t
-  TorqueSample sample;
+  TorqueSample sample;    // without its place when the series is not kept (Evaluator::at)
 };
 
 void offer(std::array<Candidate, kCandidates>& c, const Candidate& x) {
@@ -107,6 +113,14 @@ bool same_values(const TorqueSample& a, const TorqueSample& b) {
 }
 
 }  // namespace
+
+AnalysisOptions search_analysis() {
+  AnalysisOptions o;
+  o.target_samples = 1000;
+  o.keep_series = false;
+  o.refine_torques = false;
+  return o;
+}
 
 double balanced_torque(double ratio_R, double ratio_theta) {
   const double a = std::abs(ratio_R), b = std::abs(ratio_theta);
@@ -181,8 +195,8 @@ TorqueAnalysis analyze_torques(const DynamicsInput& in, const AnalysisOptions& o
       seg.resize(ts.size());
       for (int j = 0; j <= n; ++j) {
         ts[static_cast<size_t>(j)] = j == n ? tb : ta + (tb - ta) * j / n;
-        seg[static_cast<size_t>(j)] =
-            ev.at(i, ts[static_cast<size_t>(j)], j == n ? End::finish : End::none);
+        seg[static_cast<size_t>(j)] = ev.at(i, ts[static_cast<size_t>(j)], j == n ? End::finish : End::none,
+                                            opt.keep_series || j == 0 || j == n);
       }
       // local maxima of each quantity (the first sample of a plateau)
       qv.resize(seg.size() * kQuantities);
@@ -199,6 +213,7 @@ TorqueAnalysis analyze_torques(const DynamicsInput& in, const AnalysisOptions& o
           Candidate c;
           c.value = v;
           c.piece = i;
+          c.t = ts[static_cast<size_t>(j)];
           c.lo = ts[static_cast<size_t>(std::max(0, j - 1))];
           c.hi = ts[static_cast<size_t>(std::min(n, j + 1))];
           c.sample = seg[static_cast<size_t>(j)];
@@ -226,10 +241,15 @@ TorqueAnalysis analyze_torques(const DynamicsInput& in, const AnalysisOptions& o
   for (int q = 0; q < kQuantities; ++q) {
     Extreme& b = best[static_cast<size_t>(q)];
     b.value = -std::numeric_limits<double>::infinity();
+    const Candidate* sampled = nullptr;  // the best value is a sample's, not a refined one
     for (const Candidate& c : cand[static_cast<size_t>(q)]) {
       if (c.value == -std::numeric_limits<double>::infinity()) continue;
-      if (c.value > b.value) b = {c.value, c.sample};
+      if (c.value > b.value) {
+        b = {c.value, c.sample};
+        sampled = &c;
+      }
       if (!std::isfinite(c.value) || !(c.hi > c.lo)) continue;
+      if (!opt.refine_torques && (q == kTorqueR || q == kTorqueT || q == kTotal)) continue;
       auto f = [&](double t) {
         const double v = quantity(ev.at(c.piece, t, End::none), q);
         return std::isfinite(v) ? -v : -std::numeric_limits<double>::max();
@@ -240,7 +260,14 @@ TorqueAnalysis analyze_torques(const DynamicsInput& in, const AnalysisOptions& o
       if (-r.second > b.value) {
         TorqueSample x = ev.at(c.piece, r.first, End::none);
         b = {quantity(x, q), x};
+        sampled = nullptr;
       }
+    }
+    // a sample inside a segment was taken without its place: add it (the same values again at a segment's ends)
+    if (sampled && !opt.keep_series) {
+      const TorqueSample& x = sampled->sample;
+      b.at.theta = tr.theta(sampled->piece, sampled->t) + in.theta_shift;
+      b.at.t = in.profile->time_at(x.s);
     }
   }
   res.radial = {best[kRatioR], best[kTorqueR], best[kRateR]};

@@ -26,7 +26,18 @@ struct AnalysisOptions {
   int target_samples = 4000;
   int min_per_segment = 16;
   bool keep_series = true;  // false: maxima only
+  // The maxima of the torques' magnitudes and of their sum refined too (false: those three are the sampled maxima;
+  // the ratios, the step rates and the balanced objective are always refined).
+  bool refine_torques = true;
 };
+
+// The sampling of the searches that analyse a path many times (the pole placement's torque objectives, the speed
+// and load capacities, the constant-speed plan): maxima only, 1000 samples along the path (each segment still gets
+// `min_per_segment`), since the maxima are refined between samples and so do not depend on the sampling beyond a
+// peak narrower than two spacings; the torques' magnitudes not refined (no search reads them)
+// (docs/optimum-loading.md, "Sampling of the searches"). What a search finds is reported from an analysis at the
+// default sampling.
+AnalysisOptions search_analysis();
 
 // The kinematics of a sample (PathState without its unit vectors).
 struct SampleKinematics {

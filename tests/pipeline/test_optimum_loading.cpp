@@ -188,4 +188,61 @@ TEST(TorqueLimitedArea, NoDenseSearchFindsMoreThanOnePercentBetter) {
                                        << r.pole.y << "), dense " << best * 1e6 << " mm^2";
 }
 
+// The searches analyse the path at fewer samples (search_analysis: 1000 along the path) than `analyze` (4000), since
+// the maxima are refined between samples. At a 9 x 9 lattice of poles over each job's feasible box, every maximum a
+// search reads (both torque ratios, their sum, the balanced objective, the step-rate excess) agrees with the one at
+// `analyze`'s sampling and with one at five times it, to 1e-9. (Under the sanitizers two jobs, unless
+// POLARCAM_LONG_TESTS=1.)
+TEST(SearchSampling, MaximaAgreeWithTheDefaultSamplingAcrossTheFeasiblePoles) {
+  for (const std::string name : {"circle_inertial", "witch_grinding", "circle_grinding", "witch_inertial",
+                                 "limacon_inertial", "limacon_grinding", "serpentine_inertial", "serpentine_grinding"}) {
+#ifdef POLARCAM_SANITIZED
+    if (!test::long_tests() && name != "circle_inertial" && name != "witch_grinding") continue;
+#endif
+    const Job job = load_job(example(name));
+    PlacementOptions o = job.optimize;
+    o.objective = PoleObjective::balanced;
+    const PoleProblem p = job_pole_problem(job, o, true);
+    ASSERT_TRUE(p.torque);
+    ASSERT_EQ(p.torque->options.target_samples, search_analysis().target_samples);
+    auto with = [&](int samples) {
+      PoleProblem q = p;
+      AnalysisOptions a;
+      a.target_samples = samples;
+      q.torque = make_torque_problem(p.torque->machine, p.torque->setup, p.torque->side, a);
+      return q;
+    };
+    const PoleProblem p_default = with(AnalysisOptions{}.target_samples), p_fine = with(20000);
+    const SearchBox box = feasible_box(p, search_box(p), 41, 2);
+    std::vector<Vec2> poles;
+    const int n = 9;
+    for (int iy = 0; iy < n; ++iy)
+      for (int ix = 0; ix < n; ++ix)
+        poles.push_back({box.x0 + (box.x1 - box.x0) * ix / (n - 1), box.y0 + (box.y1 - box.y0) * iy / (n - 1)});
+    const std::vector<PoleValue> vs = evaluate_poles(p, poles, 2), vd = evaluate_poles(p_default, poles, 2),
+                                 vf = evaluate_poles(p_fine, poles, 2);
+    int compared = 0;
+    for (size_t i = 0; i < poles.size(); ++i) {
+      if (!vs[i].feasible() || !vs[i].torque_computed) continue;
+      for (const PoleValue* other : {&vd[i], &vf[i]}) {
+        ASSERT_TRUE(other->torque_computed) << name << " pole " << i;
+        const TorqueValue &a = vs[i].torque, &b = other->torque;
+        ASSERT_EQ(a.computed, b.computed) << name << " pole " << i;
+        if (!a.computed) continue;
+        auto close = [](double x, double y, double tol = 1e-9) {
+          return x == y || std::abs(x - y) <= tol * std::max(std::abs(x), std::abs(y));
+        };
+        EXPECT_TRUE(close(a.ratio_radial, b.ratio_radial)) << name << " pole " << i << ": " << a.ratio_radial << " " << b.ratio_radial;
+        EXPECT_TRUE(close(a.ratio_angular, b.ratio_angular)) << name << " pole " << i << ": " << a.ratio_angular << " " << b.ratio_angular;
+        EXPECT_TRUE(close(a.ratio_sum, b.ratio_sum)) << name << " pole " << i << ": " << a.ratio_sum << " " << b.ratio_sum;
+        EXPECT_TRUE(close(a.balanced, b.balanced, 1e-7)) << name << " pole " << i << ": " << a.balanced << " " << b.balanced;
+        EXPECT_TRUE(close(a.rate_over, b.rate_over)) << name << " pole " << i << ": " << a.rate_over << " " << b.rate_over;
+        EXPECT_EQ(a.go, b.go) << name << " pole " << i;
+      }
+      ++compared;
+    }
+    EXPECT_GE(compared, 20) << name;
+  }
+}
+
 }  // namespace tu_pipeline_test_optimum_loading
