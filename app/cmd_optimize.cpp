@@ -104,7 +104,6 @@ int run_pareto(const Job& job, PlacementOptions opt, const Opts& o) {
     j["least_area_within_limit"] = within ? point_json(*within) : json(nullptr);
     j["survey_size"] = r.survey.nx;
     j["evaluations"] = r.evaluations;
-    j["wall_s"] = wall;
     std::cout << j.dump(2) << "\n";
     return 0;
   }
@@ -243,7 +242,6 @@ int run(const Opts& o) {
     if (dyn) torque_fields(j, *dyn);
     j["margin_mm"] = std::isfinite(r.at.margin) ? json(r.at.margin * 1e3) : json();
     j["evaluations"] = r.evaluations;
-    j["wall_s"] = wall;
     json st;
     st["C_mm"] = job.placement.C * 1e3;
     st["beta_rad"] = job.placement.beta;

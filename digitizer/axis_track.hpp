@@ -25,6 +25,7 @@ struct TrackPiece {
   double q_b[2] = {0, 0};        // axis coordinates at ub
   Cheb Q[2], dQ[2], V, S;        // series on t in [-1, 1] (derivatives with respect to t)
   uint32_t ext_begin = 0, ext_end = 0;  // [begin, end) into AxisTrack::extrema(): sorted t in (-1, 1)
+  uint32_t turn_begin = 0, turn_end = 0;  // [begin, end) into AxisTrack::turns(): those of axis 1 alone
 
   double u_at(double t) const { return 0.5 * (ua + ub) + 0.5 * (ub - ua) * t; }
 };
@@ -39,6 +40,9 @@ class AxisTrack {
  public:
   const std::vector<TrackPiece>& pieces() const { return pieces_; }
   const std::vector<double>& extrema() const { return extrema_; }
+  // The extrema of axis 1 alone (where it turns: a polar track's arm reverses), sorted t in (-1, 1) a piece, at
+  // least 1e-14 apart and from the ends (TrackPiece::turn_begin, turn_end).
+  const std::vector<double>& turns() const { return turns_; }
   double length() const { return length_; }
   bool closed() const { return closed_; }
   // Turns a closed path makes about the axis map's centre (its angular axis); 0 for open paths and for maps
@@ -63,7 +67,7 @@ class AxisTrack {
   void finish();
 
   std::vector<TrackPiece> pieces_;
-  std::vector<double> extrema_;
+  std::vector<double> extrema_, turns_;
   double length_ = 0;
   bool closed_ = false;
   int winding_ = 0;

@@ -142,6 +142,7 @@ struct PolylineTrackFill {
     const auto& v = path.vertices();
     tr.pieces_.clear();
     tr.extrema_.clear();
+    tr.turns_.clear();
     tr.closed_ = path.closed();
     tr.pieces_.reserve(v.size() - 1);  // one piece a segment as a rule
     polyline_pieces(path, c, r_floor, [&](const TrackPiece& pc, size_t, double, double) { tr.pieces_.push_back(pc); });

@@ -67,6 +67,15 @@ PoleProblem make_pole_problem(CurvePtr path0, const Grid& grid, StepRule rule, P
   p.f1_points = segment_points(*p.path0, segments);
   p.polyline = segment_points(*p.path0, 4096);
   for (const Vec2& v : p.polyline) p.coordinate_scale = std::max(p.coordinate_scale, norm(v));
+  for (size_t b = 0; b * kPolylineBlock + 1 < p.polyline.size(); ++b) {
+    std::array<double, 4> box{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+                              -std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+    for (size_t i = b * kPolylineBlock; i <= std::min((b + 1) * kPolylineBlock, p.polyline.size() - 1); ++i) {
+      box[0] = std::min(box[0], p.polyline[i].x), box[1] = std::min(box[1], p.polyline[i].y);
+      box[2] = std::max(box[2], p.polyline[i].x), box[3] = std::max(box[3], p.polyline[i].y);
+    }
+    p.polyline_blocks.push_back(box);
+  }
   if (pole_outside) {
     if (!p.path0->closed()) throw InputError("the constraint 'pole outside the contour' needs a closed contour");
     // the polygon: the path sampled finely (chord error below a micrometre for radii of curvature above 1 cm)
@@ -128,11 +137,28 @@ PoleValue PoleEvaluator::run(Vec2 pole, bool want_area, bool want_value, bool on
   if (!p_.polyline.empty()) {
     const double clear = kPoleClearance * (p_.coordinate_scale + norm(pole));
     double d2 = std::numeric_limits<double>::infinity();
-    for (size_t i = 0; i + 1 < p_.polyline.size(); ++i) {
-      const Vec2 a = p_.polyline[i] - pole, d = p_.polyline[i + 1] - p_.polyline[i];
-      const double l2 = dot(d, d), s = l2 > 0.0 ? std::clamp(-dot(a, d) / l2, 0.0, 1.0) : 0.0;
-      const Vec2 q = a + s * d;
-      d2 = std::min(d2, dot(q, q));
+    auto segments = [&](size_t i0, size_t i1) {
+      for (size_t i = i0; i < i1; ++i) {
+        const Vec2 a = p_.polyline[i] - pole, d = p_.polyline[i + 1] - p_.polyline[i];
+        const double l2 = dot(d, d), s = l2 > 0.0 ? std::clamp(-dot(a, d) / l2, 0.0, 1.0) : 0.0;
+        const Vec2 q = a + s * d;
+        d2 = std::min(d2, dot(q, q));
+      }
+    };
+    const size_t n = p_.polyline.size() - 1;
+    if (p_.polyline_blocks.size() == (n + kPolylineBlock - 1) / kPolylineBlock) {
+      // a run whose box lies beyond the clearance (with room for rounding) holds no segment within it: the least
+      // distance, where it is below the clearance, is the same as over every segment
+      const double reach2 = clear * clear * (1.0 + 1e-9);
+      for (size_t b = 0; b < p_.polyline_blocks.size(); ++b) {
+        const auto& box = p_.polyline_blocks[b];
+        const double dx = std::max({box[0] - pole.x, 0.0, pole.x - box[2]});
+        const double dy = std::max({box[1] - pole.y, 0.0, pole.y - box[3]});
+        if (dx * dx + dy * dy > reach2) continue;
+        segments(b * kPolylineBlock, std::min((b + 1) * kPolylineBlock, n));
+      }
+    } else {
+      segments(0, n);
     }
     if (d2 < clear * clear) {
       out.why = "the path passes within " + std::to_string(std::sqrt(d2) * 1e3) + " mm of the machine pole";

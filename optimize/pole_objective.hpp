@@ -2,6 +2,7 @@
 // The objective of pole placement, evaluated at one machine-pole position (docs/area-error.md).
 // A pole position is the vector O - O1 from the contour pole to the machine pole (the thesis's C e^{j beta}),
 // in metres. The tool path as the machine sees it is the path built at C = 0, moved by -(O - O1).
+#include <array>
 #include <memory>
 #include <optional>
 #include <string>
@@ -54,6 +55,9 @@ struct PoleProblem {
   // kPoleClearance (|coordinates| + |pole|) are not evaluated (see PoleEvaluator).
   std::vector<Vec2> polyline;
   double coordinate_scale = 0.0;
+  // The bounding box (x0, y0, x1, y1) of each run of kPolylineBlock segments of `polyline`: the clearance check skips
+  // the runs whose box is farther than the clearance (filled by make_pole_problem; empty: every segment is checked).
+  std::vector<std::array<double, 4>> polyline_blocks;
   // The dynamics (the balanced and torque objectives, and the torque limit need them).
   std::shared_ptr<const TorqueProblem> torque;
   // Set: a constraint: every torque ratio within this limit (normally 1 / safety factor) and no motor above its
@@ -69,6 +73,7 @@ inline constexpr double kTorqueMarginLength = 0.01;
 // polar track cannot resolve a path that passes the pole at about 1 % of its coordinates (its convergence
 // tolerance on r is relative to r while rounding is relative to the coordinates; it then subdivides without end).
 inline constexpr double kPoleClearance = 0.02;
+inline constexpr size_t kPolylineBlock = 64;
 
 // Fills the derived fields. `pole_outside` needs a closed contour (throws InputError otherwise).
 PoleProblem make_pole_problem(CurvePtr path0, const Grid& grid, StepRule rule, PoleObjective objective, int segments,

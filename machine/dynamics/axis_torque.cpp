@@ -44,7 +44,8 @@ PointDynamics point_dynamics(const PathState& st, double s, const MachineModel& 
   // the arm turns when its speed is more than rounding of the tangential speed; where it does not, theta'' says
   // which way it is about to turn (a reversal or a start from rest)
   const bool turning = std::abs(st.r * st.theta_dot) > 1e-9 * st.V;
-  const double accel_scale = std::hypot(st.a_t, st.V * st.V * st.kappa) + st.V * st.V / st.r;
+  const double a_n = st.V * st.V * st.kappa;
+  const double accel_scale = std::sqrt(st.a_t * st.a_t + a_n * a_n) + st.V * st.V / st.r;
   const double dir = std::abs(st.r * st.theta_ddot) > 1e-9 * accel_scale ? sgn(st.theta_ddot) : 0.0;
   if (turning) {
     T_theta = k.K1 * (rest + F * sgn(st.theta_dot));

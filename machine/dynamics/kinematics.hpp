@@ -26,7 +26,7 @@ struct PathState {
 
 // From the path point and its first two derivatives with respect to the path parameter (origin at the machine
 // pole), the speed V and tangential acceleration a_t there. The point must not be the pole and Q' must not
-// vanish.
-PathState path_state(const CurvePoint& q, double V, double a_t);
+// vanish. `with_gamma` false leaves gamma at 0 (an atan2 the torque analysis needs only at the ends of its segments).
+PathState path_state(const CurvePoint& q, double V, double a_t, bool with_gamma = true);
 
 }  // namespace polarcam

@@ -51,8 +51,8 @@ class Evaluator {
  public:
   explicit Evaluator(const DynamicsInput& in) : in_(in) {}
 
-  // `place`: also the machine angle and the time (for the series and the reported places; a search's samples
-  // do without)
+  // `place`: also the machine angle, the time and the direction of travel gamma (for the series, the corners and
+  // the reported places; a search's samples inside a segment do without)
   TorqueSample at(size_t piece, double t, End end, bool place = true) const {
     const TrackPiece& p = in_.track->pieces()[piece];
     TorqueSample x;
@@ -67,7 +67,7 @@ class Evaluator {
     }
     const double V = prof.speed_at(x.s);
     const double a_t = prof.accel_at(end == End::finish ? std::nextafter(x.s, -1.0) : x.s);
-    const PathState st = path_state(in_.path->eval(u_eval, 2), V, a_t);
+    const PathState st = path_state(in_.path->eval(u_eval, 2), V, a_t, place);
     x.r = st.r;
     const FrictionMode mode = end == End::finish ? FrictionMode::reversal_before : FrictionMode::moving;
     PointDynamics d;
@@ -93,8 +93,10 @@ struct Candidate {
   double value = -std::numeric_limits<double>::infinity();
   size_t piece = 0;
   double t = 0;           // where the sample is
+  End end = End::none;    // and which limit it is
+  bool placed = true;     // false: `sample` was taken without its place (Evaluator::at)
   double lo = 0, hi = 0;  // bracket in t
-  TorqueSample sample;    // without its place when the series is not kept (Evaluator::at)
+  TorqueSample sample;
 };
 
 void offer(std::array<Candidate, kCandidates>& c, const Candidate& x) {
@@ -181,7 +183,7 @@ TorqueAnalysis analyze_torques(const DynamicsInput& in, const AnalysisOptions& o
   for (size_t i = 0; i < pieces.size(); ++i) {
     const TrackPiece& p = pieces[i];
     cuts.assign({-1.0, 1.0});
-    cheb_sign_changes(p.dQ[1], cuts);  // reversals of the arm
+    cuts.insert(cuts.end(), tr.turns().begin() + p.turn_begin, tr.turns().begin() + p.turn_end);  // the arm reverses
     while (next_kink < kinks.size() && kinks[next_kink].first < i) ++next_kink;
     for (; next_kink < kinks.size() && kinks[next_kink].first == i; ++next_kink) cuts.push_back(kinks[next_kink].second);
     std::sort(cuts.begin(), cuts.end());
@@ -191,12 +193,13 @@ TorqueAnalysis analyze_torques(const DynamicsInput& in, const AnalysisOptions& o
       const double ta = cuts[k], tb = cuts[k + 1];
       const double len = p.S(tb) - p.S(ta);
       const int n = std::max(min_n, static_cast<int>(std::min(1e9, std::ceil(len / h))));
+      auto placed = [&](int j) { return opt.keep_series || j == 0 || j == n; };
       ts.resize(static_cast<size_t>(n) + 1);
       seg.resize(ts.size());
       for (int j = 0; j <= n; ++j) {
         ts[static_cast<size_t>(j)] = j == n ? tb : ta + (tb - ta) * j / n;
         seg[static_cast<size_t>(j)] = ev.at(i, ts[static_cast<size_t>(j)], j == n ? End::finish : End::none,
-                                            opt.keep_series || j == 0 || j == n);
+                                            placed(j));
       }
       // local maxima of each quantity (the first sample of a plateau)
       qv.resize(seg.size() * kQuantities);
@@ -214,6 +217,8 @@ TorqueAnalysis analyze_torques(const DynamicsInput& in, const AnalysisOptions& o
           c.value = v;
           c.piece = i;
           c.t = ts[static_cast<size_t>(j)];
+          c.end = j == n ? End::finish : End::none;
+          c.placed = placed(j);
           c.lo = ts[static_cast<size_t>(std::max(0, j - 1))];
           c.hi = ts[static_cast<size_t>(std::min(n, j + 1))];
           c.sample = seg[static_cast<size_t>(j)];
@@ -263,12 +268,8 @@ TorqueAnalysis analyze_torques(const DynamicsInput& in, const AnalysisOptions& o
         sampled = nullptr;
       }
     }
-    // a sample inside a segment was taken without its place: add it (the same values again at a segment's ends)
-    if (sampled && !opt.keep_series) {
-      const TorqueSample& x = sampled->sample;
-      b.at.theta = tr.theta(sampled->piece, sampled->t) + in.theta_shift;
-      b.at.t = in.profile->time_at(x.s);
-    }
+    // a sample inside a segment was taken without its place: the same sample again with it
+    if (sampled && !sampled->placed) b.at = ev.at(sampled->piece, sampled->t, sampled->end);
   }
   res.radial = {best[kRatioR], best[kTorqueR], best[kRateR]};
   res.angular = {best[kRatioT], best[kTorqueT], best[kRateT]};

@@ -83,7 +83,7 @@ TEST(OptimizeCli, JsonWriteJobAndMaps) {
   const std::string written = sc.path("out/best.toml"), csv = sc.path("map.csv"), png = sc.path("map.png");
   json o = cli_json("optimize " + job + " --json --write-job " + written + " --map " + csv + " --map-image " + png +
                         " --map-size 9");
-  for (const char* key : {"C_mm", "beta_rad", "area_error_mm2", "objective", "evaluations", "wall_s", "F1"})
+  for (const char* key : {"C_mm", "beta_rad", "area_error_mm2", "objective", "evaluations", "F1"})
     EXPECT_TRUE(o[key].is_number()) << key;
   EXPECT_EQ(o["objective_name"], "area");
   EXPECT_EQ(o["objective"].get<double>(), o["area_error_mm2"].get<double>());
