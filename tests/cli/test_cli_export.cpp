@@ -13,6 +13,7 @@
 
 #include "cam/thr_file.hpp"
 #include "tests/cli_runner.hpp"
+#include "tests/rs274.hpp"
 
 namespace tu_cli_test_cli_export {  // the test files of a program compile together (unity build)
 
@@ -37,11 +38,9 @@ struct SandScratch : Scratch {
 // rs274 exits 0 and says nothing of an error for the file.
 void expect_rs274_accepts(const std::string& file) {
   ASSERT_STRNE(POLARCAM_RS274, "") << "rs274 (Debian package linuxcnc-uspace) is needed for this test";
-  const std::string log = file + ".rs274";
-  const int st = std::system((std::string(POLARCAM_RS274) + " -g " + file + " </dev/null >" + log + " 2>&1").c_str());
-  std::string out = read_file(log);
-  std::remove(log.c_str());
-  EXPECT_TRUE(WIFEXITED(st) && WEXITSTATUS(st) == 0) << out.substr(0, 2000);
+  const Rs274Run r = run_rs274(file);
+  std::string out = r.out + r.err;
+  EXPECT_EQ(r.status, 0) << out.substr(0, 2000);
   for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   EXPECT_EQ(out.find("error"), std::string::npos) << out.substr(0, 2000);
   EXPECT_NE(out.find("program_end()"), std::string::npos);

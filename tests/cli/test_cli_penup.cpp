@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "tests/cli_runner.hpp"
+#include "tests/rs274.hpp"
 
 namespace tu_cli_test_cli_penup {  // the test files of a program compile together (unity build)
 
@@ -161,10 +162,9 @@ TEST(CliPenUp, GcodeLiftsTheToolAroundEachRapidAndLinuxCncAcceptsIt) {
   EXPECT_EQ(g0, 4u);
   EXPECT_TRUE(tool_up) << "the tool is lifted at the end";
   ASSERT_STRNE(POLARCAM_RS274, "") << "rs274 (Debian package linuxcnc-uspace) is needed for this test";
-  const std::string log = out + ".rs274";
-  const int st = std::system((std::string(POLARCAM_RS274) + " -g " + out + " </dev/null >" + log + " 2>&1").c_str());
-  std::string canon = read_file(log);
-  EXPECT_TRUE(WIFEXITED(st) && WEXITSTATUS(st) == 0) << canon.substr(0, 2000);
+  const Rs274Run r = run_rs274(out);
+  const std::string canon = r.out + r.err;
+  EXPECT_EQ(r.status, 0) << canon.substr(0, 2000);
   std::string lower = canon;
   for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   EXPECT_EQ(lower.find("error"), std::string::npos) << canon.substr(0, 2000);

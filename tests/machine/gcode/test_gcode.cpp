@@ -16,6 +16,7 @@
 
 #include "cam/error.hpp"
 #include "machine/gcode/gcode.hpp"
+#include "tests/rs274.hpp"
 #include "tests/temp_path.hpp"
 
 namespace tu_machine_gcode_test_gcode {  // the test files of a program compile together (unity build)
@@ -244,26 +245,12 @@ GcodeSpec spec(FeedMode mode, double coupling) {
 }
 
 // rs274 on a program: its exit status, its output (the canonical calls) and its error output.
-struct Rs274 {
-  int status = -1;
-  std::string out, err;
-};
+using Rs274 = test::Rs274Run;
 Rs274 run_rs274(const std::string& program, const std::string& name) {
-  const std::string file = test::temp_path(name + ".ngc"), out = file + ".out", err = file + ".err";
+  const std::string file = test::temp_path(name + ".ngc");
   std::ofstream(file) << program;
-  const std::string cmd = std::string(POLARCAM_RS274) + " -g " + file + " <" + "/dev/null >" + out + " 2>" + err;
-  Rs274 r;
-  const int st = std::system(cmd.c_str());
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  auto slurp = [](const std::string& p) {
-    std::ifstream in(p);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-  };
-  r.out = slurp(out);
-  r.err = slurp(err);
+  Rs274 r = test::run_rs274(file);
   std::remove(file.c_str());
-  std::remove(out.c_str());
-  std::remove(err.c_str());
   return r;
 }
 
