@@ -36,15 +36,11 @@ Analysed analyse(const PlacedPath& path, const DynamicsSetup& setup, const Analy
   return r;
 }
 
-// largest_passing at the searches' sampling (search_analysis), then the answer confirmed at `full`: it passes there
-// and, unless capped, a value two tolerances above it does not. Otherwise (or when nothing passed) the search runs
-// again at `full`. `pass(options, x)`.
-LargestPassing confirmed_passing(const std::function<bool(const AnalysisOptions&, double)>& pass,
-                                 const BracketSpec& spec, const AnalysisOptions& full) {
-  const AnalysisOptions quick = search_analysis();
-  const LargestPassing b = largest_passing([&](double x) { return pass(quick, x); }, spec);
-  if (b.x && pass(full, *b.x) && (b.capped || !pass(full, *b.x * (1.0 + 2.0 * spec.rel_tol)))) return b;
-  return largest_passing([&](double x) { return pass(full, x); }, spec);
+// The largest passing value, searched at the searches' sampling (search_analysis) and confirmed at `full`
+// (confirmed_largest_passing). `pass(exact, x)`: at `full` when `exact`.
+LargestPassing confirmed_passing(const std::function<bool(bool, double)>& pass, const BracketSpec& spec) {
+  return confirmed_largest_passing([&](double x) { return pass(false, x); }, [&](double x) { return pass(true, x); },
+                                   spec);
 }
 
 AnalysisOptions maxima_only(AnalysisOptions a) {
@@ -66,10 +62,10 @@ SpeedCapacity speed_capacity(const PlacedPath& path, const DynamicsSetup& setup,
   std::optional<double> last_f;  // the last passing factor at `full`, and its worst ratio
   double last_worst = kInf;
   Analysed at1;                  // at the job's speed, at `full`
-  auto pass = [&](const AnalysisOptions& a, double f) {
+  const AnalysisOptions quick = search_analysis();
+  auto pass = [&](bool at_full, double f) {
     ++out.evaluations;
-    const Analysed r = analyse(path, setup, a, f);
-    const bool at_full = &a == &full;
+    const Analysed r = analyse(path, setup, at_full ? full : quick, f);
     if (at_full && f == 1.0) at1 = r;
     const bool ok = r.worst <= limit;
     if (ok && at_full) {
@@ -79,8 +75,7 @@ SpeedCapacity speed_capacity(const PlacedPath& path, const DynamicsSetup& setup,
     return ok;
   };
   const LargestPassing b = confirmed_passing(
-      pass, {1.0, o.min_speed_factor, o.max_speed_factor, [](double f) { return 1.25 * f; }, o.rel_tol, true, true},
-      full);
+      pass, {1.0, o.min_speed_factor, o.max_speed_factor, [](double f) { return 1.25 * f; }, o.rel_tol, true, true});
   out.factor = b.x;
   out.capped = b.capped;
   if (b.x) out.worst = (last_f && *last_f == *b.x) ? last_worst : analyse(path, setup, full, *b.x).worst;
@@ -91,13 +86,12 @@ SpeedCapacity speed_capacity(const PlacedPath& path, const DynamicsSetup& setup,
     if (!setup.motion.accel || !setup.motion.table.empty()) {
       if (at1.rate_over > 0.0) out.step_rate_factor = 1.0 / at1.rate_over;
     } else {
-      auto rate_ok = [&](const AnalysisOptions& a, double f) {
+      auto rate_ok = [&](bool at_full, double f) {
         ++out.evaluations;
-        return analyse(path, setup, a, f).rate_over <= 1.0;
+        return analyse(path, setup, at_full ? full : quick, f).rate_over <= 1.0;
       };
       const LargestPassing r = confirmed_passing(
-          rate_ok,
-          {1.0, o.min_speed_factor, o.max_speed_factor, [](double f) { return 1.25 * f; }, o.rel_tol, true, true}, full);
+          rate_ok, {1.0, o.min_speed_factor, o.max_speed_factor, [](double f) { return 1.25 * f; }, o.rel_tol, true, true});
       out.step_rate_factor = r.x;
     }
   }
@@ -164,18 +158,19 @@ LoadCapacity load_capacity(const PlacedPath& path, const DynamicsSetup& setup, c
   const AnalysisOptions full = maxima_only(o.analysis);
   std::optional<double> last_x;  // the last passing value at `full`, and its worst ratio
   double last_worst = kInf;
-  auto pass = [&](const AnalysisOptions& a, double x) {
+  const AnalysisOptions quick = search_analysis();
+  auto pass = [&](bool at_full, double x) {
     ++out.evaluations;
     s.load = make_load(scaled_load(spec, out.measure, x));
-    const double w = analyse(path, s, a, speed_factor).worst;
+    const double w = analyse(path, s, at_full ? full : quick, speed_factor).worst;
     const bool ok = w <= limit;
-    if (ok && &a == &full) {
+    if (ok && at_full) {
       last_x = x;
       last_worst = w;
     }
     return ok;
   };
-  const LargestPassing b = confirmed_passing(pass, {x0, x_min, cap, grow, o.rel_tol, true, false}, full);
+  const LargestPassing b = confirmed_passing(pass, {x0, x_min, cap, grow, o.rel_tol, true, false});
   out.value = b.x;
   out.capped = b.capped;
   if (b.x) {

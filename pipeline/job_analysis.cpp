@@ -88,7 +88,7 @@ SpeedPlan plan_speed(const Job& job, const PreparedDynamics& prep, const LoadSpe
     const double base = lim.max_speed ? *lim.max_speed : top;
     setup.motion.speed = base;
     const MachineModel& m = *setup.machine;
-    // searched at the searches' sampling, checked at the default one (and searched again at that one if it fails)
+    // searched at the searches' sampling, confirmed at the default one (and searched again at that one if it fails)
     AnalysisOptions full;
     full.keep_series = false;
     auto passes_with = [&](const AnalysisOptions& ao, double f) {
@@ -109,8 +109,7 @@ SpeedPlan plan_speed(const Job& job, const PreparedDynamics& prep, const LoadSpe
       return [&, ao](double f) { return passes_with(ao, f); };
     };
     const double most = lim.max_speed ? 1.0 : 100.0;
-    SpeedSearch sr = max_passing_speed_factor(passes_at(search_analysis()), 1e-6, most);
-    if (sr.factor && !passes_with(full, *sr.factor)) sr = max_passing_speed_factor(passes_at(full), 1e-6, most);
+    const SpeedSearch sr = max_passing_speed_factor(passes_at(search_analysis()), passes_at(full), 1e-6, most);
     if (sr.factor) {
       plan.constant_speed = *sr.factor * base;
       plan.constant_capped = sr.capped;

@@ -38,7 +38,8 @@ CaseDynamics analyze_dynamics(const PlacedPath& p, const DynamicsSetup& s, const
   r.verdict = judge(r.analysis, m, s.safety_factor);
   if (search_speed) {
     // The search samples at the searches' density (search_analysis: its maxima are refined, so they barely depend
-    // on it) and checks its answer at the caller's density; only if that fails does it search again at that density.
+    // on it) and confirms its answer at the caller's density; only if that fails does it search again at that
+    // density.
     auto passes = [&](const AnalysisOptions& oo) {
       return [&, oo](double f) {
         if (f == 1.0) return r.verdict.go;
@@ -52,9 +53,7 @@ CaseDynamics analyze_dynamics(const PlacedPath& p, const DynamicsSetup& s, const
     const AnalysisOptions quick = search_analysis();
     AnalysisOptions full = o;
     full.keep_series = false;
-    r.search = max_passing_speed_factor(passes(quick));
-    if (r.search.factor && *r.search.factor != 1.0 && !passes(full)(*r.search.factor))
-      r.search = max_passing_speed_factor(passes(full));
+    r.search = max_passing_speed_factor(passes(quick), passes(full));
   }
   return r;
 }

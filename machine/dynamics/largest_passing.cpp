@@ -50,4 +50,21 @@ LargestPassing largest_passing(const std::function<bool(double)>& pass, const Br
   return out;
 }
 
+LargestPassing confirmed_largest_passing(const std::function<bool(double)>& quick,
+                                         const std::function<bool(double)>& exact, const BracketSpec& b) {
+  LargestPassing q = largest_passing(quick, b);
+  int checks = 0;
+  auto check = [&](double x) {
+    ++checks;
+    return exact(x);
+  };
+  if (q.x && check(*q.x) && (q.capped || !check(*q.x * (1.0 + 2.0 * b.rel_tol)))) {
+    q.evaluations += checks;
+    return q;
+  }
+  LargestPassing e = largest_passing(exact, b);
+  e.evaluations += q.evaluations + checks;
+  return e;
+}
+
 }  // namespace polarcam

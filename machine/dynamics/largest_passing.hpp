@@ -24,4 +24,11 @@ struct LargestPassing {
 
 LargestPassing largest_passing(const std::function<bool(double)>& pass, const BracketSpec& b);
 
+// The largest x passing `exact`, searched with `quick` (a cheaper test that nearly always agrees with it, such as a
+// torque analysis at the searches' sampling) and confirmed with `exact`: quick's answer is taken when it passes
+// `exact` and, unless capped, x (1 + 2 rel_tol), beyond the search's last bracket, fails `exact`; otherwise the
+// search runs again with `exact`. `evaluations` counts the calls of both tests.
+LargestPassing confirmed_largest_passing(const std::function<bool(double)>& quick,
+                                         const std::function<bool(double)>& exact, const BracketSpec& b);
+
 }  // namespace polarcam

@@ -63,10 +63,25 @@ Verdict judge(const TorqueAnalysis& a, const MachineModel& m, double safety_fact
   return v;
 }
 
+namespace {
+
+// From 1 up by 1.25 x while it passes (or down by 0.8 x while it fails), then bisection to rel_tol of the bottom.
+BracketSpec speed_bracket(double f_min, double f_max, double rel_tol) {
+  return {1.0, f_min, f_max, [](double f) { return 1.25 * f; }, rel_tol, false, true};
+}
+
+}  // namespace
+
 SpeedSearch max_passing_speed_factor(const std::function<bool(double)>& passes, double f_min, double f_max,
                                      double rel_tol) {
-  const LargestPassing r =
-      largest_passing(passes, {1.0, f_min, f_max, [](double f) { return 1.25 * f; }, rel_tol, false, true});
+  const LargestPassing r = largest_passing(passes, speed_bracket(f_min, f_max, rel_tol));
+  return SpeedSearch{r.x, r.capped, r.evaluations};
+}
+
+SpeedSearch max_passing_speed_factor(const std::function<bool(double)>& quick,
+                                     const std::function<bool(double)>& passes, double f_min, double f_max,
+                                     double rel_tol) {
+  const LargestPassing r = confirmed_largest_passing(quick, passes, speed_bracket(f_min, f_max, rel_tol));
   return SpeedSearch{r.x, r.capped, r.evaluations};
 }
 

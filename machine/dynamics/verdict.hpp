@@ -44,5 +44,10 @@ struct SpeedSearch {
 };
 SpeedSearch max_passing_speed_factor(const std::function<bool(double)>& passes, double f_min = 1e-3,
                                      double f_max = 100.0, double rel_tol = 1e-4);
+// The same searched with `quick` and confirmed with `passes` (confirmed_largest_passing): the factor returned passes
+// `passes`.
+SpeedSearch max_passing_speed_factor(const std::function<bool(double)>& quick,
+                                     const std::function<bool(double)>& passes, double f_min = 1e-3,
+                                     double f_max = 100.0, double rel_tol = 1e-4);
 
 }  // namespace polarcam

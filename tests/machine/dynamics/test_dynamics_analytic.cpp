@@ -260,6 +260,41 @@ TEST(DynamicsAnalytic, PassingSpeedSearch) {
   EXPECT_FALSE(s.factor);
 }
 
+TEST(DynamicsAnalytic, PassingSpeedSearchConfirmedByTheExactTest) {
+  // the exact test passes up to 2; a quick test that agrees, one that passes too much and one that passes too
+  // little: the answer always passes the exact test and lies within the tolerance of 2
+  const double limit = 2.0, tol = 1e-4;
+  int exact_calls = 0;
+  auto exact = [&](double f) {
+    ++exact_calls;
+    return f <= limit;
+  };
+  for (const double quick_limit : {2.0, 2.1, 1.9}) {
+    SCOPED_TRACE(quick_limit);
+    exact_calls = 0;
+    int quick_calls = 0;
+    const SpeedSearch s = max_passing_speed_factor(
+        [&](double f) {
+          ++quick_calls;
+          return f <= quick_limit;
+        },
+        exact, 1e-3, 100.0, tol);
+    ASSERT_TRUE(s.factor);
+    EXPECT_LE(*s.factor, limit);
+    EXPECT_GT(*s.factor, limit * (1 - 2 * tol));
+    EXPECT_EQ(s.evaluations, quick_calls + exact_calls);
+    if (quick_limit == limit)
+      EXPECT_EQ(exact_calls, 2);  // the answer passes, the value two tolerances above fails: no second search
+    else
+      EXPECT_GT(exact_calls, 10);  // refused (it fails, or a larger value passes): searched again
+  }
+  // capped by the quick test and passing the exact one at the cap: one check
+  exact_calls = 0;
+  const SpeedSearch c = max_passing_speed_factor([](double) { return true; }, exact, 1e-3, 1.5, tol);
+  EXPECT_TRUE(c.capped);
+  EXPECT_EQ(exact_calls, 1);
+}
+
 TEST(DynamicsAnalytic, CornersAreReported) {
   // two lines meeting at a right angle: at the corner r' jumps from V cos(g1) to V cos(g2), theta' likewise
   const Vec2 a{0.10, 0.05}, b{0.20, 0.05}, c{0.20, 0.15};
