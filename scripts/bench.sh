@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # Regression benchmarks: a handful of figures, each printed next to the one recorded in bench/baseline.tsv.
-#   bash scripts/bench.sh            # measure and compare (about a minute and a half)
+#   bash scripts/bench.sh            # measure and compare (under two minutes)
 #   bash scripts/bench.sh --record   # measure and write the figures to bench/baseline.tsv
 # Builds nothing: it runs ./build/polarcam and the benchmark programs there (build them first:
 # cmake --build build --target polarcam polarcam_bench_digitize polarcam_bench_area_error).
 # Rates are per CPU-second and times are CPU seconds (user + system), so a loaded machine disturbs them less than
-# wall time; each figure is the best of five runs (the report: one), the run least disturbed by other work. On a
-# shared machine figures of unchanged code have moved by up to a third: re-run before concluding.
+# wall time; each figure is the best of five runs (the error: three; the report, the front and the map: one), the run
+# least disturbed by other work. On a shared machine figures of unchanged code have moved by up to a third: re-run
+# before concluding.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
@@ -83,6 +84,11 @@ cpu cli_digitize_limacon_100x 5 "$bin/polarcam" digitize bench/jobs/limacon_100x
 cpu cli_digitize_startup 5 "$bin/polarcam" digitize "$tmp/coarse.toml" --json
 cpu cli_optimize_limacon 5 "$bin/polarcam" optimize examples/limacon.toml --json
 cpu cli_report_witch_grinding 1 "$bin/polarcam" report examples/ch6/witch_grinding.toml -o "$tmp/report.html"
+cpu cli_pareto_witch_grinding 1 "$bin/polarcam" optimize examples/ch6/witch_grinding.toml --objective pareto
+# the exact area error and deviation of the 100x limacon's tape (2.2 M steps), and a 101 x 101 pole map
+"$bin/polarcam" digitize bench/jobs/limacon_100x.toml -o "$tmp/limacon_100x.tape" --quiet
+cpu cli_error_limacon_100x 3 "$bin/polarcam" error "$tmp/limacon_100x.tape" --job bench/jobs/limacon_100x.toml --json
+cpu cli_map_witch_101 1 "$bin/polarcam" optimize examples/witch.toml --map "$tmp/map.csv" --map-size 101 --quiet
 echo >&2
 
 if [ "$record" = 1 ]; then
