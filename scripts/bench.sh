@@ -86,7 +86,7 @@ cpu cli_optimize_limacon 5 "$bin/polarcam" optimize examples/limacon.toml --json
 cpu cli_report_witch_grinding 1 "$bin/polarcam" report examples/ch6/witch_grinding.toml -o "$tmp/report.html"
 cpu cli_pareto_witch_grinding 1 "$bin/polarcam" optimize examples/ch6/witch_grinding.toml --objective pareto
 # the exact area error and deviation of the 100x limacon's tape (2.2 M steps), and a 101 x 101 pole map
-"$bin/polarcam" digitize bench/jobs/limacon_100x.toml -o "$tmp/limacon_100x.tape" --quiet
+"$bin/polarcam" digitize bench/jobs/limacon_100x.toml -o "$tmp/limacon_100x.tape" --quiet >/dev/null
 cpu cli_error_limacon_100x 3 "$bin/polarcam" error "$tmp/limacon_100x.tape" --job bench/jobs/limacon_100x.toml --json
 cpu cli_map_witch_101 1 "$bin/polarcam" optimize examples/witch.toml --map "$tmp/map.csv" --map-size 101 --quiet
 echo >&2
