@@ -20,6 +20,7 @@
 #include "app/cli.hpp"
 #include "job/job.hpp"
 #include "cam/error.hpp"
+#include "io/output.hpp"
 #include "machine/controller/emulator.hpp"
 #include "machine/link/protocol.hpp"
 #include "machine/link/serial_port.hpp"
@@ -99,10 +100,24 @@ void register_controller_sim(CLI::App& app, Action& action) {
         spec.dr = g.dr;
         spec.dtheta = g.dtheta;
       }
+      // the log is written as the steps run (it can be followed while they do), so it is written in place; a log
+      // that cannot be written is an I/O error (exit status 3), at once or when a write fails
+      check_output_path(o->log);
       std::FILE* log = std::fopen(o->log.c_str(), "w");
-      if (!log) throw InputError(o->log + ": cannot create the log (" + std::strerror(errno) + ")");
+      if (!log) throw DeviceError(std::string("cannot create the log (") + std::strerror(errno) + ")", o->log);
+      std::string log_error;  // why a write of the log failed
+      auto log_written = [&] {
+        if (std::fflush(log) != 0 || std::ferror(log)) {
+          if (log_error.empty()) log_error = std::strerror(errno);
+          return false;
+        }
+        return true;
+      };
       std::fputs("t_ns,axis,dir\n", log);
-      std::fflush(log);
+      if (!log_written()) {
+        std::fclose(log);
+        throw DeviceError("cannot write the log (" + log_error + ")", o->log);
+      }
 
       const int master = ::posix_openpt(O_RDWR | O_NOCTTY);
       if (master < 0 || ::grantpt(master) != 0 || ::unlockpt(master) != 0) {
@@ -164,8 +179,8 @@ void register_controller_sim(CLI::App& app, Action& action) {
           out.erase(0, static_cast<size_t>(n));
         }
         if (wrote) {
-          std::fflush(log);
           wrote = false;
+          if (!log_written()) break;  // the steps would go unrecorded: stop as a controller that fails does
         }
         const proto::State st = emu.controller().state();
         const bool busy = st == proto::State::running || st == proto::State::holding || st == proto::State::resuming ||
@@ -199,9 +214,14 @@ void register_controller_sim(CLI::App& app, Action& action) {
           ::usleep(1000);
         }
       }
-      std::fclose(log);
+      if (std::fclose(log) != 0 && log_error.empty()) log_error = std::strerror(errno);
       if (keep >= 0) ::close(keep);
       ::close(master);
+      if (!log_error.empty())
+        throw DeviceError("the log could not be written (" + log_error + "): the emulator stopped after " +
+                              std::to_string(emu.controller().status().executed[0] + emu.controller().status().executed[1]) +
+                              " steps",
+                          o->log);
       return 0;
     };
   });

@@ -97,7 +97,7 @@ int run(const Opts& o) {
   else if (o.format == "svg") eo.format = ExportFormat::svg;
   else throw InputError("must be thr, gcode or svg", "--format");
   eo.tolerance = option_quantity(o.tolerance, dim::length, "--tolerance");
-  if (!(eo.tolerance > 0.0)) throw InputError("must be a positive length", "--tolerance");
+  check_export_tolerance(eo.tolerance);
   if (!o.feed_mode.empty()) {
     if (eo.format != ExportFormat::gcode) throw InputError("applies to --format gcode only", "--feed-mode");
     if (o.feed_mode == "inverse-time") eo.feed_mode = FeedMode::inverse_time;

@@ -8,6 +8,7 @@
 #include <ostream>
 
 #include "cam/error.hpp"
+#include "cam/format.hpp"
 
 namespace polarcam {
 namespace {
@@ -45,6 +46,7 @@ ThrPattern parse_thr(std::istream& in, const std::string& place) {
   std::string line;
   while (std::getline(in, line)) {
     ++p.lines;
+    if (p.lines == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte order mark
     const std::string where = place + ":" + std::to_string(p.lines);
     size_t cut = line.find('#');
     size_t slashes = line.find("//");
@@ -57,7 +59,7 @@ ThrPattern parse_thr(std::istream& in, const std::string& place) {
     if (n < 0) throw InputError("'" + bad.substr(0, 40) + "' is not a number (expected \"theta rho\")", where);
     if (n != 2) throw InputError("expected two numbers \"theta rho\", got " + std::to_string(n), where);
     if (!(v[1] >= 0.0 && v[1] <= 1.0))
-      throw InputError("rho " + std::to_string(v[1]) + " is outside 0..1 (rho is a fraction of the table radius)", where);
+      throw InputError("rho " + significant(v[1], 12) + " is outside 0..1 (rho is a fraction of the table radius)", where);
     ++p.points;
     if (!p.vertices.empty() && p.vertices.back().theta == v[0] && p.vertices.back().rho == v[1]) {
       ++p.merged;

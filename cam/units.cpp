@@ -8,6 +8,7 @@
 #include <unordered_map>
 
 #include "cam/error.hpp"
+#include "cam/format.hpp"
 
 namespace polarcam {
 namespace {
@@ -227,9 +228,17 @@ Quantity parse_quantity(std::string_view text) {
   split_quantity(text, number, unit);
   if (number.empty()) throw InputError("'" + std::string(text) + "': a number is missing");
   double v = eval_number(number);
-  if (unit.empty()) return {v, dim::none};
+  if (unit.empty()) {
+    if (!(std::abs(v) <= kQuantityLimit))
+      throw InputError("'" + std::string(text) + "' is too large: a number must be within " + significant(kQuantityLimit, 3));
+    return {v, dim::none};
+  }
   UnitDef u = UnitParser(unit, text).parse();
-  return {v * u.factor, u.dim};
+  const double si = v * u.factor;
+  if (!(std::abs(si) <= kQuantityLimit))
+    throw InputError("'" + std::string(text) + "' is too large: a quantity must be within " + significant(kQuantityLimit, 3) +
+                     " in SI units (" + describe(u.dim) + ")");
+  return {si, u.dim};
 }
 
 double parse_quantity_as(std::string_view text, const Dim& expected) {
@@ -237,8 +246,13 @@ double parse_quantity_as(std::string_view text, const Dim& expected) {
   if (q.dim == expected) return q.value;
   if (expected == dim::angle && q.dim == dim::none) return q.value;
   // rev/length style (k_R) given where angle/length is expected works through the angle dimension already.
-  throw InputError("'" + std::string(text) + "' is " + (q.dim == dim::none ? std::string("a plain number") : "a " + describe(q.dim)) +
-                   ", expected a " + describe(expected));
+  throw InputError("'" + std::string(text) + "' is " + with_article(describe(q.dim)) + ", expected " +
+                   with_article(describe(expected)));
+}
+
+std::string with_article(const std::string& noun) {
+  const bool vowel = !noun.empty() && std::string_view("aeiou").find(noun.front()) != std::string_view::npos;
+  return (vowel ? "an " : "a ") + noun;
 }
 
 std::string describe(const Dim& d) {

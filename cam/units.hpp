@@ -58,6 +58,12 @@ struct Quantity {
 
 // Human name of a dimension for messages ("length (m)", "speed (m/s)", or the SI form).
 std::string describe(const Dim& d);
+// "a length (m)", "an acceleration (m/s^2)": the noun with its indefinite article.
+std::string with_article(const std::string& noun);
+
+// The largest magnitude of a quantity in SI units (and of a plain number given as a quantity): far beyond anything
+// physical a machine or a job has, and small enough that the products and powers the models form stay finite.
+inline constexpr double kQuantityLimit = 1e30;
 
 // Parses "<number expression> [unit expression]". Throws InputError with a message that quotes the text.
 Quantity parse_quantity(std::string_view text);

@@ -387,6 +387,9 @@ CurvePtr parse_contour(Section& s, const std::string& base_dir, nlohmann::ordere
       s.fail("kind", "unknown contour kind '" + kind +
                          "' (circle, line, limacon, witch, serpentine, spiral, rose, polar, cartesian, parametric, points, theta-rho, path, dxf)");
     }
+    // an expression can stand still: r = 0, or x and y that do not depend on the parameter (y(x) cannot)
+    if ((kind == "polar" || kind == "parametric") && !(arc_length(*c, c->u_begin(), c->u_end()) > 0.0))
+      s.fail_section("the contour has no length: every point of it is the same point (check its expressions and range)");
   } catch (const InputError& e) {
     if (e.names(s.file())) throw;
     // an expression's error is placed at its key (r, x, y): the message names the key and its line

@@ -9,6 +9,7 @@
 
 #include "cam/dxf_import.hpp"
 #include "cam/error.hpp"
+#include "cam/format.hpp"
 #include "cam/image_trace.hpp"
 #include "cam/path.hpp"
 #include "cam/point_files.hpp"
@@ -63,7 +64,19 @@ CurvePtr pattern_contour(const std::string& path, const Machine& m, double toler
     kind = "theta-rho";
     if (!m.grid.r_max)
       throw InputError("the machine has no r_max: a theta-rho pattern's rho = 1 is the table's radius r_max", "--machine");
-    return jobfile::theta_rho_contour(read_thr(path), *m.grid.r_max, name, prov);
+    const ThrPattern pattern = read_thr(path);
+    // the arm turns through at least the pattern's theta travel: refuse a pattern that would need more angular
+    // steps than any tape should hold, before its track is built and walked
+    double travel = 0.0;
+    for (size_t i = 1; i < pattern.vertices.size(); ++i)
+      travel += std::abs(pattern.vertices[i].theta - pattern.vertices[i - 1].theta);
+    const double steps = travel / m.grid.dtheta;
+    if (!(steps <= kMaxPatternSteps))
+      throw InputError("the pattern turns the arm " + significant(travel / (2.0 * std::numbers::pi), 3) +
+                           " times: at least " + significant(steps, 3) + " angular steps on this machine, more than the " +
+                           significant(kMaxPatternSteps, 3) + " a tape may hold; is its theta in radians?",
+                       path);
+    return jobfile::theta_rho_contour(pattern, *m.grid.r_max, name, prov);
   }
   if (ext == ".csv") {
     kind = "points";

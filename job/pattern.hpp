@@ -17,6 +17,10 @@
 
 namespace polarcam {
 
+// The most angular steps a theta-rho pattern may need on its machine (a tape of some 30 GB, a month of stepping at
+// 4 kHz): a pattern beyond it is refused before its track is built (its theta is most likely not in radians).
+inline constexpr double kMaxPatternSteps = 1e10;
+
 struct PatternOptions {
   std::string machine_file;        // --machine: required for a pattern, refused for a job file
   std::optional<double> speed;     // --speed (m/s): required for a pattern; overrides a job's [motion] speed

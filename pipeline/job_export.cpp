@@ -197,8 +197,16 @@ ExportResult export_job(const Job& job, const ExportOptions& o, const Progress& 
   return r;
 }
 
+void check_export_tolerance(double tolerance) {
+  if (!(tolerance > 0.0) || !std::isfinite(tolerance)) throw InputError("must be a positive length", "--tolerance");
+  if (tolerance < kMinExportTolerance)
+    throw InputError("must be at least 0.0001 mm (" + significant(tolerance * 1e3, 3) +
+                         " mm is far below what any machine follows)",
+                     "--tolerance");
+}
+
 ExportResult export_job(const Job& job, const ExportOptions& o, std::ostream& out, const Progress& progress) {
-  if (!(o.tolerance > 0.0) || !std::isfinite(o.tolerance)) throw InputError("must be a positive length", "--tolerance");
+  check_export_tolerance(o.tolerance);
   if (job_lifts_tool(job)) return export_lifting(job, o, out);
   report_progress(progress, 0.0);
   const ToolPathPtr path = make_job_path(job);

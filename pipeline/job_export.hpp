@@ -14,9 +14,18 @@ namespace polarcam {
 
 enum class ExportFormat { thr, gcode, svg };
 
+// The finest tolerance of an export, 0.1 um: far below what any machine follows, and the number of vertices grows as
+// the inverse square root of the tolerance (a finer one asks for millions of them and for positions beyond the
+// precision of the numbers they are computed from).
+inline constexpr double kMinExportTolerance = 1e-7;
+
+// InputError naming --tolerance unless it is a finite length of at least kMinExportTolerance.
+void check_export_tolerance(double tolerance);
+
 struct ExportOptions {
   ExportFormat format = ExportFormat::thr;
   double tolerance = 1e-4;              // m: theta-rho segments within this of the path; the SVG's chords within a quarter of it
+                                        // (at least kMinExportTolerance)
   std::optional<FeedMode> feed_mode;    // G-code: overrides the [gcode] table's feed_mode
 };
 

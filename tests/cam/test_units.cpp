@@ -28,6 +28,38 @@ TEST(Units, QuantitiesAreConvertedToSI) {
   EXPECT_DOUBLE_EQ(parse_quantity_as("5 mm/s^2", dim::acceleration), 5e-3);
 }
 
+TEST(Units, QuantitiesBeyondTheLimitInSIAreRefused) {
+  // the limit is 1e30 in SI units: 1e31 mm is 1e28 m, within it; 1e308 in (2.54e306 m) and 1e28 km^2 are not, nor
+  // is a plain 1e31
+  EXPECT_DOUBLE_EQ(parse_quantity_as("1e31 mm", dim::length), 1e28);
+  EXPECT_DOUBLE_EQ(parse_quantity_as("-1e30 m", dim::length), -1e30);
+  EXPECT_DOUBLE_EQ(parse_quantity("1e30").value, 1e30);
+  for (const char* text : {"1e308 in", "1e28 km^2", "-1e308 in/ms", "1e31", "1e300 cm/s"}) {
+    SCOPED_TRACE(text);
+    try {
+      parse_quantity(text);
+      ADD_FAILURE() << "accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(std::string("'") + text + "' is too large"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("1e+30"), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(Units, TheExpectedDimensionIsNamedWithItsArticle) {
+  auto message = [](const char* text, const Dim& d) {
+    try {
+      parse_quantity_as(text, d);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(message("0", dim::acceleration), "'0' is a plain number, expected an acceleration (m/s^2)");
+  EXPECT_EQ(message("2 s", dim::length), "'2 s' is a time (s), expected a length (m)");
+  EXPECT_EQ(message("2 m", dim::area), "'2 m' is a length (m), expected an area (m^2)");
+}
+
 TEST(Units, WrongUnitsAreRejectedWithTheText) {
   try {
     parse_quantity_as("5.08 kg", dim::length);

@@ -143,7 +143,8 @@ TEST(Cli, AbsurdNumbersAreRefusedNamingTheBound) {
   } cases[] = {
       // the limacon's path is about 0.48 m: at 1e-300 m/s it would take 1e299 s, beyond 2^62 ns
       {"speed = \"1.52 cm/s\"", "speed = \"1e-300 m/s\"", "lowest speed that fits"},
-      {"speed = \"1.52 cm/s\"", "speed = \"1e308 m/s\"", "1 ns tick"},
+      {"speed = \"1.52 cm/s\"", "speed = \"1e20 m/s\"", "1 ns tick"},
+      {"speed = \"1.52 cm/s\"", "speed = \"1e308 m/s\"", "within 1e+30 in SI units"},
       {"r_min = \"0 cm\"", "r_min = \"0 cm\"\nangular_steps_per_rev = 9223372036854775807", "machine.angular_steps_per_rev"},
       {"r_min = \"0 cm\"", "r_min = \"0 cm\"\nradial_resolution = \"1e-13 m\"", "1e-12 m"},
   };

@@ -139,6 +139,10 @@ TEST(CliExport, RefusesWhatItCannotExport) {
     expect_bad_job(sc, "export", "-o", "ngc", job, "--format gcode --feed-mode fast", "--feed-mode", "");
     expect_bad_job(sc, "export", "-o", "thr", job, "--format thr --tolerance \"0 mm\"", "--tolerance", "");
     expect_bad_job(sc, "export", "-o", "thr", job, "--format thr --tolerance \"2 s\"", "--tolerance", "");
+    // a tolerance far below any machine's resolution would ask for millions of vertices: refused at once
+    for (const char* fmt : {"thr", "svg", "gcode"})
+      expect_bad_job(sc, "export", "-o", fmt, job, std::string("--format ") + fmt + " --tolerance \"1e-12 mm\"",
+                     "--tolerance: must be at least 0.0001 mm", "");
   }
 }
 

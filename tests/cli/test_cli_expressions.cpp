@@ -194,6 +194,20 @@ TEST(CliExpressions, AStepFunctionIsRefusedNamingTheKeyAndTheFunction) {
   expect_one_line_error(r, "sign()");
 }
 
+// A contour that stands still (r = 0; x and y that do not depend on u) has no length: refused by every command that
+// reads the job, as the named circle of radius 0 is, instead of an empty tape. (A Cartesian y(x) always has a
+// length: its empty range is refused as such.)
+TEST(CliExpressions, AContourWithoutLengthIsRefused) {
+  Scratch sc;
+  for (const std::string& contour :
+       {std::string("kind = \"polar\"\nr = \"0\"\nunit = \"cm\"\n"),
+        std::string("kind = \"parametric\"\nx = \"5\"\ny = \"3\"\nunit = \"mm\"\nt_from = 0\nt_to = 1\n")}) {
+    SCOPED_TRACE(contour);
+    expect_bad_job(sc, "digitize", "-o", "tape", job(contour, "0 cm"), "", "has no length");
+    expect_bad_job(sc, "export", "-o", "svg", job(contour, "0 cm"), "--format svg", "has no length");
+  }
+}
+
 }  // namespace
 
 }  // namespace tu_cli_test_cli_expressions

@@ -170,6 +170,7 @@ TEST(Patterns, BadPatternsAreOneLineErrors) {
   };
   bad("0 0.5\n1 1.5\n", "bad.thr:2");
   bad("0 0.5\n1 1.5\n", "outside 0..1");
+  bad("0 0.5\n1 1.0000001\n", "rho 1.0000001 is outside 0..1");  // printed as read, not rounded to look legal
   bad("0 0.5\n# c\n1 abc\n", "bad.thr:3");
   bad("0 0.5\n1 nan\n", "bad.thr:2");
   bad("0 0.5 7\n", "expected two numbers");
@@ -183,6 +184,20 @@ TEST(Patterns, BadPatternsAreOneLineErrors) {
   expect_one_line_error(run_cli("digitize " + good + " --machine " + no_rim + " --speed \"40 mm/s\""), "r_max");
   // --machine is for patterns: a job names its machine
   expect_one_line_error(run_cli("digitize " + kSource + "/examples/limacon.toml --machine " + kTable), "--machine");
+  // a UTF-8 byte order mark before the first line (as some editors on Windows write) is not part of the numbers
+  const json bom = cli_json(digitize_args(sc.write("bom.thr", "\xEF\xBB\xBF" "0 0.5\r\n1 0.5\r\n")));
+  EXPECT_GT(bom.value("steps_angular", 0), 0);
+  // theta beyond any tape: 1e9 rad is 1.59e8 turns, 3.18e12 angular steps of this table (20 000 a turn); refused at
+  // once by every command that takes the pattern on a machine, instead of walked for hours
+  const std::string far = sc.write("far.thr", "0 0\n1e9 0.5\n");
+  for (const std::string& cmd : {std::string("digitize ") + far + " -o " + sc.path("far.tape"), "check " + far,
+                                 "export " + far + " --format thr -o " + sc.path("far2.thr")}) {
+    SCOPED_TRACE(cmd);
+    const CliResult r = run_cli(cmd + " --machine " + kTable + " --speed \"40 mm/s\"");
+    expect_one_line_error(r, "far.thr: the pattern turns the arm 1.59e+08 times: at least 3.18e+12 angular steps");
+  }
+  // 1e5 rad (15 915 turns, 3.18e8 steps) is within the bound: check counts it without digitizing
+  EXPECT_EQ(cli_json("check " + sc.write("near.thr", "0 0\n1e5 0.5\n") + " --json").value("vertices", 0), 2);
 }
 
 TEST(Patterns, CheckCountsWhatIsInThePatternAndFixesIt) {

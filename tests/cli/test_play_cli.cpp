@@ -8,7 +8,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <iterator>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -262,6 +264,44 @@ TEST(PlayCli, EmulatorRefusesBadFaultSpecs) {
   EXPECT_NE(r.err.find("drop"), std::string::npos) << r.err;
 }
 
+// A log that cannot be written is an I/O error (exit status 3) naming it: one that cannot be created or written at
+// all before the emulator starts, and one whose writes start failing while steps run (a file size limit: the writes
+// beyond it fail with EFBIG), where the emulator stops and the player, its controller gone, stops too.
+TEST(PlayCli, AnEmulatorLogThatCannotBeWrittenIsAnIoError) {
+  Scratch s;
+  for (const std::string& log : {s.path("no-such-dir/x.csv"), std::string(s.dir), std::string("/dev/full")}) {
+    SCOPED_TRACE(log);
+    const auto r = run_cli("controller-sim --pty --log " + log + " --exit-after-idle 1");
+    EXPECT_EQ(r.code, 3) << r.err;
+    EXPECT_NE(r.err.find(log), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  }
+  const std::string log = s.path("small.csv"), out = s.path("emu.out"), err = s.path("emu.err"), rc = s.path("emu.rc");
+  // ulimit -f counts blocks of 512 bytes in sh: the log may hold 2048 bytes, some 80 steps of the limacon's 22 000
+  const std::string cmd = "(trap '' XFSZ; ulimit -f 4; " + std::string(POLARCAM_BIN) + " controller-sim --pty --log " +
+                          log + " --exit-after-idle 30 >" + out + " 2>" + err + "; echo $? >" + rc + ") &";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  std::string pty;
+  for (int i = 0; i < 500 && pty.empty(); ++i) {
+    std::ifstream in(out);
+    std::getline(in, pty);
+    if (pty.empty()) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_FALSE(pty.empty());
+  const auto p = run_cli("play " + example_tape("limacon") + " --port " + pty + " --speed-scale 10");
+  EXPECT_EQ(p.code, 3) << p.err;
+  std::string code;
+  for (int i = 0; i < 1000 && code.empty(); ++i) {
+    std::ifstream in(rc);
+    std::getline(in, code);
+    if (code.empty()) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  EXPECT_EQ(code, "3");
+  std::ifstream e(err);
+  const std::string message((std::istreambuf_iterator<char>(e)), {});
+  EXPECT_NE(message.find(log), std::string::npos) << message;
+  EXPECT_NE(message.find("could not be written"), std::string::npos) << message;
+}
 
 // ------------------------------------------------------------------------------------------- tool events
 
