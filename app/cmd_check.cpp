@@ -1,5 +1,7 @@
 // polarcam check PATTERN.thr [--machine M --speed V] [--json] [--fix -o CLEAN.thr]
+#include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -38,6 +40,12 @@ void register_check(CLI::App& app, Action& action) {
     action = [o] {
       if (o->fix != !o->out.empty()) throw InputError("--fix and -o go together: --fix -o CLEAN.thr", "--fix");
       if (o->fix) check_output_path(o->out);
+      std::string ext = std::filesystem::path(o->pattern).extension().string();
+      for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+      if (ext != ".thr")
+        throw InputError("check reads theta-rho patterns (.thr); a drawing or an image is checked by drawing it: "
+                         "polarcam preview FILE --machine M --speed V",
+                         o->pattern);
       const ThrPattern p = read_thr(o->pattern);
       const ThrStats st = thr_stats(p.vertices);
       nlohmann::ordered_json j;

@@ -49,6 +49,18 @@ int main(int argc, char** argv) {
     for (CLI::App* sub : a->get_subcommands([](CLI::App*) { return true; })) add_footer(sub);
   };
   add_footer(&app);
+  // an unknown command is named as such (CLI11 would say that a subcommand is required)
+  bool known_command = false;
+  std::string known;
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+    known += (known.empty() ? "" : ", ") + sub->get_name();
+    if (argc > 1 && sub->check_name(argv[1])) known_command = true;
+  }
+  if (argc > 1 && argv[1][0] != '-' && !known_command) {
+    std::fprintf(stderr, "polarcam: error: unknown command '%s' (the commands: %s; polarcam --help says more)\n",
+                 argv[1], known.c_str());
+    return exit_status(ErrorKind::input);
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -58,8 +70,11 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    app.exit(e);
-    return 2;
+    // one line, as every other error: what CLI11 found, and where the command's options are described
+    std::string command = "polarcam";
+    for (const CLI::App* sub : app.get_subcommands()) command += " " + sub->get_name();
+    std::fprintf(stderr, "polarcam: error: %s (%s --help lists the options)\n", e.what(), command.c_str());
+    return exit_status(ErrorKind::input);
   }
   try {
     return check_stdout(action ? action() : 2);

@@ -507,10 +507,13 @@ class Parser {
 
 // Flattens n into postfix; a part that does not depend on the variable becomes its value (computed as the
 // program would compute it), and a power with such an exponent the constant power.
-void emit(const Node& n, std::vector<Expression::Op>& prog) {
-  if (n.konst && n.code != kConst) {
+// `fold` false: n itself is flattened even when constant (its parts are still folded), so that folding a constant
+// part runs a program of its node and its parts' values: linear in the size of the expression (copying the part to
+// flatten it was quadratic in the length of a chain of constant products).
+void emit(const Node& n, std::vector<Expression::Op>& prog, bool fold = true) {
+  if (fold && n.konst && n.code != kConst) {
     std::vector<Expression::Op> sub;
-    emit(Node{n.code, n.c, false, n.kids}, sub);  // the same node, flattened in full
+    emit(n, sub, false);
     prog.push_back({kConst, 0, run(sub, static_cast<int>(sub.size()), 0.0, 0).d[0]});
     return;
   }
@@ -541,6 +544,10 @@ int stack_depth(const std::vector<Expression::Op>& prog) {
 Expression::Expression(const std::string& text, const std::vector<std::string>& variables,
                        const std::map<std::string, double>& constants, const std::string& key)
     : text_(text), key_(key) {
+  if (text.size() > kMaxExpressionLength)
+    throw InputError("an expression of " + std::to_string(text.size()) + " characters: at most " +
+                         std::to_string(kMaxExpressionLength) + " are read (a contour's formula is far shorter)",
+                     key);
   // muparser checks the syntax first, with its messages, so that what it refuses is refused as before; its
   // constants (ours, the job's and its own _pi and _e, with muparser's values) are the ones the text may name
   std::map<std::string, double> names;

@@ -21,6 +21,10 @@
 
 namespace polarcam {
 
+// The longest expression text read: far beyond any contour's formula, and it bounds the depth of the recursions that
+// parse and flatten a long chain of operations.
+inline constexpr size_t kMaxExpressionLength = 10000;
+
 class Expression {
  public:
   // Parses `text`. `variables` are names of the one variable (e.g. {"u", "t"}); `constants` named values (they

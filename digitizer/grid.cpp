@@ -29,6 +29,9 @@ void Grid::validate() const {
     throw InputError("theta_max must be greater than theta_min");
   if (!std::isfinite(home_r) || !std::isfinite(home_theta)) throw InputError("the home position must be finite");
   if (r_max && (*r_max / dr > 4e15)) throw InputError("the radial resolution is too fine for the work area");
+  if (r_max && dr > *r_max - r_min)
+    throw InputError("the radial resolution " + significant(dr * 1e3) + " mm is coarser than the work area's radial span (" +
+                     significant((*r_max - r_min) * 1e3) + " mm from r_min to r_max): no radial step fits in it");
   if (r_min / dr > kMaxNodeIndex || (r_max && *r_max / dr > kMaxNodeIndex))
     throw InputError("the work area spans more than 2^50 radial steps: give a coarser radial resolution or a smaller r_max");
   if (std::abs(home_r) / dr > kMaxNodeIndex || std::abs(home_theta) / dtheta > kMaxNodeIndex)

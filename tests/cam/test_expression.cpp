@@ -241,6 +241,35 @@ TEST(Expression, DeepNestingIsRefused) {
   EXPECT_EQ(Expression(std::string(100, '(') + "x" + std::string(100, ')'), {"x"}, {}, "r")(0.5), 0.5);
 }
 
+// Long chains: a product of 1000 factors (x + 1) is (x + 1)^1000 with its derivatives, and a chain of 1200 constant
+// products folds to the constant muparser computes; a text beyond 10 000 characters is refused naming its key.
+TEST(Expression, LongChainsAreExactAndOverlongTextIsRefused) {
+  std::string chain = "(x+1)";
+  for (int i = 1; i < 1000; ++i) chain += "*(x+1)";
+  const Expression e(chain, {"x"}, {}, "r");
+  double d[4];
+  e.derivatives(0.001, 3, d);
+  const double b = 1.001;
+  expect_rel(d[0], std::pow(b, 1000), 1e-12, 0.0, "value");
+  expect_rel(d[1], 1000 * std::pow(b, 999), 1e-12, 0.0, "first derivative");
+  expect_rel(d[2], 1000.0 * 999 * std::pow(b, 998), 1e-12, 0.0, "second derivative");
+  expect_rel(d[3], 1000.0 * 999 * 998 * std::pow(b, 997), 1e-12, 0.0, "third derivative");
+  std::string konst = "1.0001";
+  for (int i = 1; i < 1200; ++i) konst += "*1.0001";
+  mu::Parser p;
+  p.SetExpr(konst);
+  expect_rel(Expression(konst + "*x", {"x"}, {}, "r")(1.0), p.Eval(), 4e-16, 0.0, "constant chain");
+  std::string overlong = "x";
+  while (overlong.size() <= kMaxExpressionLength) overlong += "+x";
+  try {
+    Expression bad(overlong, {"x"}, {}, "r");
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& ex) {
+    EXPECT_EQ(ex.place(), "r");
+    EXPECT_NE(ex.message().find("at most 10000 are read"), std::string::npos) << ex.message();
+  }
+}
+
 // The curves built on expressions: the parametric limacon's position and derivatives are the hand-differentiated
 // ones (and the named limacon's); the polar one the same curve.
 TEST(ExpressionCurves, LimaconDerivativesAreExact) {

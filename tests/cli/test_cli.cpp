@@ -151,4 +151,15 @@ TEST(Cli, AbsurdNumbersAreRefusedNamingTheBound) {
   for (const auto& c : cases) expect_bad(sc, replace(kGoodJob, c.from, c.to), c.mention);
 }
 
+TEST(Cli, UnknownCommandsAndBadOptionsAreOneLineErrors) {
+  const std::string src = POLARCAM_SOURCE_DIR;
+  expect_one_line_error(run_cli("frobnicate"), "polarcam: error: unknown command 'frobnicate' (the commands: ");
+  expect_one_line_error(run_cli("frobnicate"), "digitize");
+  expect_one_line_error(run_cli("digitize " + src + "/examples/limacon.toml --no-such-option"),
+                        "(polarcam digitize --help lists the options)");
+  expect_one_line_error(run_cli("template-speed --thickness"), "polarcam: error: ");
+  // check reads theta-rho patterns only, and says what to use for a drawing
+  expect_one_line_error(run_cli("check " + src + "/examples/patterns/logo.svg"), "check reads theta-rho patterns (.thr)");
+}
+
 }  // namespace tu_cli_test_cli

@@ -319,6 +319,20 @@ TEST(DigitizerAnalytic, StepRatesBeyondOneTickAndGridsBeyondTheTapeAreRefused) {
   far.r_max.reset();
   far.home_r = 1e12;  // 1e12 m / 25.4 um = 3.9e16 steps from node 0, beyond 2^50
   EXPECT_THROW(far.validate(), InputError);
+  // a radial step longer than the work area's span from r_min to r_max: no step fits in it
+  Grid coarse = g;
+  coarse.r_min = 0.010;
+  coarse.r_max = 0.050;
+  coarse.dr = 0.040;
+  EXPECT_NO_THROW(coarse.validate());
+  coarse.dr = 0.0401;
+  try {
+    coarse.validate();
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("40.1 mm is coarser than the work area's radial span (40 mm"), std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace tu_digitizer_test_digitizer_analytic
