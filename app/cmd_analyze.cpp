@@ -56,8 +56,8 @@ int run(const Opts& o) {
 
   AnalysisOptions opt;
   if (!o.spacing.empty()) {
-    opt.spacing = parse_quantity_as(o.spacing, dim::length);
-    if (!(opt.spacing > 0.0)) throw InputError("--spacing must be positive");
+    opt.spacing = option_quantity(o.spacing, dim::length, "--spacing");
+    if (!(opt.spacing > 0.0)) throw InputError("must be a positive length", "--spacing");
   }
   // the cases: speeds x loads
   std::vector<LoadSpec> loads;

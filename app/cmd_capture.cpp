@@ -366,16 +366,18 @@ void register_capture(CLI::App& app, Action& action) {
       if (cmp) cmp->result = comparer->finish();
       if (r.illegal_total && !sd)  // reported, never dropped silently: on the terminal even with --json
         std::fprintf(stderr,
-                     "warning: %llu illegal transitions (both channels of an encoder changed at once; their counts "
+                     "warning: %llu illegal transition%s (both channels of an encoder changed at once; their counts "
                      "are lost), the first on the %s encoder at %s s (%s:%llu)\n",
-                     static_cast<unsigned long long>(r.illegal_total), kAxis[r.illegal.front().axis],
+                     static_cast<unsigned long long>(r.illegal_total), r.illegal_total == 1 ? "" : "s",
+                     kAxis[r.illegal.front().axis],
                      num(seconds(r.illegal.front().t_ns), 10).c_str(), o->file.c_str(),
                      static_cast<unsigned long long>(r.illegal.front().line));
       if (r.illegal_total && sd)
         std::fprintf(stderr,
-                     "warning: %llu glitches (a STEP edge with DIR unknown, or out of an unknown level; no step "
+                     "warning: %llu glitch%s (a STEP edge with DIR unknown, or out of an unknown level; no step "
                      "taken), the first on the %s axis at %s s (%s:%llu)\n",
-                     static_cast<unsigned long long>(r.illegal_total), kAxis[r.illegal.front().axis],
+                     static_cast<unsigned long long>(r.illegal_total), r.illegal_total == 1 ? "" : "es",
+                     kAxis[r.illegal.front().axis],
                      num(seconds(r.illegal.front().t_ns), 10).c_str(), o->file.c_str(),
                      static_cast<unsigned long long>(r.illegal.front().line));
       if (o->json)

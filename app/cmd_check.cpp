@@ -79,7 +79,7 @@ void register_check(CLI::App& app, Action& action) {
       if (o->fix) {
         std::ostringstream os;
         write_thr(os, p.vertices, {"normalised by polarcam check from " + std::filesystem::path(o->pattern).filename().string(),
-                                   std::to_string(p.merged) + " repeated points merged"});
+                                   std::to_string(p.merged) + (p.merged == 1 ? " repeated point merged" : " repeated points merged")});
         write_file_atomic(o->out, os.str());
         j["fixed"] = o->out;
       }

@@ -139,8 +139,8 @@ void register_play(CLI::App& app, Action& action) {
       plan.tool_dwell_s = tool_dwell.value_or(0.0);
       std::optional<double> accel = job_accel(plan.header);
       if (!o->accel.empty()) {
-        accel = parse_quantity_as(o->accel, dim::acceleration);
-        if (!(*accel > 0)) throw InputError("--accel must be positive");
+        accel = option_quantity(o->accel, dim::acceleration, "--accel");
+        if (!(*accel > 0)) throw InputError("must be a positive acceleration, e.g. \"500 mm/s^2\"", "--accel");
       }
       const double v = plan.header.speed_mps * sc.speed.value();
       LinkOptions lo;

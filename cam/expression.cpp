@@ -561,7 +561,14 @@ Expression::Expression(const std::string& text, const std::vector<std::string>& 
     p.Eval();
     for (const auto& [k, v] : p.GetConst()) names[k] = v;
   } catch (mu::Parser::exception_type& e) {
-    throw InputError("'" + text + "': " + e.GetMsg(), key);
+    std::string msg = "'" + text + "': " + e.GetMsg();
+    if (e.GetCode() == mu::ecUNASSIGNABLE_TOKEN) {
+      // a name it does not know: say which it does
+      std::string vars;
+      for (const auto& v : variables) vars += (vars.empty() ? "" : " or ") + v;
+      msg += " (the variable is " + vars + "; the constants are pi and those of [contour.constants])";
+    }
+    throw InputError(msg, key);
   }
   const Node root = Parser(text, variables, names, key).parse();
   emit(root, program_);

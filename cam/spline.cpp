@@ -56,7 +56,7 @@ CurvePtr make_spline(const std::vector<Vec2>& input, bool closed, const std::str
   if (closed && pts.size() > 1 && norm(pts.front() - pts.back()) == 0.0) pts.pop_back();
   const size_t n = pts.size();
   if (n < (closed ? 3u : 2u))
-    throw InputError(std::string("a ") + (closed ? "closed" : "open") + " point list needs at least " +
+    throw InputError(std::string(closed ? "a closed" : "an open") + " point list needs at least " +
                      (closed ? "3" : "2") + " distinct points, got " + std::to_string(n));
   const size_t nseg = closed ? n : n - 1;
   auto P = [&](size_t i) { return pts[i % n]; };

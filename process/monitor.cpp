@@ -9,6 +9,7 @@
 #include <unsupported/Eigen/FFT>
 
 #include "cam/error.hpp"
+#include "cam/format.hpp"
 #include "process/force_estimator.hpp"
 
 namespace polarcam::process {
@@ -184,8 +185,8 @@ MonitorResult monitor_signal(const std::vector<double>& x, const MonitorOptions&
   r.learn_end_s = o.learn_revolutions * rev;
   const double record_s = static_cast<double>(x.size()) / o.sample_rate_hz;
   if (r.learn_end_s + rev > record_s * (1.0 + 1e-12))
-    throw InputError("the record (" + std::to_string(record_s) + " s) must hold the " +
-                         std::to_string(o.learn_revolutions) + " learning revolutions and one more",
+    throw InputError("the record (" + significant(record_s, 6) + " s) must hold the " +
+                         significant(o.learn_revolutions, 6) + " learning revolutions and one more",
                      "--learn-revolutions");
 
   // breakage: learn the run-out from the first revolutions

@@ -170,7 +170,7 @@ std::string verdict_line(const Job& job, const CaseResult& c) {
   } else if (c.search.factor && !v.go) {
     s += fmt::format("; passes with the speed table scaled by {}", g(*c.search.factor));
   } else if (!v.go && c.search.evaluations > 0) {
-    s += "; no slower speed passes: reduce the load";
+    s += "; no speed down to a thousandth of this one passes: reduce the load, or the speed further";
   }
   return s;
 }

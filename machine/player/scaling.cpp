@@ -44,7 +44,7 @@ Ratio parse_ratio(const std::string& text, const std::string& what) {
   }
   int64_t an, ad, bn, bd;
   if (!parse_decimal(a, an, ad) || !parse_decimal(b, bn, bd))
-    return bad("expected a positive number such as 2, 0.5 or 3/2");
+    return bad("expected a positive decimal number, or a ratio of two, such as 2, 0.5 or 3/2 (no exponent, sign or unit)");
   // (an/ad) / (bn/bd)
   if (an == 0 || bn == 0) return bad("must be greater than zero");
   i128 num = static_cast<i128>(an) * bd, den = static_cast<i128>(ad) * bn;

@@ -219,7 +219,7 @@ TEST(CliCapture, AnIllegalTransitionIsReportedNotDropped) {
   const std::string out = sc.path("bad.tape");
   const CliResult r = run_cli("capture " + rec + " --machine " + kMachine + " -o " + out + " --json");
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_NE(r.err.find("1 illegal transitions"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("1 illegal transition (both"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("radial encoder at 3e-05 s"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("bad.vcd:18"), std::string::npos) << r.err;
   const json j = json::parse(r.out);

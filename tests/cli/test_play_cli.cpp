@@ -143,6 +143,9 @@ TEST(PlayCli, BadInputIsRefusedBeforeAnyStep) {
   refused(tape + " --port " + emu.pty + " --baud 9600", "no answer", 3);
   refused(tape + " --port " + emu.pty + " --size-scale 2/1", "r_max");
   refused(tape + " --port " + emu.pty + " --speed-scale 0", "--speed-scale");
+  refused(tape + " --port " + emu.pty + " --speed-scale 1e300", "--speed-scale '1e300': expected a positive decimal number, or a ratio of two");
+  refused(tape + " --port " + emu.pty + " --accel 0", "--accel: '0' is a plain number, expected an acceleration");
+  refused(tape + " --port " + emu.pty + " --accel \"0 m/s^2\"", "--accel: must be a positive acceleration");
   const std::string other = s.write("other.toml", "[machine]\nradial_resolution = \"0.0005 in\"\nangular_steps_per_rev = 16000\n");
   refused(tape + " --port " + emu.pty + " --machine " + other, "another machine grid");
   refused(s.write("junk.tape", "not a tape") + " --port " + emu.pty, "junk.tape");
