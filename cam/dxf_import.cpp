@@ -14,6 +14,7 @@
 #include <numbers>
 
 #include "cam/error.hpp"
+#include "cam/format.hpp"
 
 namespace polarcam {
 namespace {
@@ -65,6 +66,7 @@ class Collector final : public DL_CreationAdapter {
   explicit Collector(const DxfOptions& o) : o_(o) {}
 
   Block top;                            // the entities section
+  std::string bad_radius;               // the first arc or circle of zero or negative radius, described
   std::map<std::string, Block> blocks;  // by name
 
   void addBlock(const DL_BlockData& d) override {
@@ -148,7 +150,12 @@ class Collector final : public DL_CreationAdapter {
   }
   Vec2 pt(double x, double y) { return Vec2{mirrored() ? -x : x, y} * o_.unit_m; }
   void arc(double cx, double cy, double r, double a1, double sweep) {
-    if (!(r > 0)) return;
+    if (!(r > 0)) {  // reported after the parse (dxflib calls this; no exception through it)
+      if (bad_radius.empty())
+        bad_radius = "an ARC or CIRCLE on layer '" + layer() + "' has radius " + significant(r) +
+                     " (drawing units): a radius must be positive";
+      return;
+    }
     const bool m = mirrored();
     if (m) {  // x -> -x: an angle a becomes pi - a and the direction reverses
       a1 = std::numbers::pi - a1;
@@ -423,6 +430,7 @@ DxfPath read_dxf_path(const std::string& path, const DxfOptions& opt) {
   DL_Dxf dxf;
   if (!dxf.in(path, &col)) throw InputError("not a readable DXF file", path);
   col.flush_polyline();
+  if (!col.bad_radius.empty()) throw InputError(col.bad_radius, path);
   Expander ex(col, opt, path);
   ex.draw(col.top, Affine{}, "0", 0);
   if (!ex.refused.empty()) {

@@ -200,6 +200,11 @@ TEST(Dxf, DamagedFilesAreRefusedNamingTheLine) {
   EXPECT_NE(e.find("truncated"), std::string::npos) << e;
   e = read_error("cut.dxf", whole.substr(0, whole.find("11\n10\n21\n10") + 3));
   EXPECT_NE(e.find("truncated"), std::string::npos) << e;
+  // a circle of radius 0 or -6 is not dropped without a word (the error said there was no CIRCLE on its layer)
+  for (const char* r : {"0", "-6"}) {
+    e = read_error("r.dxf", dxf(std::string("0\nCIRCLE\n8\nHOLES\n10\n30\n20\n20\n30\n0\n40\n") + r + "\n"));
+    EXPECT_NE(e.find(std::string("an ARC or CIRCLE on layer 'HOLES' has radius ") + r), std::string::npos) << e;
+  }
 }
 
 TEST(Dxf, ThePlateExampleHasItsHole) {
