@@ -250,7 +250,8 @@ TapeReader::TapeReader(const std::string& path) : path_(path) {
   } close_unless_accepted{f_};
   std::vector<uint8_t> fixed(kTapeFixedHeader);
   size_t got = std::fread(fixed.data(), 1, fixed.size(), f_);
-  if (got < 16 || std::memcmp(fixed.data(), kMagic, 8) != 0) fail("not a polarcam tape (bad magic)");
+  if (got < 8 || std::memcmp(fixed.data(), kMagic, 8) != 0) fail("not a polarcam tape (bad magic)");
+  if (got < 16) fail("the header is truncated");
   Get g{fixed.data()};
   h_.version = g.u16(kOffVersion);
   if (h_.version != kTapeVersion && h_.version != kTapeVersionEvents)
@@ -274,6 +275,11 @@ TapeReader::TapeReader(const std::string& path) : path_(path) {
   h_.axes = static_cast<TapeAxes>(axes);
   h_.rule = static_cast<TapeRule>(rule);
   uint16_t flags = g.u16(kOffFlags);
+  const uint16_t known = kFlagClosed | kFlagRmax | kFlagTheta | kFlagReturns |
+                         (h_.version >= kTapeVersionEvents ? kFlagToolUp : 0);
+  if (flags & ~known)
+    fail("the header's flags have bits this tape format version does not define (" + std::to_string(flags & ~known) +
+         ")");
   h_.closed = flags & kFlagClosed;
   h_.has_r_max = flags & kFlagRmax;
   h_.has_theta_range = flags & kFlagTheta;
@@ -363,6 +369,7 @@ void TapeReader::validate_header() const {
   const uint64_t max_ticks = max_time_ticks();
   if (h_.duration_ticks > max_ticks || h_.last_step_ticks > max_ticks)
     fail("the header's duration or last step time exceeds 2^62 ns (about 146 years)");
+  if (h_.duration_ticks < h_.last_step_ticks) fail("the header's duration is shorter than its last step's time");
 }
 
 uint64_t TapeReader::max_time_ticks() const {
