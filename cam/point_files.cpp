@@ -10,10 +10,12 @@
 namespace polarcam {
 namespace {
 
-// Splits a line into numeric fields; returns false when a field is not a number.
+// Splits a line into numeric fields; returns false when a field is not a number. A field may be in double quotes, as
+// spreadsheets write them: a separator inside the quotes is part of the field ("1,5" is not a number, not 1 and 5).
 bool parse_numbers(const std::string& line, std::vector<double>& out) {
   out.clear();
   std::string cur;
+  bool quoted = false;
   auto flush = [&]() -> bool {
     if (cur.empty()) return true;
     double v = 0.0;
@@ -27,13 +29,15 @@ bool parse_numbers(const std::string& line, std::vector<double>& out) {
     return true;
   };
   for (char c : line) {
-    if (c == ',' || c == ';' || c == '\t' || c == ' ' || c == '\r') {
+    if (c == '"') {
+      quoted = !quoted;
+    } else if (!quoted && (c == ',' || c == ';' || c == '\t' || c == ' ' || c == '\r')) {
       if (!flush()) return false;
     } else {
       cur.push_back(c);
     }
   }
-  return flush();
+  return !quoted && flush();
 }
 
 template <class F>

@@ -232,6 +232,26 @@ TEST(PointFiles, CsvAndThetaRho) {
     f << "x,y\n1,2\n3,abc\n";
   }
   EXPECT_THROW(read_points_csv(csv, 0.001), InputError);
+  // quoted fields, as spreadsheets write them: every row a point (the first row was once taken as a header)
+  {
+    std::ofstream f(csv);
+    f << "\"1\",\"2\"\n\"3\";\"4.5\"\n";
+  }
+  p = read_points_csv(csv, 0.001);
+  ASSERT_EQ(p.size(), 2u);
+  EXPECT_DOUBLE_EQ(p[0].x, 0.001);
+  EXPECT_DOUBLE_EQ(p[1].y, 0.0045);
+  // a decimal comma inside quotes is one field that is not a number, never the two numbers 1 and 5
+  {
+    std::ofstream f(csv);
+    f << "x,y\n\"1,5\"\n";
+  }
+  try {
+    read_points_csv(csv, 0.001);
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(":2"), std::string::npos) << e.what();
+  }
   std::remove(csv.c_str());
   std::remove(thr.c_str());
 }
