@@ -10,6 +10,7 @@
 #include "cam/error.hpp"
 #include "cam/thr_file.hpp"
 #include "io/output.hpp"
+#include "io/progress.hpp"
 #include "pipeline/job_tape.hpp"
 
 namespace polarcam::cli {
@@ -26,7 +27,7 @@ void register_check(CLI::App& app, Action& action) {
   struct Opts {
     std::string pattern, out;
     PatternArgs machine;
-    bool json = false, fix = false;
+    bool json = false, fix = false, quiet = false;
   };
   auto o = std::make_shared<Opts>();
   CLI::App* c = app.add_subcommand("check", "Check a theta-rho pattern: counts, radius range, repeated points, centre "
@@ -34,6 +35,7 @@ void register_check(CLI::App& app, Action& action) {
   c->add_option("pattern", o->pattern, "theta-rho pattern (.thr)")->required();
   add_pattern_options(c, o->machine);
   c->add_flag("--json", o->json, "print the findings as one JSON object");
+  c->add_flag("--quiet", o->quiet, "no progress bar while the pattern is stepped on the machine (a terminal only)");
   c->add_flag("--fix", o->fix, "write the pattern normalised (repeated points merged, comments dropped) to -o");
   c->add_option("-o,--output", o->out, "the normalised pattern (with --fix)");
   c->callback([o, &action] {
@@ -68,7 +70,10 @@ void register_check(CLI::App& app, Action& action) {
       if (!o->machine.machine.empty() || !o->machine.speed.empty()) {
         // on a machine: the exact length, time and steps of the tape the pattern makes
         const Job job = load_job_input(o->pattern, o->machine);
-        const DigitizedJob d = digitize_job(job, nullptr);
+        const DigitizedJob d = [&] {
+          TerminalBar bar("check", o->quiet);  // erased before the output
+          return digitize_job(job, nullptr, bar.callback());
+        }();
         j["path_length_m"] = d.result.path_length_m;
         j["duration_s"] = d.result.duration_s;
         j["steps_radial"] = d.result.radial.steps();

@@ -72,6 +72,23 @@ TEST(Progress, DigitizeDrawsABarOnATerminalOnly) {
   EXPECT_EQ(quiet.find('%'), std::string::npos) << quiet;
 }
 
+// check on a machine steps the whole pattern: 40 turns of the example sand table, some 800 000 angular steps
+TEST(Progress, CheckOnAMachineDrawsABarOnATerminalOnly) {
+  if (std::system("command -v script > /dev/null 2>&1") != 0) GTEST_SKIP() << "script(1) is not installed";
+  Scratch sc;
+  const std::string thr = sc.write("turns.thr", "0 0.2\n251.32741228718345 0.9\n");
+  const std::string args = "check " + thr + " --machine " + std::string(POLARCAM_SOURCE_DIR) +
+                           "/examples/machines/sand-table.toml --speed 40mm/s";  // no quotes: script(1) quotes the command
+  const std::string tty = on_a_terminal(args, sc);
+  EXPECT_NE(tty.find("check ["), std::string::npos) << tty;
+  EXPECT_NE(tty.find("\r\033[K"), std::string::npos) << "the bar is erased at the end: " << tty;
+  EXPECT_NE(read_file(sc.path("stdout.txt")).find("on machine"), std::string::npos);  // the findings, on stdout
+  EXPECT_EQ(on_a_terminal(args + " --quiet", sc).find('%'), std::string::npos);
+  const CliResult piped = run_cli(args);
+  EXPECT_EQ(piped.code, 0) << piped.err;
+  EXPECT_EQ(piped.err, "");
+}
+
 // Every command that may run for seconds prints nothing on stderr when stderr is not a terminal (its result on
 // stdout, its files written); --quiet is accepted and changes nothing there. The three searches (seconds each
 // under the sanitizers) run once; the rest with and without --quiet.
