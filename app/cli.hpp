@@ -33,6 +33,16 @@ Job load_job_input(const std::string& path, const PatternArgs& a, double toleran
 // The quantity an option gives ("0.1 mm"), of dimension d; InputError naming the option otherwise.
 double option_quantity(const std::string& text, const Dim& d, const std::string& option);
 
+// --safety-factor, instead of the job's [limits]: its value and whether it was given at all (a value such as 0 must
+// be refused, not taken for "not given").
+struct SafetyFactor {
+  double value = 0.0;
+  CLI::Option* option = nullptr;
+};
+void add_safety_factor_option(CLI::App* c, SafetyFactor& sf);
+// Sets job.safety_factor when the option was given; InputError naming it unless it is at least 1.
+void apply_safety_factor(const SafetyFactor& sf, Job& job);
+
 // Adds one subcommand to `app`; when it is chosen, stores what to run in `action`.
 using Register = void(CLI::App& app, Action& action);
 Register register_digitize, register_inspect, register_dda, register_play, register_controller_sim, register_error,

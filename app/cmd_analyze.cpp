@@ -19,7 +19,7 @@ struct Opts {
   PatternArgs pattern;
   bool json = false, quiet = false;
   std::vector<std::string> speeds, masses, depths;
-  double safety_factor = 0.0;
+  SafetyFactor safety_factor;
 };
 
 std::vector<double> quantities(const std::vector<std::string>& texts, const Dim& d, const char* option) {
@@ -43,10 +43,7 @@ int run(const Opts& o) {
   PatternArgs pattern = o.pattern;
   if (!o.speeds.empty()) pattern.speed = o.speeds.front();  // a pattern is analysed at the first --speed
   Job job = load_job_input(o.job, pattern);
-  if (o.safety_factor != 0.0) {
-    if (!(o.safety_factor >= 1.0)) throw InputError("--safety-factor must be at least 1");
-    job.safety_factor = o.safety_factor;
-  }
+  apply_safety_factor(o.safety_factor, job);
   const auto speeds = quantities(o.speeds, dim::speed, "--speed");
   const auto masses = quantities(o.masses, dim::mass, "--mass");
   const auto depths = quantities(o.depths, dim::length, "--depth");
@@ -149,7 +146,7 @@ void register_analyze(CLI::App& app, Action& action) {
                 "analyse with an inertial load of this mass instead of the job's load (repeatable)");
   c->add_option("--depth", o->depths, "grinding jobs: analyse at this depth of cut instead of the job's (repeatable)");
   c->add_option("--spacing", o->spacing, "largest distance between samples along the path, e.g. \"0.1 mm\"");
-  c->add_option("--safety-factor", o->safety_factor, "safety factor instead of the job's [limits] (>= 1)");
+  add_safety_factor_option(c, o->safety_factor);
   c->callback([o, &action] { action = [o] { return run(*o); }; });
 }
 

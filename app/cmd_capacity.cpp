@@ -17,7 +17,7 @@ struct Opts {
   std::string job, speed, csv, plot;
   PatternArgs pattern;
   bool json = false;
-  double safety_factor = 0.0;
+  SafetyFactor safety_factor;
   int curve = 0;
 };
 
@@ -28,10 +28,7 @@ int run(const Opts& o) {
   PatternArgs pattern = o.pattern;
   pattern.speed = o.speed;  // a pattern's speed is the --speed of the question
   Job job = load_job_input(o.job, pattern);
-  if (o.safety_factor != 0.0) {
-    if (!(o.safety_factor >= 1.0)) throw InputError("--safety-factor must be at least 1");
-    job.safety_factor = o.safety_factor;
-  }
+  apply_safety_factor(o.safety_factor, job);
   std::optional<double> at_speed;
   if (!o.speed.empty()) {
     try {
@@ -69,7 +66,7 @@ void register_capacity(CLI::App& app, Action& action) {
   add_pattern_options(c, o->pattern, false);
   c->add_flag("--json", o->json, "print the result as one JSON object");
   c->add_option("--speed", o->speed, "find the largest load at this speed instead of the job's, e.g. \"1 cm/s\"");
-  c->add_option("--safety-factor", o->safety_factor, "safety factor instead of the job's [limits] (>= 1)");
+  add_safety_factor_option(c, o->safety_factor);
   c->add_option("--curve", o->curve, "the largest load at this many speeds, up to the speed at which a motor reaches its top step rate")
       ->check(CLI::Range(2, 200));
   c->add_option("--csv", o->csv, "write the capacity curve as CSV (12 speeds unless --curve)");

@@ -36,7 +36,7 @@ struct Opts {
   PatternArgs pattern;
   bool json = false, pole_outside = false, torque_limit = false, quiet = false;
   int segments = 0, max_evaluations = 0, threads = -1, map_size = 41, levels = 6, survey = 25;
-  double safety_factor = 0.0;
+  SafetyFactor safety_factor;
 };
 
 // The dynamics at a placement as `analyze` reports them (the balanced objective, the worst ratios, the verdict).
@@ -135,10 +135,7 @@ int run(const Opts& o) {
   if (!o.map_image.empty()) plot::check_plot_path(o.map_image);
   if (!o.write_job.empty()) check_output_path(o.write_job);
   Job job = load_job_input(o.job, o.pattern);
-  if (o.safety_factor != 0.0) {
-    if (!(o.safety_factor >= 1.0)) throw InputError("--safety-factor must be at least 1");
-    job.safety_factor = o.safety_factor;
-  }
+  apply_safety_factor(o.safety_factor, job);
   PlacementOptions opt = job.optimize;
   if (!o.objective.empty()) {
     opt.pareto = o.objective == "pareto";
@@ -296,7 +293,7 @@ void register_optimize(CLI::App& app, Action& action) {
   c->add_flag("--torque-limit", o->torque_limit,
               "keep every torque ratio within 1 / safety factor (and every motor within its step-rate limit): with "
               "--objective area, the pole of least area error the drives can carry");
-  c->add_option("--safety-factor", o->safety_factor, "safety factor instead of the job's [limits] (>= 1)");
+  add_safety_factor_option(c, o->safety_factor);
   c->add_option("--method", o->method, "nlopt (global + local + sampling) or hooke-jeeves (the thesis's search)")
       ->check(CLI::IsMember({"nlopt", "hooke-jeeves"}));
   c->add_option("--hold", o->hold, "keep C or beta at the job's value (none, C, beta)")

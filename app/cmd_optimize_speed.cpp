@@ -17,16 +17,13 @@ namespace cmd_optimize_speed {  // named, not anonymous: the command files are c
 struct Opts {
   std::string job, csv;
   bool json = false;
-  double safety_factor = 0.0;
+  SafetyFactor safety_factor;
 };
 
 int run(const Opts& o) {
   if (!o.csv.empty()) check_output_path(o.csv);
   Job job = load_job_input(o.job, PatternArgs{});
-  if (o.safety_factor != 0.0) {
-    if (!(o.safety_factor >= 1.0)) throw InputError("--safety-factor must be at least 1");
-    job.safety_factor = o.safety_factor;
-  }
+  apply_safety_factor(o.safety_factor, job);
   const PreparedDynamics prep = prepare_dynamics(job);
   const SpeedPlan plan = plan_speed(job, prep, job.load);
   const Verdict v = judge(plan.schedule.check, *job.machine.dynamics, job.safety_factor);
@@ -61,7 +58,7 @@ void register_optimize_speed(CLI::App& app, Action& action) {
   c->add_option("job", o->job, "job file (TOML) whose machine has dynamics")->required();
   c->add_flag("--json", o->json, "print the result as one JSON object");
   c->add_option("--csv", o->csv, "write the schedule at its stations (s, t, V, acceleration, binding) to this file");
-  c->add_option("--safety-factor", o->safety_factor, "safety factor instead of the job's [limits] (>= 1)");
+  add_safety_factor_option(c, o->safety_factor);
   c->callback([o, &action] { action = [o] { return run(*o); }; });
 }
 

@@ -18,7 +18,7 @@ struct Opts {
   std::string job, output;
   PatternArgs pattern;
   StudyOptions report;
-  double safety_factor = 0.0;
+  SafetyFactor safety_factor;
   bool quiet = false;
 };
 
@@ -27,10 +27,7 @@ int run(const Opts& o) {
   if (ext != ".html" && ext != ".htm") throw InputError("the report is an .html file", o.output);
   check_output_path(o.output);
   Job job = load_job_input(o.job, o.pattern);
-  if (o.safety_factor != 0.0) {
-    if (!(o.safety_factor >= 1.0)) throw InputError("--safety-factor must be at least 1");
-    job.safety_factor = o.safety_factor;
-  }
+  apply_safety_factor(o.safety_factor, job);
   // a machine without dynamics, or a sand table's coupled arm: the report of what it will draw
   const OperatorReport r = [&] {
     TerminalBar bar("report", o.quiet);  // erased before the output
@@ -59,7 +56,7 @@ void register_report(CLI::App& app, Action& action) {
       ->check(CLI::Range(10, 10000000));
   c->add_option("--threads", o->report.threads, "threads (default: all cores; the report does not depend on it)")
       ->check(CLI::Range(0, 1024));
-  c->add_option("--safety-factor", o->safety_factor, "safety factor instead of the job's [limits] (>= 1)");
+  add_safety_factor_option(c, o->safety_factor);
   c->add_flag("--quiet", o->quiet, "no progress bar (shown on a terminal only)");
   c->callback([o, &action] { action = [o] { return run(*o); }; });
 }

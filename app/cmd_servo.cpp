@@ -21,7 +21,9 @@ namespace cmd_servo {  // named, not anonymous: the command files are compiled t
 
 struct Opts {
   std::string input, path, drives, feed, ramp, tolerance, csv, plot, corner;
-  double integral = -1.0;
+  double integral = 0.0;
+  CLI::Option* integral_option = nullptr;  // whether --integral was given: every value of it is checked
+  bool integral_given() const { return integral_option != nullptr && integral_option->count() > 0; }
   bool json = false, report_model = false;
 };
 
@@ -32,11 +34,11 @@ int run_report_model(const Opts& o) {
   servo::Drives d = servo::read_drives_file(o.drives);
   servo::ModelReport r[2];
   for (int i = 0; i < 2; ++i) {
-    if (o.integral >= 0.0) d.axis[i].params.C_I = o.integral;
+    if (o.integral_given()) d.axis[i].params.C_I = o.integral;
     try {
       r[i] = servo::model_report(d.axis[i].params);
     } catch (const InputError& e) {
-      throw InputError(e.message(), o.integral >= 0.0 ? "--integral" : o.drives);
+      throw InputError(e.message(), o.integral_given() ? "--integral" : o.drives);
     }
   }
   if (o.json)
@@ -47,7 +49,7 @@ int run_report_model(const Opts& o) {
 }
 
 int run(const Opts& o) {
-  if (o.integral != -1.0 && !(o.integral >= 0.0 && o.integral < 1e6)) throw InputError("must be from 0 to 1e6 (1/s)", "--integral");
+  if (o.integral_given() && !(o.integral >= 0.0 && o.integral < 1e6)) throw InputError("must be from 0 to 1e6 (1/s)", "--integral");
   if (o.report_model) return run_report_model(o);
   if (o.input.empty() == o.path.empty()) throw InputError("give a job or a tape, or --path (one of them)", "--path");
   if (!o.path.empty()) servo::parse_test_path(o.path);
@@ -70,7 +72,7 @@ int run(const Opts& o) {
   ServoAnalysis a;
   a.drives_file = o.drives;
   a.drives = servo::read_drives_file(o.drives);
-  if (o.integral >= 0.0) {
+  if (o.integral_given()) {
     for (auto& ax : a.drives.axis) ax.params.C_I = o.integral;
     try {
       for (auto& ax : a.drives.axis) servo::check(ax.params);
@@ -136,7 +138,8 @@ void register_servo(CLI::App& app, Action& action) {
   c->add_option("--ramp", o->ramp, "linear speed ramps of this duration at each leg's ends (\"0.1 s\")");
   c->add_option("--corner", o->corner, "the test path's corners: sharp (default), spline (one cubic segment) or "
                                        "spline2 (two), over 1.41 mm each side (Sec. 4.4.3)");
-  c->add_option("--integral", o->integral, "integral action C_I (1/s) in both position loops (Eq. 4.107; 0.5 in the thesis)");
+  o->integral_option =
+      c->add_option("--integral", o->integral, "integral action C_I (1/s) in both position loops (Eq. 4.107; 0.5 in the thesis)");
   c->add_option("--tolerance", o->tolerance, "contour error allowed (default 0.05 mm)");
   c->add_flag("--json", o->json, "print the results as one JSON object");
   c->add_flag("--report-model", o->report_model, "print each axis's model instead: velocity loop, discrete G, "

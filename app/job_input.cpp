@@ -1,5 +1,8 @@
 // --machine and --speed: a pattern file as a job (job/pattern.hpp).
 #include "app/cli.hpp"
+
+#include <cmath>
+
 #include "cam/error.hpp"
 #include "cam/units.hpp"
 #include "job/pattern.hpp"
@@ -35,6 +38,16 @@ double option_quantity(const std::string& text, const Dim& d, const std::string&
   } catch (const InputError& e) {
     throw InputError(e.message(), option);
   }
+}
+
+void add_safety_factor_option(CLI::App* c, SafetyFactor& sf) {
+  sf.option = c->add_option("--safety-factor", sf.value, "safety factor instead of the job's [limits] (>= 1)");
+}
+
+void apply_safety_factor(const SafetyFactor& sf, Job& job) {
+  if (sf.option == nullptr || sf.option->count() == 0) return;
+  if (!(sf.value >= 1.0) || !std::isfinite(sf.value)) throw InputError("must be at least 1", "--safety-factor");
+  job.safety_factor = sf.value;
 }
 
 Job load_job_input(const std::string& path, const PatternArgs& a, double tolerance) {

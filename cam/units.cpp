@@ -268,6 +268,8 @@ std::string describe(const Dim& d) {
       {dim::torque, "torque (N m)"}, {dim::inertia, "moment of inertia (kg m^2)"},
       {dim::voltage, "voltage (V)"}, {dim::resistance, "resistance (ohm)"}, {dim::inductance, "inductance (H)"},
       {dim::pressure, "pressure (Pa)"}, {dim::angular_speed, "angular speed (rad/s)"},
+      {dim::force / dim::length, "stiffness (N/m)"}, {dim::force * dim::time / dim::length, "damping (N s/m)"},
+      {dim::force / (dim::length * dim::length * dim::length), "force per volume (N/m^3)"},
   };
   for (const auto& n : names)
     if (n.d == d) return n.name;

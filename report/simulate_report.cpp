@@ -73,7 +73,10 @@ std::string ac_text(const AcReport& r) {
   os << "A/C loop (Elbestawi 1980), strategy " << process::strategy_name(s.strategy) << ": F_nom "
      << significant(s.F_nom, 6) << " N, K_ac " << significant(s.K_ac * kMm, 6) << " mm/s^2, B "
      << significant(s.B * kMm, 6) << " mm/s, " << significant(s.dda_rate_hz, 6) << " Hz DDA\n";
-  if (a.impact_time_s)
+  if (s.strategy == process::ImpactStrategy::none)  // no impact is watched for: the law runs from the first sample
+    os << "  no impact strategy; peak force " << significant(a.peak_force, 6) << " N at "
+       << significant(a.peak_force_time_s, 6) << " s\n";
+  else if (a.impact_time_s)
     os << "  impact at " << significant(*a.impact_time_s, 6) << " s; peak force " << significant(a.peak_force, 6)
        << " N at " << significant(a.peak_force_time_s, 6) << " s\n";
   else

@@ -162,4 +162,24 @@ TEST(Cli, UnknownCommandsAndBadOptionsAreOneLineErrors) {
   expect_one_line_error(run_cli("check " + src + "/examples/patterns/logo.svg"), "check reads theta-rho patterns (.thr)");
 }
 
+// Values of an option that once stood for "not given" are checked as every other value: --safety-factor 0 (each
+// command that takes it) and --integral -1 were silently replaced by the job's or the drives' own.
+TEST(Cli, AnOptionGivenIsCheckedWhateverItsValue) {
+  const std::string ex = std::string(POLARCAM_SOURCE_DIR) + "/examples/";
+  for (const std::string& cmd : {std::string("analyze"), std::string("capacity"), std::string("optimize"),
+                                 std::string("optimize-speed"), std::string("report")}) {
+    SCOPED_TRACE(cmd);
+    const std::string out = cmd == "report" ? " -o /tmp/polarcam-never-written.html" : "";
+    expect_one_line_error(run_cli(cmd + " " + ex + "ch6/witch_grinding.toml --safety-factor 0" + out),
+                          "--safety-factor: must be at least 1");
+  }
+  expect_one_line_error(run_cli("servo --path square --drives " + ex + "drives/peng1989.toml --integral=-1 --json"),
+                        "--integral: must be from 0 to 1e6");
+  // the A/C loop without an impact strategy watches for no impact: its peak force, not "never exceeded"
+  const CliResult r = run_cli("simulate ac " + ex + "process/elbestawi_ac_sec5_7.toml --strategy none");
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("no impact strategy; peak force"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("never exceeded"), std::string::npos) << r.out;
+}
+
 }  // namespace tu_cli_test_cli
