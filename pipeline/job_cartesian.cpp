@@ -91,6 +91,13 @@ CartesianRun run_cartesian_job(const Job& job, CartesianMethod m, double interru
         throw InputError("[motion] speed_profile = \"template\": the DDA runs every block at a constant feed; use --method exact");
       if (!job.motion.table.empty())
         throw InputError("[motion] speed_profile: the DDA runs every block at a constant feed; give 'speed' or use --method exact");
+      // the schedules made from the job's dynamics or its cut are not a feed either: refused, not run at 'speed'
+      if (job.motion.time_optimal)
+        throw InputError("[motion] speed_profile = \"time-optimal\": the DDA runs every block at a constant feed; give "
+                         "'speed' alone for a DDA run");
+      if (job.motion.constant_force)
+        throw InputError("[motion] speed_profile = \"constant-force\": the DDA runs every block at a constant feed; "
+                         "use --method exact");
       ArcFitOptions fo;
       fo.tolerance = job.cartesian.tolerance;
       run.fit = fit_lines_and_arcs(*run.path, fo);

@@ -167,6 +167,10 @@ TEST(CliDda, BadInputGivesOneClearLine) {
   // the exact method takes a ramp; the DDA needs a constant feed
   std::string ramp = sc.write("ramp.toml", replace(kCircleJob, "speed = \"20 mm/s\"", "speed = \"20 mm/s\"\naccel = \"1 m/s^2\""));
   EXPECT_EQ(run_cli("dda " + ramp + " --method exact").code, 0);
+  // schedules from the cut or the dynamics are not a feed: the DDA refuses them instead of running 'speed'
+  const std::string milling = std::string(POLARCAM_SOURCE_DIR) + "/examples/process/contour_milling.toml";
+  expect_one_line_error(run_cli("dda " + milling), "speed_profile = \"constant-force\": the DDA runs every block at a constant feed");
+  EXPECT_EQ(run_cli("dda " + milling + " --method exact --json").code, 0);
 }
 
 }  // namespace tu_cli_test_cli_dda
