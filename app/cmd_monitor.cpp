@@ -195,7 +195,8 @@ void register_monitor(CLI::App& app, Action& action) {
   c->add_option("--duration", o->duration, "generated: length (default \"6 s\")");
   c->add_option("--rate", o->rate, "generated: sample rate (default \"500 Hz\")");
   c->add_option("--peak-force", o->peak_force, "generated: peak force of a tooth cutting one feed (\"500 N\")");
-  c->add_option("--engagement", o->engagement, "generated: fraction of a revolution a tooth cuts (1/teeth)");
+  c->add_option("--engagement", o->engagement, "generated: fraction of a revolution a tooth cuts (1/teeth)")
+      ->check(CLI::PositiveNumber & CLI::Range(0.0, 1.0));
   c->add_option("--runout", o->runout, "generated: radial run-out as a fraction of the feed per tooth (0.1)");
   c->add_option("--noise", o->noise, "generated: noise standard deviation (\"10 N\")");
   c->add_option("--seed", o->seed, "generated: noise seed (1)");

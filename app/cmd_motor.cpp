@@ -57,8 +57,14 @@ int fit(const FitOpts& o) {
       throw InputError("the " + o.axis + " motor is a pull-out curve, not an electrical model", o.machine);
     known = std::get<ElectricalMotor>(sm.model);
   }
-  if (!o.voltage.empty()) known.supply_voltage = quantity(o.voltage, dim::voltage, "--supply-voltage");
-  if (!o.resistance.empty()) known.R_a = quantity(o.resistance, dim::resistance, "--resistance");
+  if (!o.voltage.empty()) {
+    known.supply_voltage = quantity(o.voltage, dim::voltage, "--supply-voltage");
+    if (!(known.supply_voltage > 0.0)) throw InputError("must be a positive voltage", "--supply-voltage");
+  }
+  if (!o.resistance.empty()) {
+    known.R_a = quantity(o.resistance, dim::resistance, "--resistance");
+    if (!(known.R_a > 0.0)) throw InputError("must be a positive resistance", "--resistance");
+  }
   if (o.rotor_teeth != 0) known.rotor_teeth = o.rotor_teeth;
   if (!o.energisation.empty()) {
     auto e = parse_energisation(o.energisation);
@@ -218,7 +224,7 @@ void register_motor(CLI::App& app, Action& action) {
   c->add_option("--axis", o->axis, "which motor of --machine: radial (default) or angular");
   c->add_option("--supply-voltage", o->voltage, "supply voltage, e.g. \"24 V\"");
   c->add_option("--resistance", o->resistance, "winding plus drive resistance, e.g. \"6.5 ohm\"");
-  c->add_option("--rotor-teeth", o->rotor_teeth, "rotor teeth N_s (50 for a 200-step motor)");
+  c->add_option("--rotor-teeth", o->rotor_teeth, "rotor teeth N_s (50 for a 200-step motor)")->check(CLI::PositiveNumber);
   c->add_option("--energisation", o->energisation, "wave (half step, default), full_one or full_two (Table F.1)");
   c->add_option("--rate-unit", o->rate_unit, "unit of the rate column (default Hz: motor steps per second as driven)");
   c->add_option("--torque-unit", o->torque_unit,

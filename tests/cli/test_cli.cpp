@@ -175,6 +175,15 @@ TEST(Cli, AnOptionGivenIsCheckedWhateverItsValue) {
   }
   expect_one_line_error(run_cli("servo --path square --drives " + ex + "drives/peng1989.toml --integral=-1 --json"),
                         "--integral: must be from 0 to 1e6");
+  expect_one_line_error(
+      run_cli("monitor --spindle \"600 rpm\" --teeth 4 --generate /tmp/polarcam-never-written.csv --engagement 0"),
+      "--engagement");
+  // motor fit: a value given is checked, whatever the machine file would have given
+  Scratch sc;
+  const std::string pts = sc.write("pts.csv", "rate,torque\n100,0.2\n200,0.18\n400,0.15\n800,0.1\n");
+  const std::string fit = "motor fit " + pts + " --machine " + ex + "machines/fahim1983.toml";
+  expect_one_line_error(run_cli(fit + " --rotor-teeth 0"), "--rotor-teeth");
+  expect_one_line_error(run_cli(fit + " --supply-voltage \"0 V\""), "--supply-voltage: must be a positive voltage");
   // the A/C loop without an impact strategy watches for no impact: its peak force, not "never exceeded"
   const CliResult r = run_cli("simulate ac " + ex + "process/elbestawi_ac_sec5_7.toml --strategy none");
   EXPECT_EQ(r.code, 0) << r.err;
