@@ -1,5 +1,6 @@
 // polarcam monitor SIGNAL.csv --spindle N --teeth Z [--signal COLUMN | --estimate-force] [--json] ...
 // polarcam monitor --generate OUT.csv --spindle N --teeth Z [--break-at T] [--chatter-at T ...]
+#include <cstdlib>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -196,7 +197,15 @@ void register_monitor(CLI::App& app, Action& action) {
   c->add_option("--rate", o->rate, "generated: sample rate (default \"500 Hz\")");
   c->add_option("--peak-force", o->peak_force, "generated: peak force of a tooth cutting one feed (\"500 N\")");
   c->add_option("--engagement", o->engagement, "generated: fraction of a revolution a tooth cuts (1/teeth)")
-      ->check(CLI::PositiveNumber & CLI::Range(0.0, 1.0));
+      ->check(CLI::Validator(
+          [](std::string& v) -> std::string {
+            char* end = nullptr;
+            const double x = std::strtod(v.c_str(), &end);
+            return (end != v.c_str() && *end == '\0' && x > 0.0 && x <= 1.0)
+                       ? ""
+                       : "'" + v + "' must be a fraction of a revolution above 0 and at most 1";
+          },
+          "(0, 1]"));
   c->add_option("--runout", o->runout, "generated: radial run-out as a fraction of the feed per tooth (0.1)");
   c->add_option("--noise", o->noise, "generated: noise standard deviation (\"10 N\")");
   c->add_option("--seed", o->seed, "generated: noise seed (1)");

@@ -224,7 +224,7 @@ void register_motor(CLI::App& app, Action& action) {
   c->add_option("--axis", o->axis, "which motor of --machine: radial (default) or angular");
   c->add_option("--supply-voltage", o->voltage, "supply voltage, e.g. \"24 V\"");
   c->add_option("--resistance", o->resistance, "winding plus drive resistance, e.g. \"6.5 ohm\"");
-  c->add_option("--rotor-teeth", o->rotor_teeth, "rotor teeth N_s (50 for a 200-step motor)")->check(CLI::PositiveNumber);
+  c->add_option("--rotor-teeth", o->rotor_teeth, "rotor teeth N_s (50 for a 200-step motor)")->check(CLI::Range(1, 100000));
   c->add_option("--energisation", o->energisation, "wave (half step, default), full_one or full_two (Table F.1)");
   c->add_option("--rate-unit", o->rate_unit, "unit of the rate column (default Hz: motor steps per second as driven)");
   c->add_option("--torque-unit", o->torque_unit,
