@@ -1,5 +1,4 @@
 // polarcam check PATTERN.thr [--machine M --speed V] [--json] [--fix -o CLEAN.thr]
-#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -8,6 +7,7 @@
 
 #include "app/cli.hpp"
 #include "cam/error.hpp"
+#include "cam/input_file.hpp"
 #include "cam/thr_file.hpp"
 #include "io/output.hpp"
 #include "io/progress.hpp"
@@ -42,9 +42,7 @@ void register_check(CLI::App& app, Action& action) {
     action = [o] {
       if (o->fix != !o->out.empty()) throw InputError("--fix and -o go together: --fix -o CLEAN.thr", "--fix");
       if (o->fix) check_output_path(o->out);
-      std::string ext = std::filesystem::path(o->pattern).extension().string();
-      for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-      if (ext != ".thr")
+      if (lower_extension(o->pattern) != ".thr")
         throw InputError("check reads theta-rho patterns (.thr); a drawing or an image is checked by drawing it: "
                          "polarcam preview FILE --machine M --speed V",
                          o->pattern);

@@ -17,6 +17,7 @@
 
 #include "cam/error.hpp"
 #include "cam/format.hpp"
+#include "cam/input_file.hpp"
 
 namespace polarcam {
 namespace {
@@ -251,12 +252,6 @@ CurvePtr contour_curve(const potrace_curve_t& c, double s, const std::string& na
     from = end;
   }
   return make_segment_curve(std::move(segs), true, name);
-}
-
-std::string lower_extension(const std::string& path) {
-  std::string e = std::filesystem::path(path).extension().string();
-  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
-  return e;
 }
 
 std::string mm(double metres) {

@@ -1,6 +1,10 @@
 #pragma once
 // The whole of a user's input file as bytes, for the parsers that take text (drives, simulation, chatter,
-// signal and response files). InputError naming the file when it cannot be opened or read.
+// signal and response files). InputError naming the file when it cannot be opened or read. And the kind of an
+// input file by its name.
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -16,6 +20,13 @@ inline std::string read_input_file(const std::string& path) {
   ss << in.rdbuf();
   if (in.bad()) throw InputError("cannot read the file", path);
   return std::move(ss).str();
+}
+
+// The extension of a file's name in lower case (".thr" for "A.THR"), by which its kind is told; "" for none.
+inline std::string lower_extension(const std::string& path) {
+  std::string e = std::filesystem::path(path).extension().string();
+  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+  return e;
 }
 
 }  // namespace polarcam

@@ -228,16 +228,13 @@ Quantity parse_quantity(std::string_view text) {
   split_quantity(text, number, unit);
   if (number.empty()) throw InputError("'" + std::string(text) + "': a number is missing");
   double v = eval_number(number);
-  if (unit.empty()) {
-    if (!(std::abs(v) <= kQuantityLimit))
-      throw InputError("'" + std::string(text) + "' is too large: a number must be within " + significant(kQuantityLimit, 3));
-    return {v, dim::none};
-  }
-  UnitDef u = UnitParser(unit, text).parse();
+  const UnitDef u = unit.empty() ? UnitDef{1.0, dim::none} : UnitParser(unit, text).parse();
   const double si = v * u.factor;
   if (!(std::abs(si) <= kQuantityLimit))
-    throw InputError("'" + std::string(text) + "' is too large: a quantity must be within " + significant(kQuantityLimit, 3) +
-                     " in SI units (" + describe(u.dim) + ")");
+    throw InputError("'" + std::string(text) + "' is too large: " +
+                     (unit.empty() ? "a number must be within " + significant(kQuantityLimit, 3)
+                                   : "a quantity must be within " + significant(kQuantityLimit, 3) + " in SI units (" +
+                                         describe(u.dim) + ")"));
   return {si, u.dim};
 }
 

@@ -12,6 +12,7 @@
 #include "cam/dxf_import.hpp"
 #include "cam/error.hpp"
 #include "cam/expr_curves.hpp"
+#include "cam/input_file.hpp"
 #include "cam/path.hpp"
 #include "cam/point_files.hpp"
 #include "cam/spline.hpp"
@@ -68,11 +69,7 @@ uint32_t points_crc(const std::vector<Vec2>& pts) {
   return c;
 }
 
-bool is_thr(const std::string& file) {
-  std::string ext = std::filesystem::path(file).extension().string();
-  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-  return ext == ".thr";
-}
+bool is_thr(const std::string& file) { return lower_extension(file) == ".thr"; }
 
 // [contour] kind = "theta-rho" (or a points contour whose file is a .thr): the pattern's own segments, linear in
 // theta and rho.

@@ -11,6 +11,7 @@
 #include "cam/error.hpp"
 #include "cam/format.hpp"
 #include "cam/image_trace.hpp"
+#include "cam/input_file.hpp"
 #include "cam/path.hpp"
 #include "cam/point_files.hpp"
 #include "cam/segments.hpp"
@@ -26,12 +27,6 @@ namespace polarcam {
 namespace {
 
 using json = nlohmann::ordered_json;
-
-std::string extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext;
-}
 
 // Several contours of a drawing as one theta-rho path, joined in order by the moves a sand table makes between
 // them; one contour keeps its exact curve.
@@ -58,7 +53,7 @@ CurvePtr join_contours(const std::vector<CurvePtr>& curves, double tolerance, co
 // The contour of a pattern file, in the machine's frame (the pattern's origin is the machine pole).
 CurvePtr pattern_contour(const std::string& path, const Machine& m, double tolerance, const TraceOptions& trace, json& prov,
                          std::string& kind, size_t& contours, std::vector<CurvePtr>& parts) {
-  const std::string ext = extension(path);
+  const std::string ext = lower_extension(path);
   const std::string name = std::filesystem::path(path).filename().string();
   if (ext == ".thr") {
     kind = "theta-rho";
@@ -182,7 +177,7 @@ Job pattern_job(const std::string& path, const PatternOptions& o) {
 }  // namespace
 
 bool is_pattern_file(const std::string& path) {
-  const std::string ext = extension(path);
+  const std::string ext = lower_extension(path);
   return ext == ".thr" || ext == ".svg" || ext == ".dxf" || ext == ".csv" || is_image_file(path);
 }
 
