@@ -49,6 +49,15 @@ int main(int argc, char** argv) {
     for (CLI::App* sub : a->get_subcommands([](CLI::App*) { return true; })) add_footer(sub);
   };
   add_footer(&app);
+  // every command takes --quiet, so that a script can pass it to all; those that draw no progress bar ignore it
+  std::function<void(CLI::App*)> add_quiet = [&](CLI::App* a) {
+    for (CLI::App* sub : a->get_subcommands([](CLI::App*) { return true; })) {
+      if (sub->get_option_no_throw("--quiet") == nullptr)
+        sub->add_flag("--quiet")->description("no progress bar (this command draws none: taken for scripts that pass it to all)");
+      add_quiet(sub);
+    }
+  };
+  add_quiet(&app);
   // an unknown command is named as such (CLI11 would say that a subcommand is required)
   bool known_command = false;
   std::string known;

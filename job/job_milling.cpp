@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "cam/error.hpp"
+#include "cam/format.hpp"
 #include "job/job.hpp"
 #include "job/tool_file.hpp"
 
@@ -16,13 +17,18 @@ void bind_milling(Job& job) {
   const process::Tool& t = setup->tool;
   const double R = 0.5 * t.diameter_m;
   if (std::abs(job.tool.radius - R) > 1e-9)
-    throw InputError("[tool] radius is " + std::to_string(job.tool.radius * 1e3) + " mm but the milling tool " +
-                         m.tool_file + " has a radius of " + std::to_string(R * 1e3) +
+    throw InputError("[tool] radius is " + significant(job.tool.radius * 1e3, 6) + " mm but the milling tool " +
+                         m.tool_file + " has a radius of " + significant(R * 1e3, 6) +
                          " mm: give the mill's radius (half its diameter)",
                      job.file);
   try {
     setup->limits = process::tool_limits(t);
     const double Sy = t.yield_strength_Pa.value_or(t.breaking_stress_Pa);
+    // no cut reaches deeper than the tool stands out of its holder
+    if (m.axial_depth > t.length_m)
+      throw InputError("is " + significant(m.axial_depth * 1e3, 6) + " mm, deeper than the tool stands out of its holder (" +
+                           significant(t.length_m * 1e3, 6) + " mm, [tool] length of " + m.tool_file + ")",
+                       "load.axial_depth");
     if (t.tooth) {
       // the tooth limit for this cut's depth (Fussell & Gagne Eq. 9-13)
       if (m.axial_depth > t.tooth->length_m)

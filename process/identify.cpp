@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "cam/error.hpp"
+#include "cam/format.hpp"
 #include "cam/input_file.hpp"
 
 namespace polarcam::process {
@@ -195,19 +196,26 @@ DiscreteModel recursive_least_squares(const std::vector<double>& m, const std::v
     th += gain * (c[i] / sc - phi.dot(th));
     P = (P - gain * Pphi.transpose()) / o.forgetting;
     P = 0.5 * (P + P.transpose());  // kept symmetric against rounding
+    // a forgetting factor well below 1 inflates P by 1 / lambda a sample wherever the record holds little new
+    // information: refused by name rather than returned as NaN
+    if (!th.allFinite() || !P.allFinite())
+      throw InputError("the recursive estimate diverged at sample " + std::to_string(i + 1) + " of " +
+                           std::to_string(c.size()) + " with forgetting factor " + significant(o.forgetting, 6) +
+                           ": use a factor nearer 1 (0.95 to 1 suits most records)",
+                       "forgetting factor");
   }
   return {th(0) * sc / sm, th(1) * sc / sm, th(2), th(3)};
 }
 
 SecondOrder to_second_order(const DiscreteModel& d, double T) {
   if (!(d.B2 > 0.0 && d.B2 < 1.0))
-    throw InputError("the identified model is not a damped oscillation (B2 = " + std::to_string(d.B2) +
+    throw InputError("the identified model is not a damped oscillation (B2 = " + significant(d.B2, 6) +
                          ", needs 0 < B2 < 1): the record may hold no vibration, or too much noise",
                      "identify");
   const double sigma = std::log(1.0 / d.B2) / (2.0 * T);         // Eq. 4.8: w_n zeta
   const double arg = -d.B1 * std::exp(sigma * T) / 2.0;
   if (!(arg > -1.0 && arg < 1.0))
-    throw InputError("the identified model is not an underdamped oscillation (B1 = " + std::to_string(d.B1) + ")",
+    throw InputError("the identified model is not an underdamped oscillation (B1 = " + significant(d.B1, 6) + ")",
                      "identify");
   const double wd = std::acos(arg) / T;                           // Eq. 4.9: w_n sqrt(1 - zeta^2)
   SecondOrder s;

@@ -162,6 +162,41 @@ TEST(Cli, UnknownCommandsAndBadOptionsAreOneLineErrors) {
   expect_one_line_error(run_cli("check " + src + "/examples/patterns/logo.svg"), "check reads theta-rho patterns (.thr)");
 }
 
+// Every command takes --quiet, so that a script may pass it to all; a command that draws no bar prints the same.
+TEST(Cli, EveryCommandTakesQuiet) {
+  const std::string ex = std::string(POLARCAM_SOURCE_DIR) + "/examples/";
+  for (const std::string& cmd : {"optimize-speed " + ex + "ch6/witch_inertial.toml", "capacity " + ex + "ch6/witch_inertial.toml",
+                                 "simulate bands " + ex + "process/fussell_limit_cycle.toml", "limits " + ex + "process/fussell_table1.toml"}) {
+    SCOPED_TRACE(cmd);
+    const CliResult plain = run_cli(cmd), quiet = run_cli(cmd + " --quiet");
+    EXPECT_EQ(plain.code, 0) << plain.err;
+    EXPECT_EQ(quiet.code, 0) << quiet.err;
+    EXPECT_EQ(quiet.out, plain.out);
+  }
+  const CliResult help = run_cli("--help");
+  ASSERT_EQ(help.code, 0);
+  // the commands as the help lists them: each one's --help names --quiet
+  std::istringstream lines(help.out);
+  std::string line;
+  bool in_list = false;
+  int commands = 0;
+  while (std::getline(lines, line)) {
+    if (line.rfind("SUBCOMMANDS", 0) == 0 || line.rfind("Subcommands", 0) == 0) {
+      in_list = true;
+      continue;
+    }
+    if (!in_list || line.size() < 3 || line[0] != ' ') continue;
+    std::istringstream ws(line);
+    std::string name;
+    ws >> name;
+    if (name.empty() || name[0] == '-') continue;
+    ++commands;
+    const CliResult h = run_cli(name + " --help");
+    EXPECT_NE(h.out.find("--quiet"), std::string::npos) << name;
+  }
+  EXPECT_GE(commands, 25) << help.out;
+}
+
 // Values of an option that once stood for "not given" are checked as every other value: --safety-factor 0 (each
 // command that takes it) and --integral -1 were silently replaced by the job's or the drives' own.
 TEST(Cli, AnOptionGivenIsCheckedWhateverItsValue) {

@@ -219,6 +219,10 @@ TEST(CliIdentify, BadInputIsOneLine) {
                         "flat.csv");
   expect_one_line_error(run_cli("identify " + sc.write("r.csv", response_csv(true)) + " --forgetting 1.5"),
                         "--forgetting");
+  // a small factor makes the recursive estimate overflow on this record: refused by name, not printed as NaN
+  const auto diverged = run_cli("identify " + sc.write("r.csv", response_csv(true)) + " --forgetting 0.1");
+  expect_one_line_error(diverged, "forgetting factor");
+  EXPECT_EQ(diverged.err.find("nan"), std::string::npos) << diverged.err;
 }
 
 }  // namespace tu_cli_test_cli_chatter

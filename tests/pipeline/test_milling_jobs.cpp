@@ -101,6 +101,15 @@ TEST(MillingJobs, KeysAreChecked) {
   auto bad = [&](const std::string& text) { EXPECT_THROW(load_job(sc.write("bad.toml", text)), InputError) << text; };
   bad(replace(good, "radius = \"6.35 mm\"", "radius = \"5 mm\""));          // not the mill's radius
   bad(replace(good, "radial_width = \"1.5 mm\"", "radial_width = \"13 mm\""));  // wider than the mill
+  // deeper than the tool stands out of its holder (44.5 mm); the whole length is still a cut
+  EXPECT_NO_THROW(load_job(sc.write("deep.toml", replace(good, "axial_depth = \"5 mm\"", "axial_depth = \"44.5 mm\""))));
+  try {
+    load_job(sc.write("deeper.toml", replace(good, "axial_depth = \"5 mm\"", "axial_depth = \"1e29 mm\"")));
+    ADD_FAILURE() << "an axial depth of 1e29 mm was taken";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("axial_depth"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("44.5 mm"), std::string::npos) << e.what();
+  }
   bad(replace(good, "K_t = \"700 N/mm^2\"\n", ""));                         // missing
   bad(replace(good, "tool = \"tool.toml\"", "tool = \"none.toml\""));       // no such file
   bad(replace(good, "axial_depth = \"5 mm\"", "axial_depth = \"5 mm\"\ncolour = 1"));  // unknown key
