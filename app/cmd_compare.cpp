@@ -76,7 +76,10 @@ void register_compare(CLI::App& app, Action& action) {
   c->add_option("--size-scale", o->size_scale, "P/Q of the size-scaling test (default 1/2)");
   c->callback([o, &action] {
     action = [o] {
-      if (!o->report.empty()) check_output_path(o->report);  // before any work
+      if (!o->report.empty()) {  // before any work
+        check_output_path(o->report);
+        check_output_extension(o->report, {".html", ".htm"}, "the report");
+      }
       CompareOptions opt;
       opt.method = o->method == "exact" ? CartesianMethod::exact : CartesianMethod::dda;
       if (!o->rate.empty()) {

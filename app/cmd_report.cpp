@@ -23,9 +23,8 @@ struct Opts {
 };
 
 int run(const Opts& o) {
-  const std::string ext = std::filesystem::path(o.output).extension().string();
-  if (ext != ".html" && ext != ".htm") throw InputError("the report is an .html file", o.output);
   check_output_path(o.output);
+  check_output_extension(o.output, {".html", ".htm"}, "the report");
   Job job = load_job_input(o.job, o.pattern);
   apply_safety_factor(o.safety_factor, job);
   // a machine without dynamics, or a sand table's coupled arm: the report of what it will draw

@@ -28,6 +28,7 @@ void register_trace(CLI::App& app, Action& action) {
     action = [o] {
       const TraceOptions t = trace_options(o->trace);
       check_output_path(o->out);
+      check_output_extension(o->out, {".svg"}, "the traced drawing");
       const Tracing tr = trace_image(read_image(o->image), t, o->image);
       write_file_atomic(o->out, tracing_svg(tr, std::filesystem::path(o->image).filename().string()));
       size_t holes = 0;

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "cam/error.hpp"
+#include "cam/input_file.hpp"
 #include "cam/units.hpp"
 
 namespace polarcam {
@@ -107,6 +108,18 @@ std::string through_temporary() {
 void check_output_path(const std::string& path) {
   if (path.empty()) throw DeviceError("the output file name is empty");
   (void)rename_target(path);
+}
+
+void check_output_extension(const std::string& path, std::initializer_list<const char*> extensions,
+                            const std::string& what) {
+  if (output_writes_through(path)) return;
+  const std::string ext = lower_extension(path);
+  std::string names;
+  for (const char* e : extensions) {
+    if (ext == e) return;
+    names += std::string(names.empty() ? "" : " or ") + e;
+  }
+  throw InputError(what + " is written as " + names + ": give the file that extension", path);
 }
 
 bool output_writes_through(const std::string& path) { return rename_target(path).empty(); }

@@ -6,6 +6,7 @@
 // DeviceError naming the output (exit status 3).
 #include <cstdint>
 #include <cstdio>
+#include <initializer_list>
 #include <memory>
 #include <optional>
 #include <ostream>
@@ -20,6 +21,12 @@ namespace polarcam {
 // Checks, before any work, that `path` can be an output: not a directory, in a directory that exists.
 // DeviceError naming the path otherwise.
 void check_output_path(const std::string& path);
+
+// Checks that `path` names a file of one of `extensions` (".html", lower case; compared ignoring case), for an output
+// written in that format: InputError naming the path and `what` ("the report", written as the first extension)
+// otherwise. A device, FIFO or socket (written through, output_writes_through) takes any name.
+void check_output_extension(const std::string& path, std::initializer_list<const char*> extensions,
+                            const std::string& what);
 
 // True when `path` names something written through rather than replaced (a device, FIFO, socket, or a link to
 // one of the process's own standard streams).

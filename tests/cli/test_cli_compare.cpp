@@ -92,6 +92,10 @@ TEST(CompareCli, BadInputIsOneLineAndNoReport) {
   const std::string rj = sc.write("ramp.toml", ramp);
   expect_one_line_error(run_cli("compare " + rj + " --report " + report), "ramp.toml");
   EXPECT_FALSE(std::filesystem::exists(report));
+  // the report is HTML: another name is refused before any work, and nothing is written under it
+  expect_one_line_error(run_cli("compare " + job + " --report " + sc.path("r.svg")), "the report is written as .html or .htm");
+  EXPECT_FALSE(std::filesystem::exists(sc.path("r.svg")));
+  EXPECT_EQ(run_cli("compare " + job + " --report " + sc.path("R.HTML")).code, 0);
   // a report that cannot be written
   // an output that cannot be created is an I/O error (exit status 3), still one line
   expect_one_line_error(run_cli("compare " + job + " --report " + sc.path("no/such/dir/r.html")), "r.html", 3);

@@ -94,6 +94,10 @@ TEST(Trace, BadImagesAndOptionsAreOneLineErrors) {
   // a missing file is bad input, an output into a missing directory an I/O error
   expect_one_line_error(run_cli("trace " + sc.path("none.png") + " -o " + out), "none.png");
   expect_one_line_error(run_cli("trace " + kCam + " -o " + sc.path("no/dir/o.svg")), "o.svg", 3);
+  // the drawing is SVG: another name is refused, and nothing is written under it
+  expect_refused(run_cli("trace " + disk + " -o " + sc.path("o.png") + " --pixel-size \"0.1 mm\""), sc, sc.path("o.png"),
+                 "the traced drawing is written as .svg");
+  EXPECT_EQ(run_cli("trace " + disk + " -o /dev/null --pixel-size \"0.1 mm\"").code, 0);  // a device takes any name
   // as a pattern: the same messages, naming the image
   expect_one_line_error(run_cli("digitize " + disk + " --machine " + kTable + " --speed \"20 mm/s\" -o " + sc.path("d.tape")),
                         "--pixel-size");
