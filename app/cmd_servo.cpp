@@ -101,10 +101,12 @@ int run(const Opts& o) {
   } else if (is_tape_file(o.input)) {
     ref = servo::reference_from_tape(o.input, a.drives.polar, T);
     a.input = "tape " + o.input;
+    a.staircase = true;
   } else {
     if (!a.drives.polar) throw InputError("a job is digitized for a polar machine: give drives with [r] and [theta]", o.drives);
     ref = job_servo_reference(load_job_input(o.input, PatternArgs{}), T);
     a.input = "job " + o.input;
+    a.staircase = true;
   }
   a.result = servo::run_contour(a.drives, ref, so);
 

@@ -47,6 +47,7 @@ nlohmann::ordered_json servo_json(const ServoAnalysis& a) {
   j["sample_period_s"] = c.T;
   j["duration_s"] = c.t.empty() ? 0.0 : c.t.back();
   j["path_length_mm"] = c.s.empty() ? 0.0 : c.s.back() * 1e3;
+  j["path_is_staircase"] = a.staircase;
   j["axes"] = nlohmann::ordered_json::array({axis_json(a, 0), axis_json(a, 1)});
   j["max_contour_error_mm"] = c.max_abs_contour_error * 1e3;
   j["max_contour_error_at"] = {{"t_s", c.max_at_t}, {"s_mm", c.max_at_s * 1e3}, {"x_mm", c.max_at_x * 1e3},
@@ -84,7 +85,8 @@ std::string servo_text(const ServoAnalysis& a) {
   o << "servo feed drives (" << (a.drives.polar ? "polar" : "Cartesian") << "), " << a.input << ", drives "
     << a.drives_file << "\n";
   o << "  " << significant(c.t.empty() ? 0.0 : c.t.back(), 6) << " s, path " << significant(c.s.empty() ? 0.0 : c.s.back() * 1e3, 6)
-    << " mm, sampled every " << significant(c.T * 1e3, 6) << " ms\n";
+    << " mm" << (a.staircase ? " along the staircase of steps (longer than the contour)" : "") << ", sampled every "
+    << significant(c.T * 1e3, 6) << " ms\n";
   for (int i = 0; i < 2; ++i) {
     const servo::SteadyError& s = c.steady[i];
     const bool rot = rotary(a, i);

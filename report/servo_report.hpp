@@ -17,6 +17,9 @@ struct ServoAnalysis {
   servo::Drives drives;
   servo::ContourResult result;
   std::vector<servo::CornerSpline> corners;  // a test path's blended corners (--corner)
+  // the reference is a tape's staircase of steps (a tape, or a job digitized): its length, and the s of the
+  // contour error, are along the steps, longer than the contour they follow
+  bool staircase = false;
 };
 
 // One JSON object: input, drives, axes (following error at steady speed, its speed and stretch, the largest

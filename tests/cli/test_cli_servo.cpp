@@ -3,6 +3,8 @@
 // status against the tolerance, the CSV and the figure, refusals of bad input in one line.
 #include <gtest/gtest.h>
 
+#include <numbers>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -30,6 +32,7 @@ TEST(CliServo, PengDiamondAtTwentyMillimetresPerSecondPerAxis) {
   // 0.034 mm along the legs (Fig. 4.35); the sign depends on the leg
   EXPECT_NEAR(std::abs(j["steady_contour_error_mm"].get<double>()), 0.034, 0.01 * 0.034);
   EXPECT_FALSE(j["within_tolerance"].get<bool>());
+  EXPECT_FALSE(j["path_is_staircase"].get<bool>());
   EXPECT_EQ(j["out_of_tolerance"].size(), 3u);  // the three corners after the start
   for (const auto& iv : j["out_of_tolerance"]) {
     const double mid = (iv["t_begin_s"].get<double>() + iv["t_end_s"].get<double>()) / 2;
@@ -77,6 +80,11 @@ TEST(CliServo, PolarTapeAndJobAgree) {
   jb.erase("input");
   EXPECT_EQ(ja, jb);  // the tape is the job's steps
   EXPECT_EQ(ja["machine"], "polar");
+  // the drives follow the staircase of steps, which is longer than the circle of radius 5.08 cm it stands for
+  EXPECT_TRUE(ja["path_is_staircase"].get<bool>());
+  EXPECT_GT(ja["path_length_mm"].get<double>(), 2 * std::numbers::pi * 50.8 * 1.01);
+  EXPECT_NE(run_cli("servo " + job + " --drives " + kDrives + "polar_servo.toml").out.find("along the staircase of steps"),
+            std::string::npos);
   EXPECT_GT(ja["max_contour_error_mm"].get<double>(), 0.0);
   // same input, same bytes
   EXPECT_EQ(run_cli("servo " + sc.path("c.tape") + drives).out, a.out);
