@@ -227,10 +227,11 @@ TorqueAnalysis analyze_torques(const DynamicsInput& in, const AnalysisOptions& o
       }
       // a corner: the direction of travel jumps between the end of the previous piece and the start of this one
       if (have_prev && k == 0) corner(prev, seg.front());
-      res.samples += seg.size();
+      // a segment start that continues the previous segment's end smoothly is the same point twice: counted once,
+      // whether the series is kept or not
+      const size_t skip = (have_prev && same_values(prev, seg.front())) ? 1 : 0;
+      res.samples += seg.size() - skip;
       if (opt.keep_series) {
-        // a segment start that continues the previous segment's end smoothly is the same point twice
-        const size_t skip = (have_prev && same_values(prev, seg.front())) ? 1 : 0;
         res.series.insert(res.series.end(), seg.begin() + static_cast<std::ptrdiff_t>(skip), seg.end());
       }
       if (!have_prev) first = seg.front();

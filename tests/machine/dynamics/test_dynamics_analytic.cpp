@@ -203,6 +203,13 @@ TEST(DynamicsAnalytic, MaximaAreRefinedBeyondTheSampling) {
     EXPECT_LT(rel(x, y), 1e-7) << x << " " << y;
   // every dense sample is at most the refined maximum
   for (const auto& x : b.series) ASSERT_LE(std::abs(x.radial.ratio), a.radial.ratio.value * (1 + 1e-9));
+  // the count of samples does not depend on whether the series is kept: a segment's start that repeats the
+  // previous end is one sample either way
+  AnalysisOptions kept = coarse;
+  kept.keep_series = true;
+  const TorqueAnalysis c = s.run(kept);
+  EXPECT_EQ(c.samples, c.series.size());
+  EXPECT_EQ(a.samples, c.samples);
 }
 
 TEST(DynamicsAnalytic, GrindingExceedsOneAtTheHigherSpeed) {
