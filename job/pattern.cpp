@@ -24,6 +24,19 @@
 #include "job/toml_section.hpp"
 
 namespace polarcam {
+
+void check_pattern_travel(const std::vector<ThetaRho>& vertices, double dtheta, const std::string& where) {
+  // the arm turns through at least the pattern's theta travel
+  double travel = 0.0;
+  for (size_t i = 1; i < vertices.size(); ++i) travel += std::abs(vertices[i].theta - vertices[i - 1].theta);
+  const double steps = travel / dtheta;
+  if (!(steps <= kMaxPatternSteps))
+    throw InputError("the pattern turns the arm " + significant(travel / (2.0 * std::numbers::pi), 3) +
+                         " times: at least " + significant(steps, 3) + " angular steps on this machine, more than the " +
+                         significant(kMaxPatternSteps, 3) + " a tape may hold; is its theta in radians?",
+                     where);
+}
+
 namespace {
 
 using json = nlohmann::ordered_json;
@@ -60,17 +73,7 @@ CurvePtr pattern_contour(const std::string& path, const Machine& m, double toler
     if (!m.grid.r_max)
       throw InputError("the machine has no r_max: a theta-rho pattern's rho = 1 is the table's radius r_max", "--machine");
     const ThrPattern pattern = read_thr(path);
-    // the arm turns through at least the pattern's theta travel: refuse a pattern that would need more angular
-    // steps than any tape should hold, before its track is built and walked
-    double travel = 0.0;
-    for (size_t i = 1; i < pattern.vertices.size(); ++i)
-      travel += std::abs(pattern.vertices[i].theta - pattern.vertices[i - 1].theta);
-    const double steps = travel / m.grid.dtheta;
-    if (!(steps <= kMaxPatternSteps))
-      throw InputError("the pattern turns the arm " + significant(travel / (2.0 * std::numbers::pi), 3) +
-                           " times: at least " + significant(steps, 3) + " angular steps on this machine, more than the " +
-                           significant(kMaxPatternSteps, 3) + " a tape may hold; is its theta in radians?",
-                       path);
+    check_pattern_travel(pattern.vertices, m.grid.dtheta, path);
     return jobfile::theta_rho_contour(pattern, *m.grid.r_max, name, prov);
   }
   if (ext == ".csv") {

@@ -11,8 +11,10 @@
 // also kept one by one (Job::parts), to be joined by rapid moves with the tool up.
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "cam/image_trace.hpp"
+#include "cam/theta_rho_path.hpp"
 #include "job/job.hpp"
 
 namespace polarcam {
@@ -20,6 +22,10 @@ namespace polarcam {
 // The most angular steps a theta-rho pattern may need on its machine (a tape of some 30 GB, a month of stepping at
 // 4 kHz): a pattern beyond it is refused before its track is built (its theta is most likely not in radians).
 inline constexpr double kMaxPatternSteps = 1e10;
+
+// Refuses (InputError naming `where`) a theta-rho pattern whose theta travel, the least the arm turns through,
+// needs more than kMaxPatternSteps angular steps of `dtheta` rad: before its track is built and walked.
+void check_pattern_travel(const std::vector<ThetaRho>& vertices, double dtheta, const std::string& where);
 
 struct PatternOptions {
   std::string machine_file;        // --machine: required for a pattern, refused for a job file

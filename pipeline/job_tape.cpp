@@ -2,6 +2,7 @@
 
 #include "pipeline/job_analysis.hpp"
 #include "job/job_milling.hpp"
+#include "job/pattern.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -185,6 +186,7 @@ DigitizedJob digitize_job(const Job& job, StepSink* sink, const Progress& progre
   const double c = job.machine.coupling;
   // a theta-rho polyline: one streamed track of the arm's motors (the polar track's pieces differ only in q0)
   const ThetaRhoPath* trp = job_theta_rho_path(*d.path);
+  if (trp) check_pattern_travel(trp->vertices(), job.machine.grid.dtheta, job.file);
   if (trp)
     d.polyline.emplace(in_file(job.file, [&] { return PolylineTrack(*trp, c, job_timing_radius(job)); }));
   else

@@ -196,6 +196,12 @@ TEST(Patterns, BadPatternsAreOneLineErrors) {
     const CliResult r = run_cli(cmd + " --machine " + kTable + " --speed \"40 mm/s\"");
     expect_one_line_error(r, "far.thr: the pattern turns the arm 1.59e+08 times: at least 3.18e+12 angular steps");
   }
+  // the same pattern named by a job file's [contour] kind = "theta-rho" is refused by the digitizer, naming the job
+  const std::string far_job = sc.write("far.toml", "[machine]\nfile = \"" + kTable + "\"\n[contour]\nkind = \"theta-rho\"\n"
+                                       "file = \"far.thr\"\n[motion]\nspeed = \"40 mm/s\"\n");
+  expect_one_line_error(run_cli("digitize " + far_job + " -o " + sc.path("far3.tape")),
+                        "far.toml: the pattern turns the arm 1.59e+08 times: at least 3.18e+12 angular steps");
+  EXPECT_FALSE(std::filesystem::exists(sc.path("far3.tape")));
   // 1e5 rad (15 915 turns, 3.18e8 steps) is within the bound: check counts it without digitizing
   EXPECT_EQ(cli_json("check " + sc.write("near.thr", "0 0\n1e5 0.5\n") + " --json").value("vertices", 0), 2);
 }
