@@ -119,7 +119,7 @@ int run(const Opts& o) {
     std::cout << "  motors     radial: " << job.machine.dynamics->radial.describe() << "\n";
     std::cout << "             angular: " << job.machine.dynamics->angular.describe() << "\n";
     for (size_t k = 0; k < cases.size(); ++k) {
-      if (cases.size() > 1) std::cout << "  case " << k << "\n";
+      if (cases.size() > 1) std::cout << "  case " << k + 1 << " of " << cases.size() << "\n";
       std::cout << case_text(job, cases[k]);
     }
   }

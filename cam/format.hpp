@@ -2,6 +2,7 @@
 // Numbers in messages and reports: v to `digits` significant digits, as a stream prints it by default
 // ("0.0254", "1.5e+06").
 #include <cmath>
+#include <cstdint>
 #include <sstream>
 #include <string>
 #include <string_view>
@@ -13,6 +14,11 @@ inline std::string significant(double v, int digits = 6) {
   os.precision(digits);
   os << v;
   return os.str();
+}
+
+// A count and its noun, singular for one: counted(1, "hole") is "1 hole", counted(3, "hole") "3 holes".
+inline std::string counted(uint64_t n, const std::string& noun) {
+  return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
 }
 
 // A number for a reader, never in exponent form: `digits` significant digits below 10^digits, the nearest whole

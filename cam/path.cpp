@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "cam/error.hpp"
+#include "cam/format.hpp"
 
 namespace polarcam {
 namespace {
@@ -144,7 +145,7 @@ std::vector<PathSegment> offset_path(const std::vector<PathSegment>& segs, bool 
       double Rn = s.sweep > 0 ? R - d : R + d;  // the left normal of a counter-clockwise arc points to its centre
       if (!(Rn > 0.0))
         throw InputError("the tool radius folds the offset of arc segment " + std::to_string(i + 1) + " (arc radius " +
-                         std::to_string(R * 1e3) + " mm on the tool's side)");
+                         significant(R * 1e3, 6) + " mm on the tool's side)");
       o.from = s.center + (s.from - s.center) * (Rn / R);
       o.to = s.center + (s.to - s.center) * (Rn / R);
     }

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "cam/error.hpp"
+#include "cam/format.hpp"
 #include "cam/path.hpp"
 
 namespace polarcam {
@@ -120,7 +121,7 @@ ToolPathPtr make_tool_path(CurvePtr contour, const Placement& placement, const T
     CurvePoint cp = contour->eval(fc.u, 2);
     double rho = 1.0 / std::abs(curvature(cp));
     throw InputError("the tool radius " + mm(tool.radius) + " is larger than the concave radius of curvature " +
-                     mm(rho) + " of the contour at parameter " + std::to_string(fc.u) + " (point " + mm(cp.p.x) +
+                     mm(rho) + " of the contour at parameter " + significant(fc.u, 9) + " (point " + mm(cp.p.x) +
                      ", " + mm(cp.p.y) + "): the offset path would cusp or fold");
   }
   return std::make_shared<ToolPath>(std::move(contour), placement, d, travel);

@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "cam/error.hpp"
+#include "cam/format.hpp"
 #include "metrics/f1.hpp"
 
 namespace polarcam {
@@ -161,7 +162,7 @@ PoleValue PoleEvaluator::run(Vec2 pole, bool want_area, bool want_value, bool on
       segments(0, n);
     }
     if (d2 < clear * clear) {
-      out.why = "the path passes within " + std::to_string(std::sqrt(d2) * 1e3) + " mm of the machine pole";
+      out.why = "the path passes within " + significant(std::sqrt(d2) * 1e3, 6) + " mm of the machine pole";
       return out;
     }
   }

@@ -318,7 +318,7 @@ std::string series_csv(const Job& job, const std::vector<CaseResult>& cases) {
     for (const TorqueSample& x : cases[k].analysis.series) {
       const Vec2 p = contour_point(job, x);
       const SampleKinematics& st = x.st;
-      if (several) fmt::format_to(it, "{},", k);
+      if (several) fmt::format_to(it, "{},", k + 1);  // numbered from 1, as the text numbers them
       fmt::format_to(it, "{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},", x.s, x.t,
                      x.theta, x.r, p.x, p.y, st.V, st.a_t, st.gamma, st.kappa);
       fmt::format_to(it, "{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},", st.r_dot, st.theta_dot,

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "cam/error.hpp"
+#include "cam/format.hpp"
 #include "machine/player/int128.hpp"
 #include "machine/player/run_fit.hpp"
 
@@ -32,7 +33,7 @@ InputError too_close(const PlayPlan& plan, uint64_t tick_ps, size_t i, bool firs
                                        axis_name(s.axis) + " step";
   return InputError("machine step " + std::to_string(i + 1) + " (" + axis_name(s.axis) +
                     ", from tape record " + std::to_string(s.record) + what + " at speed scale " +
-                    to_string(plan.scaling.speed) + " (tick " + std::to_string(tick_ps / 1000.0) +
+                    to_string(plan.scaling.speed) + " (tick " + significant(tick_ps / 1000.0, 6) +
                     " ns): use a lower speed scale or a finer tick", plan.tape);
 }
 
@@ -250,7 +251,7 @@ std::vector<StepWindow> step_windows(const PlayPlan& plan, uint64_t tick_ps) {
         const PlayStep& s = plan.steps[i + k];
         throw InputError("steps " + std::to_string(i + 1) + " to " + std::to_string(e + 1) +
                          " (from tape record " + std::to_string(s.record) +
-                         ") fall so close together that a controller of tick " + std::to_string(tick_ps / 1000.0) +
+                         ") fall so close together that a controller of tick " + significant(tick_ps / 1000.0, 6) +
                          " ns cannot keep their order at speed scale " + to_string(plan.scaling.speed) +
                          ": use a lower speed scale or a controller with a finer tick", plan.tape);
       }

@@ -139,7 +139,16 @@ TEST(CliAnalyze, SeveralSpeedsAndMasses) {
   // and rises with speed
   EXPECT_GT(j["cases"][2]["radial"]["max_torque_ratio"].get<double>(), r1);
   EXPECT_NE(read_file(sc.path("f.svg")).find("<svg"), std::string::npos);
-  EXPECT_EQ(read_file(sc.path("f.csv")).rfind("case,s_m,", 0), 0u);
+  const std::string csv = read_file(sc.path("f.csv"));
+  EXPECT_EQ(csv.rfind("case,s_m,", 0), 0u);
+  // cases numbered from 1 in the CSV and in the text alike
+  EXPECT_EQ(csv.substr(csv.find('\n') + 1, 2), "1,");
+  EXPECT_NE(csv.find("\n4,"), std::string::npos);
+  EXPECT_EQ(csv.find("\n0,"), std::string::npos);
+  const CliResult text = run_cli("analyze " + job + " --mass \"14.6 kg\" --mass \"43.8 kg\" --speed \"0.51 cm/s\" --speed \"1.51 cm/s\"");
+  EXPECT_NE(text.out.find("  case 1 of 4\n"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("  case 4 of 4\n"), std::string::npos);
+  EXPECT_EQ(text.out.find("case 0"), std::string::npos);
 }
 
 TEST(CliAnalyze, TheLoadDoesNotChangeTheTape) {

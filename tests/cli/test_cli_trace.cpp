@@ -45,6 +45,9 @@ TEST(Trace, TheBundledTemplateTracesToItsOutlineAndItsHoleAtItsPhysicalSize) {
   EXPECT_NE(svg.find("width=\"60.028787mm\" height=\"60.028787mm\""), std::string::npos) << svg.substr(0, 300);
   EXPECT_NE(svg.find("id=\"outline-1\""), std::string::npos);
   EXPECT_NE(svg.find("id=\"hole-1\""), std::string::npos);
+  // the text counts them in the singular
+  const CliResult text = run_cli("trace " + kCam + " -o " + out);
+  EXPECT_NE(text.out.find("2 (1 outline, 1 hole)"), std::string::npos) << text.out;
 }
 
 TEST(Trace, AnImageIsAPatternTheTapeSpansTheTemplatesRadiiWithinOnePixel) {
