@@ -20,6 +20,8 @@ struct PatternArgs {
   double threshold = 0.5;
   bool invert = false;
   int despeckle = 2;
+  // the tracing options as registered (add_trace_options), to tell whether one was given
+  CLI::Option* trace_given[4] = {nullptr, nullptr, nullptr, nullptr};
 };
 // with_speed false: the command has a --speed of its own, which the caller copies into a.speed.
 void add_pattern_options(CLI::App* c, PatternArgs& a, bool with_speed = true);
@@ -27,6 +29,9 @@ void add_pattern_options(CLI::App* c, PatternArgs& a, bool with_speed = true);
 void add_trace_options(CLI::App* c, PatternArgs& a);
 // The tracing options they give; InputError naming the option that is wrong.
 TraceOptions trace_options(const PatternArgs& a);
+// InputError naming the option when a tracing option was given but `input` is not an image (.png, .pbm, .pgm):
+// it would be silently ignored. load_job_input checks it.
+void check_trace_options_apply(const PatternArgs& a, const std::string& input);
 // The job file or pattern `path` with the pattern options; a bad --speed is an InputError naming it.
 // `tolerance` (m): how close a drawing's joined contours stay to their curves (job/pattern.hpp).
 Job load_job_input(const std::string& path, const PatternArgs& a, double tolerance = 1e-4);

@@ -253,6 +253,7 @@ void register_capture(CLI::App& app, Action& action) {
     int window = 100;
     double tolerance = 0.05;
     bool json = false;
+    CLI::Option* dir_setup_opt = nullptr;
   };
   auto o = std::make_shared<Opts>();
   CLI::App* c = app.add_subcommand(
@@ -273,7 +274,7 @@ void register_capture(CLI::App& app, Action& action) {
                 "time 0 at the first rising edge of this signal (default: the first time all four channels have "
                 "a level)");
   c->add_option("--invert-dir", o->invert_dir, "step-dir: axes whose DIR high is the - direction: r, theta or r,theta");
-  c->add_option("--dir-setup", o->dir_setup,
+  o->dir_setup_opt = c->add_option("--dir-setup", o->dir_setup,
                 "step-dir: a DIR change closer than this before a STEP edge is counted as late (default 650 ns)");
   c->add_option("--compare", o->compare,
                 "compare the steps with this tape: every step, in order, axis, direction and time (exit 1 when "
@@ -303,6 +304,8 @@ void register_capture(CLI::App& app, Action& action) {
         else if (o->invert_dir == "r,theta" || o->invert_dir == "theta,r") co.invert_dir[0] = co.invert_dir[1] = true;
         else throw InputError("'" + o->invert_dir + "' is not r, theta or r,theta", "--invert-dir");
       }
+      if (!sd && o->dir_setup_opt->count() > 0)
+        throw InputError("applies to --encoding step-dir only (an encoder has no direction line)", "--dir-setup");
       co.dir_setup_ns = option_ns(o->dir_setup, "--dir-setup");
       if (o->machine.empty() && o->compare.empty())
         throw InputError("give the machine file (--machine M.toml), or --compare TAPE to take the grid from that tape",

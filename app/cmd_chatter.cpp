@@ -20,6 +20,7 @@ struct Opts {
   std::string file, plot, spindle_min, spindle_max, simulate, duration, csv, steps_out;
   int lobe_count = 400;
   bool json = false, lobes = false, csv_given = false, suppress = false;
+  CLI::Option* lobe_count_opt = nullptr;
 };
 
 // A spindle speed: a frequency ("5 Hz", rev/s) or an angular speed ("300 rpm"); in rev/s.
@@ -59,6 +60,13 @@ int run(const Opts& o) {
   if (!o.steps_out.empty() && !o.suppress) throw InputError("needs --suppress (the steps it writes)", "--steps-out");
   if (!o.steps_out.empty()) check_output_path(o.steps_out);
   if (o.lobe_count < 2 || o.lobe_count > 20000) throw InputError("must be from 2 to 20000", "--lobe-count");
+  // the lobes' range and count shape the table of --lobes and the figure of --plot, nothing else
+  if (!o.lobes && o.plot.empty()) {
+    const char* why = "shapes the stability lobes: give --lobes (the table) or --plot FILE (the figure) with it";
+    if (!o.spindle_min.empty()) throw InputError(why, "--spindle-min");
+    if (!o.spindle_max.empty()) throw InputError(why, "--spindle-max");
+    if (o.lobe_count_opt != nullptr && o.lobe_count_opt->count() > 0) throw InputError(why, "--lobe-count");
+  }
   if (!o.plot.empty()) plot::check_plot_path(o.plot);
   if (o.csv_given && !csv_stdout) check_output_path(o.csv);
   ChatterAnalysis a;
@@ -132,7 +140,7 @@ void register_chatter(CLI::App& app, Action& action) {
   c->add_flag("--lobes", o->lobes, "add the table of the limit over spindle speed");
   c->add_option("--spindle-min", o->spindle_min, "lowest spindle speed of the lobes (\"150 rpm\"; default half the cut's)");
   c->add_option("--spindle-max", o->spindle_max, "highest spindle speed of the lobes (default twice the cut's)");
-  c->add_option("--lobe-count", o->lobe_count, "spindle speeds in the lobe table (default 400)");
+  o->lobe_count_opt = c->add_option("--lobe-count", o->lobe_count, "spindle speeds in the lobe table (default 400)");
   c->add_option("--plot", o->plot, "draw the stability lobes to this .png or .svg file");
   c->add_option("--simulate", o->simulate, "simulate the cut in time at this cutting gain K_c (N/m)");
   c->add_option("--duration", o->duration, "simulated time (default 40 revolutions)");

@@ -46,6 +46,7 @@ void register_check(CLI::App& app, Action& action) {
         throw InputError("check reads theta-rho patterns (.thr); a drawing or an image is checked by drawing it: "
                          "polarcam preview FILE --machine M --speed V",
                          o->pattern);
+      check_trace_options_apply(o->machine, o->pattern);
       const ThrPattern p = read_thr(o->pattern);
       const ThrStats st = thr_stats(p.vertices);
       nlohmann::ordered_json j;

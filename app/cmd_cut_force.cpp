@@ -49,6 +49,10 @@ int run(const Opts& o) {
     if (!(k > 0.0)) throw InputError("must be positive, e.g. \"205 N/mm^3\"", "--specific-force");
     m = process::lumped_model_from_specific_force(k, tau);
   }
+  if (o.force.empty() && ft && !o.feed_speed.empty())
+    throw InputError("and --feed-speed both give the feed of the forces: give one (--feed-per-tooth sets the feed "
+                     "speed f_t / tau; with --force it is the cut the force was measured at)",
+                     "--feed-per-tooth");
   double v = 0.0;
   if (!o.feed_speed.empty()) {
     v = option_quantity(o.feed_speed, dim::speed, "--feed-speed");

@@ -15,6 +15,7 @@ struct Opts {
   std::string file;
   double forgetting = 1.0;
   bool json = false;
+  CLI::Option* forgetting_opt = nullptr;
 };
 
 nlohmann::ordered_json model_json(const process::DiscreteModel& d, const process::SecondOrder& s) {
@@ -28,6 +29,10 @@ int run(const Opts& o) {
   const auto dec = process::log_decrement(r.displacement, r.period);
   std::optional<process::DiscreteModel> batch, rls;
   std::optional<process::SecondOrder> sb, sr;
+  if (r.force.empty() && o.forgetting_opt != nullptr && o.forgetting_opt->count() > 0)
+    throw InputError("weights the recursive least squares, which need a force_N column; " + o.file +
+                         " has none (its free response gives the logarithmic decrement only)",
+                     "--forgetting");
   if (!r.force.empty()) {
     batch = process::batch_least_squares(r.force, r.displacement);
     sb = in_file(o.file, [&] { return process::to_second_order(*batch, r.period); });
@@ -84,7 +89,7 @@ void register_identify(CLI::App& app, Action& action) {
                   "least squares of the discrete model, w_n, zeta and static gain (Dunckley 1978, Ch. 4)");
   c->add_option("response", o->file, "CSV with t_s, displacement_m and (for least squares) force_N")->required();
   c->add_flag("--json", o->json, "print the results as one JSON object");
-  c->add_option("--forgetting", o->forgetting, "forgetting factor of the recursive estimate, in (0, 1] (default 1)");
+  o->forgetting_opt = c->add_option("--forgetting", o->forgetting, "forgetting factor of the recursive estimate, in (0, 1] (default 1)");
   c->callback([o, &action] { action = [o] { return run(*o); }; });
 }
 

@@ -2,6 +2,7 @@
 // polarcam monitor --generate OUT.csv --spindle N --teeth Z [--break-at T] [--chatter-at T ...]
 #include <cstdlib>
 #include <iostream>
+#include <vector>
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <optional>
@@ -175,28 +176,38 @@ void register_monitor(CLI::App& app, Action& action) {
   c->add_option("signal", o->file, "CSV: time_s, then signal columns such as force_N, current_A, speed_rad_per_s");
   c->add_option("--spindle", o->spindle, "spindle speed, e.g. \"600 rpm\"")->required();
   c->add_option("--teeth", o->teeth, "number of teeth of the cutter")->required()->check(CLI::Range(1, 100));
-  c->add_option("--signal", o->signal, "the column to watch (default force_N, else current_A, else the first)");
-  c->add_flag("--estimate-force", o->estimate,
+  std::vector<CLI::Option*> reading, generated;  // the options of reading a signal, of --generate
+  reading.push_back(c->add_option("--signal", o->signal, "the column to watch (default force_N, else current_A, else the first)"));
+  CLI::Option* estimate = c->add_flag("--estimate-force", o->estimate,
               "watch the feeding force estimated from current_A and speed_rad_per_s (Peng Eq. 3.40)");
-  c->add_option("--friction", o->friction, "the drive's viscous friction B for --estimate-force (default "
+  reading.push_back(estimate);
+  CLI::Option* friction = c->add_option("--friction", o->friction, "the drive's viscous friction B for --estimate-force (default "
                                            "\"0.196 N m s/rad\", Peng Sec. 3.2)");
-  c->add_option("--rule", o->rule, "breakage rule: peng (normalised first difference) or fussell (and the second "
-                                   "difference larger than the first)");
-  c->add_option("--threshold", o->threshold, "breakage threshold on the normalised difference (default: learned)");
-  c->add_option("--threshold-factor", o->threshold_factor,
+  friction->needs(estimate);
+  reading.push_back(friction);
+  reading.push_back(c->add_option("--rule", o->rule, "breakage rule: peng (normalised first difference) or fussell (and the second "
+                                   "difference larger than the first)"));
+  CLI::Option* threshold = c->add_option("--threshold", o->threshold, "breakage threshold on the normalised difference (default: learned)");
+  reading.push_back(threshold);
+  CLI::Option* factor = c->add_option("--threshold-factor", o->threshold_factor,
                 "learned threshold = this times the largest normalised difference of the learning revolutions (3)");
-  c->add_option("--learn-revolutions", o->learn, "revolutions at the start taken as a clean cut (3)");
-  c->add_option("--chatter-setpoint", o->chatter_setpoint,
+  factor->excludes(threshold);  // a threshold given is not learned
+  reading.push_back(factor);
+  reading.push_back(c->add_option("--learn-revolutions", o->learn, "revolutions at the start taken as a clean cut (3)"));
+  CLI::Option* setpoint = c->add_option("--chatter-setpoint", o->chatter_setpoint,
                 "chatter amplitude set point in the signal's unit, e.g. \"250 N\" (default: 1.2 times the first "
                 "block's)");
-  c->add_flag("--no-chatter", o->no_chatter, "do not check for chatter");
-  c->add_option("--overload", o->overload, "report tooth-period means above this, e.g. \"900 N\"");
-  c->add_flag("--json", o->json, "print as one JSON object");
-  c->add_option("--generate", o->generate, "write a synthetic milling force to this CSV instead (for examples)");
-  c->add_option("--duration", o->duration, "generated: length (default \"6 s\")");
-  c->add_option("--rate", o->rate, "generated: sample rate (default \"500 Hz\")");
-  c->add_option("--peak-force", o->peak_force, "generated: peak force of a tooth cutting one feed (\"500 N\")");
-  c->add_option("--engagement", o->engagement, "generated: fraction of a revolution a tooth cuts (1/teeth)")
+  reading.push_back(setpoint);
+  CLI::Option* no_chatter = c->add_flag("--no-chatter", o->no_chatter, "do not check for chatter");
+  setpoint->excludes(no_chatter);
+  reading.push_back(no_chatter);
+  reading.push_back(c->add_option("--overload", o->overload, "report tooth-period means above this, e.g. \"900 N\""));
+  reading.push_back(c->add_flag("--json", o->json, "print as one JSON object"));
+  CLI::Option* gen = c->add_option("--generate", o->generate, "write a synthetic milling force to this CSV instead (for examples)");
+  generated.push_back(c->add_option("--duration", o->duration, "generated: length (default \"6 s\")"));
+  generated.push_back(c->add_option("--rate", o->rate, "generated: sample rate (default \"500 Hz\")"));
+  generated.push_back(c->add_option("--peak-force", o->peak_force, "generated: peak force of a tooth cutting one feed (\"500 N\")"));
+  generated.push_back(c->add_option("--engagement", o->engagement, "generated: fraction of a revolution a tooth cuts (1/teeth)")
       ->check(CLI::Validator(
           [](std::string& v) -> std::string {
             char* end = nullptr;
@@ -205,15 +216,18 @@ void register_monitor(CLI::App& app, Action& action) {
                        ? ""
                        : "'" + v + "' must be a fraction of a revolution above 0 and at most 1";
           },
-          "(0, 1]"));
-  c->add_option("--runout", o->runout, "generated: radial run-out as a fraction of the feed per tooth (0.1)");
-  c->add_option("--noise", o->noise, "generated: noise standard deviation (\"10 N\")");
-  c->add_option("--seed", o->seed, "generated: noise seed (1)");
-  c->add_option("--break-at", o->break_at, "generated: a tooth breaks at this time, e.g. \"3 s\"");
-  c->add_option("--broken-tooth", o->broken_tooth, "generated: which tooth breaks, 0 .. teeth - 1 (0)");
-  c->add_option("--chatter-at", o->chatter_at, "generated: chatter starts at this time");
-  c->add_option("--chatter-frequency", o->chatter_frequency, "generated: chatter frequency, e.g. \"173 Hz\"");
-  c->add_option("--chatter-force", o->chatter_force, "generated: chatter amplitude (\"300 N\")");
+          "(0, 1]")));
+  generated.push_back(c->add_option("--runout", o->runout, "generated: radial run-out as a fraction of the feed per tooth (0.1)"));
+  generated.push_back(c->add_option("--noise", o->noise, "generated: noise standard deviation (\"10 N\")"));
+  generated.push_back(c->add_option("--seed", o->seed, "generated: noise seed (1)"));
+  generated.push_back(c->add_option("--break-at", o->break_at, "generated: a tooth breaks at this time, e.g. \"3 s\""));
+  generated.push_back(c->add_option("--broken-tooth", o->broken_tooth, "generated: which tooth breaks, 0 .. teeth - 1 (0)"));
+  generated.push_back(c->add_option("--chatter-at", o->chatter_at, "generated: chatter starts at this time"));
+  generated.push_back(c->add_option("--chatter-frequency", o->chatter_frequency, "generated: chatter frequency, e.g. \"173 Hz\""));
+  generated.push_back(c->add_option("--chatter-force", o->chatter_force, "generated: chatter amplitude (\"300 N\")"));
+  // an option of the other mode would be ignored: refused instead
+  for (CLI::Option* r : reading) gen->excludes(r);
+  for (CLI::Option* g : generated) g->needs(gen);
   c->callback([o, &action] { action = [o] { return run(*o); }; });
 }
 

@@ -79,7 +79,11 @@ int fit(const FitOpts& o) {
   auto loss = parse_robust_loss(o.loss);
   if (!loss) throw InputError("--loss must be cauchy, huber or none");
   fo.loss = *loss;
-  if (!o.loss_scale.empty()) fo.loss_scale = quantity(o.loss_scale, dim::torque, "--loss-scale");
+  if (!o.loss_scale.empty()) {
+    if (fo.loss == RobustLoss::none)
+      throw InputError("scales a robust loss (cauchy or huber); --loss none fits plain least squares", "--loss-scale");
+    fo.loss_scale = quantity(o.loss_scale, dim::torque, "--loss-scale");
+  }
 
   const double ru = unit_of(o.rate_unit, dim::frequency, "--rate-unit");
   const double tu = unit_of(o.torque_unit, dim::torque, "--torque-unit");
@@ -219,9 +223,9 @@ void register_motor(CLI::App& app, Action& action) {
       "fit", "Fit the electrical pull-out model (Eq. 5.17) to measured pull-out points: rate,torque per CSV line");
   c->add_option("points", o->points, "CSV file: step rate, pull-out torque per line (header and # comments allowed)")
       ->required();
-  c->add_option("--machine", o->machine,
+  CLI::Option* machine = c->add_option("--machine", o->machine,
                 "machine file whose motor gives the known constants (voltage, R_a, N_s, scheme)");
-  c->add_option("--axis", o->axis, "which motor of --machine: radial (default) or angular");
+  c->add_option("--axis", o->axis, "which motor of --machine: radial (default) or angular")->needs(machine);
   c->add_option("--supply-voltage", o->voltage, "supply voltage, e.g. \"24 V\"");
   c->add_option("--resistance", o->resistance, "winding plus drive resistance, e.g. \"6.5 ohm\"");
   c->add_option("--rotor-teeth", o->rotor_teeth, "rotor teeth N_s (50 for a 200-step motor)")->check(CLI::Range(1, 100000));

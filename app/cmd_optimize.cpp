@@ -13,6 +13,7 @@
 
 #include "app/cli.hpp"
 #include "job/job.hpp"
+#include "job/pattern.hpp"
 #include "pipeline/job_placement.hpp"
 #include "job/job_write.hpp"
 #include "io/output.hpp"
@@ -37,7 +38,12 @@ struct Opts {
   bool json = false, pole_outside = false, torque_limit = false, quiet = false;
   int segments = 0, max_evaluations = 0, threads = -1, map_size = 41, levels = 6, survey = 25;
   SafetyFactor safety_factor;
+  // options that apply to some objectives or outputs only: refused where they would be ignored
+  CLI::Option *method_opt = nullptr, *segments_opt = nullptr, *levels_opt = nullptr, *survey_opt = nullptr,
+              *map_size_opt = nullptr, *speed_opt = nullptr;
 };
+
+bool given(const CLI::Option* opt) { return opt != nullptr && opt->count() > 0; }
 
 // The dynamics at a placement as `analyze` reports them (the balanced objective, the worst ratios, the verdict).
 void torque_fields(json& j, const CaseResult& c) {
@@ -153,9 +159,26 @@ int run(const Opts& o) {
   if (opt.pareto) {
     if (!o.map.empty() || !o.map_image.empty() || !o.write_job.empty())
       throw InputError("--map, --map-image and --write-job go with one optimum, not with --objective pareto");
+    if (o.torque_limit)
+      throw InputError("the Pareto front spans every torque ratio; its limit is 1 / safety factor", "--torque-limit");
+    if (given(o.method_opt)) throw InputError("the Pareto front has a search of its own", "--method");
+    if (given(o.segments_opt)) throw InputError("applies to --objective f1", "--segments");
+    if (given(o.map_size_opt)) throw InputError("sizes --map or --map-image, which the Pareto front does not draw", "--map-size");
     return run_pareto(job, opt, o);
   }
   const bool dynamics = is_torque_objective(opt.objective) || opt.torque_limit;
+  if (given(o.levels_opt)) throw InputError("applies to --objective pareto", "--levels");
+  if (given(o.survey_opt)) throw InputError("applies to --objective pareto", "--survey");
+  if (given(o.map_size_opt) && o.map.empty() && o.map_image.empty())
+    throw InputError("sizes the map: give --map FILE.csv or --map-image FILE.png with it", "--map-size");
+  if (given(o.segments_opt) && opt.objective != PoleObjective::f1) throw InputError("applies to --objective f1", "--segments");
+  if (!dynamics) {
+    // the area error and F1 are geometry: neither the speed nor the torque limits enter them
+    const char* why = "the area error and F1 do not depend on it: it applies with --torque-limit, --objective balanced "
+                      "or pareto";
+    if (o.safety_factor.option != nullptr && o.safety_factor.option->count() > 0) throw InputError(why, "--safety-factor");
+    if (given(o.speed_opt) && !is_pattern_file(o.job)) throw InputError(why, "--speed");
+  }
 
   const PoleProblem problem = job_pole_problem(job, opt, dynamics);
   const auto t0 = std::chrono::steady_clock::now();
@@ -286,6 +309,7 @@ void register_optimize(CLI::App& app, Action& action) {
                                                "between the two");
   c->add_option("job", o->job, "job file (TOML); its [optimize] section gives defaults for these options")->required();
   add_pattern_options(c, o->pattern);
+  o->speed_opt = c->get_option("--speed");
   c->add_option("--objective", o->objective,
                 "area (exact area error), f1 (the thesis's surrogate), balanced (balanced axis torque, Sec. 6.6.2) or "
                 "pareto (area error against the worst torque ratio)")
@@ -294,17 +318,17 @@ void register_optimize(CLI::App& app, Action& action) {
               "keep every torque ratio within 1 / safety factor (and every motor within its step-rate limit): with "
               "--objective area, the pole of least area error the drives can carry");
   add_safety_factor_option(c, o->safety_factor);
-  c->add_option("--method", o->method, "nlopt (global + local + sampling) or hooke-jeeves (the thesis's search)")
+  o->method_opt = c->add_option("--method", o->method, "nlopt (global + local + sampling) or hooke-jeeves (the thesis's search)")
       ->check(CLI::IsMember({"nlopt", "hooke-jeeves"}));
   c->add_option("--hold", o->hold, "keep C or beta at the job's value (none, C, beta)")
       ->check(CLI::IsMember({"none", "C", "beta"}));
   c->add_flag("--pole-outside", o->pole_outside, "keep the machine pole outside a closed contour");
-  c->add_option("--segments", o->segments, "F1: segments of the piecewise-linear approximation")->check(CLI::Range(1, 100000));
+  o->segments_opt = c->add_option("--segments", o->segments, "F1: segments of the piecewise-linear approximation")->check(CLI::Range(1, 100000));
   c->add_option("--max-evaluations", o->max_evaluations, "objective evaluations (default: from the job's size)")
       ->check(CLI::Range(10, 10000000));
-  c->add_option("--levels", o->levels, "pareto: torque levels searched between the two ends (default 6)")
+  o->levels_opt = c->add_option("--levels", o->levels, "pareto: torque levels searched between the two ends (default 6)")
       ->check(CLI::Range(0, 100));
-  c->add_option("--survey", o->survey, "pareto: survey points per side of the pole box (default 25)")
+  o->survey_opt = c->add_option("--survey", o->survey, "pareto: survey points per side of the pole box (default 25)")
       ->check(CLI::Range(2, 401));
   c->add_option("--threads", o->threads, "threads (default: all cores; the result does not depend on it)")
       ->check(CLI::Range(0, 1024));
@@ -312,7 +336,7 @@ void register_optimize(CLI::App& app, Action& action) {
   c->add_flag("--quiet", o->quiet, "no progress bar (shown on a terminal only)");
   c->add_option("--map", o->map, "write the objective over pole positions as CSV");
   c->add_option("--map-image", o->map_image, "draw the map (.png or .svg)");
-  c->add_option("--map-size", o->map_size, "points per side of the map (default 41)")->check(CLI::Range(2, 2001));
+  o->map_size_opt = c->add_option("--map-size", o->map_size, "points per side of the map (default 41)")->check(CLI::Range(2, 2001));
   c->add_option("--write-job", o->write_job, "write the job with the optimal placement to this file");
   c->callback([o, &action] { action = [o] { return run(*o); }; });
 }

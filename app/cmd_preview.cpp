@@ -34,6 +34,7 @@ void register_preview(CLI::App& app, Action& action) {
       if (ext != ".png" && ext != ".svg") throw InputError("the picture is written as .png or .svg", "-o");
       plot::check_plot_path(o->out);
       const bool tape = is_tape_file(o->input);
+      check_trace_options_apply(o->pattern, o->input);
       if (tape && (!o->pattern.machine.empty() || !o->pattern.speed.empty()))
         throw InputError("a tape carries its machine and speed: --machine and --speed apply to patterns", "--machine");
       const Preview pv = tape ? preview_tape(o->input, res * 1e3) : preview_job(load_job_input(o->input, o->pattern), res * 1e3);

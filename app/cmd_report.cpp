@@ -20,6 +20,7 @@ struct Opts {
   StudyOptions report;
   SafetyFactor safety_factor;
   bool quiet = false;
+  CLI::Option *map_size_opt = nullptr, *evaluations_opt = nullptr;  // the job report's survey and searches
 };
 
 int run(const Opts& o) {
@@ -27,7 +28,15 @@ int run(const Opts& o) {
   check_output_extension(o.output, {".html", ".htm"}, "the report");
   Job job = load_job_input(o.job, o.pattern);
   apply_safety_factor(o.safety_factor, job);
-  // a machine without dynamics, or a sand table's coupled arm: the report of what it will draw
+  // a machine without dynamics, or a sand table's coupled arm: the report of what it will draw, which has no pole
+  // survey, no searches and no torque ratios for their options to set
+  if (pattern_report_applies(job)) {
+    const char* why = "the report of a machine without dynamics (or with a coupled arm) has no pole survey, pole "
+                      "search or torque ratios for it to set";
+    if (o.map_size_opt->count() > 0) throw InputError(why, "--map-size");
+    if (o.evaluations_opt->count() > 0) throw InputError(why, "--max-evaluations");
+    if (o.safety_factor.option->count() > 0) throw InputError(why, "--safety-factor");
+  }
   const OperatorReport r = [&] {
     TerminalBar bar("report", o.quiet);  // erased before the output
     if (pattern_report_applies(job)) return pattern_report(job, study_pattern(job));
@@ -48,9 +57,9 @@ void register_report(CLI::App& app, Action& action) {
   c->add_option("job", o->job, "job file (TOML) or pattern; a machine without dynamics or with a coupled arm gets the pattern report")->required();
   add_pattern_options(c, o->pattern);
   c->add_option("-o,--output", o->output, "the report (.html)")->required();
-  c->add_option("--map-size", o->report.map_size, "poles per side of the pole survey (default 31)")
+  o->map_size_opt = c->add_option("--map-size", o->report.map_size, "poles per side of the pole survey (default 31)")
       ->check(CLI::Range(4, 201));
-  c->add_option("--max-evaluations", o->report.max_evaluations,
+  o->evaluations_opt = c->add_option("--max-evaluations", o->report.max_evaluations,
                 "budget of each pole search (default: as polarcam optimize)")
       ->check(CLI::Range(10, 10000000));
   c->add_option("--threads", o->report.threads, "threads (default: all cores; the report does not depend on it)")

@@ -119,8 +119,8 @@ void register_template_speed(CLI::App& app, Action& action) {
   c->add_option("--roller-radius", o->rollers, "roller radius R_r (repeat for several curves)")->required();
   c->add_option("--radius-of-curvature", o->radii,
                 "print v* at these radii of curvature (repeatable; default 1 to 100 H); the first is marked on the plot");
-  c->add_option("--rho-star-max", o->rho_star_max, "right end of the plot's rho* axis (default 50)");
-  c->add_option("--plot", o->plot, "draw Fig. 3.2 to this .png or .svg file");
+  CLI::Option* rho_max = c->add_option("--rho-star-max", o->rho_star_max, "right end of the plot's rho* axis (default 50)");
+  rho_max->needs(c->add_option("--plot", o->plot, "draw Fig. 3.2 to this .png or .svg file"));
   c->add_flag("--json", o->json, "print the table as one JSON object");
   c->callback([o, &action] { action = [o] { return run(*o); }; });
 }

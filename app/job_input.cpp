@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "cam/error.hpp"
+#include "cam/image_trace.hpp"
 #include "cam/units.hpp"
 #include "job/pattern.hpp"
 
@@ -17,10 +18,19 @@ void add_pattern_options(CLI::App* c, PatternArgs& a, bool with_speed) {
 }
 
 void add_trace_options(CLI::App* c, PatternArgs& a) {
-  c->add_option("--pixel-size", a.pixel_size, "an image's pixel size, e.g. \"0.1 mm\" (default: the image's own resolution)");
-  c->add_option("--threshold", a.threshold, "an image's ink: pixels darker than this gray level, 0..1 (default 0.5)");
-  c->add_flag("--invert", a.invert, "an image's ink is light on dark paper");
-  c->add_option("--despeckle", a.despeckle, "drop an image's spots of at most this many pixels (default 2)");
+  a.trace_given[0] = c->add_option("--pixel-size", a.pixel_size, "an image's pixel size, e.g. \"0.1 mm\" (default: the image's own resolution)");
+  a.trace_given[1] = c->add_option("--threshold", a.threshold, "an image's ink: pixels darker than this gray level, 0..1 (default 0.5)");
+  a.trace_given[2] = c->add_flag("--invert", a.invert, "an image's ink is light on dark paper");
+  a.trace_given[3] = c->add_option("--despeckle", a.despeckle, "drop an image's spots of at most this many pixels (default 2)");
+}
+
+void check_trace_options_apply(const PatternArgs& a, const std::string& input) {
+  static const char* const kNames[4] = {"--pixel-size", "--threshold", "--invert", "--despeckle"};
+  if (is_image_file(input)) return;
+  for (int i = 0; i < 4; ++i)
+    if (a.trace_given[i] != nullptr && a.trace_given[i]->count() > 0)
+      throw InputError("traces a template image (.png, .pbm, .pgm); " + input + " is not one, so it would be ignored",
+                       kNames[i]);
 }
 
 TraceOptions trace_options(const PatternArgs& a) {
@@ -51,6 +61,7 @@ void apply_safety_factor(const SafetyFactor& sf, Job& job) {
 }
 
 Job load_job_input(const std::string& path, const PatternArgs& a, double tolerance) {
+  check_trace_options_apply(a, path);
   PatternOptions o;
   o.machine_file = a.machine;
   o.tolerance = tolerance;

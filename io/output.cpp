@@ -257,7 +257,12 @@ void write_files_atomic(const std::vector<std::pair<std::string, std::string>>& 
     if (std::fwrite(content.data(), 1, content.size(), outs.back()->stream()) != content.size())
       throw DeviceError("cannot write the file" + reason(errno), path);
   }
-  for (auto& out : outs) out->commit();
+  // the outputs written through (a device, a FIFO) first: a copy into one can fail (a full device) after its
+  // temporary was written, a rename over a file hardly, so a failure leaves every file output as it was
+  for (auto& out : outs)
+    if (out->writes_through()) out->commit();
+  for (auto& out : outs)
+    if (!out->writes_through()) out->commit();
 }
 
 std::string thousands(unsigned long long v) {

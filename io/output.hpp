@@ -48,6 +48,8 @@ class OutputFile {
   const std::string& path() const { return path_; }
   // Flushes and closes the temporary (every write checked), then puts it in place. DeviceError naming the output.
   void commit();
+  // True when commit() copies into a device, FIFO or socket rather than renaming over a file.
+  bool writes_through() const { return through_; }
 
  private:
   std::string path_, rename_to_;
@@ -88,7 +90,8 @@ namespace polarcam::cli {
 void write_file_atomic(const std::string& path, const std::string& content);
 
 // Several outputs of one command (path, content), all or nothing: every one written to its temporary file first,
-// then all put in place.
+// then all put in place, those written through (devices, FIFOs) before those renamed over files, so that a device
+// that fails (a full one) leaves every file output untouched.
 void write_files_atomic(const std::vector<std::pair<std::string, std::string>>& files);
 
 // "1234567" -> "1,234,567"

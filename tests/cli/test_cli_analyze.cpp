@@ -266,6 +266,12 @@ TEST(CliMotorFit, RecoversTheThesisMotor) {
   CliResult nov = run_cli("motor fit " + pts);
   EXPECT_EQ(nov.code, 2);
   EXPECT_NE(nov.err.find("--supply-voltage"), std::string::npos) << nov.err;
+  // options that another makes moot are refused rather than ignored
+  expect_one_line_error(run_cli("motor fit " + pts + " --supply-voltage \"24 V\" --resistance \"6.5 ohm\" --rotor-teeth 50 --axis angular"),
+                        "--axis requires --machine");
+  expect_one_line_error(run_cli("motor fit " + pts + " --machine " + sc.path("machines/fahim1983.toml") +
+                                " --loss none --loss-scale \"0.0001 N m\""),
+                        "--loss-scale: scales a robust loss");
 }
 
 TEST(CliAnalyze, StepRateLimitIsNamedAndTheSpeedFollowsFromIt) {

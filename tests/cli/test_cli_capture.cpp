@@ -443,6 +443,7 @@ TEST(CliCaptureStepDir, OptionsThatDoNotApplyAndBadInput) {
   refused("--machine " + kMachine + " --encoding step-dir --tick 4us", "--tick: applies with --compare");
   refused("--encoding step-dir", "--machine: give the machine file");
   refused("--machine " + kMachine + " --invert-dir r", "--invert-dir: applies to --encoding step-dir only");
+  refused("--machine " + kMachine + " --dir-setup \"10 us\"", "--dir-setup: applies to --encoding step-dir only");
   refused("--machine " + kMachine + " --encoding step-dir --invert-dir x", "--invert-dir: 'x' is not r, theta");
   refused("--machine " + kMachine + " --encoding step-dir --origin enable", "no signal named 'enable'");
   refused("--encoding step-dir --compare " + sc.path("none.tape"), "none.tape");

@@ -93,6 +93,10 @@ TEST(CliChatter, BadInputIsOneLine) {
   expect_one_line_error(run_cli("chatter " + kExamples + "dunckley-case1.toml --simulate -3"), "--simulate");
   expect_one_line_error(run_cli("chatter " + kExamples + "dunckley-case1.toml --lobes --spindle-min \"3 m\""),
                         "--spindle-min");
+  // the lobes' options without the lobes would be ignored
+  for (const char* opt : {" --spindle-min \"150 rpm\"", " --spindle-max \"3000 rpm\"", " --lobe-count 10"})
+    expect_one_line_error(run_cli("chatter " + kExamples + "dunckley-case1.toml --json" + opt),
+                          "shapes the stability lobes: give --lobes");
   const std::string plot = sc.path("x.gif");
   expect_one_line_error(run_cli("chatter " + kExamples + "dunckley-case1.toml --plot " + plot), "x.gif");
   expect_one_line_error(run_cli("chatter " + sc.path("missing.toml")), "missing.toml");
@@ -223,6 +227,9 @@ TEST(CliIdentify, BadInputIsOneLine) {
   const auto diverged = run_cli("identify " + sc.write("r.csv", response_csv(true)) + " --forgetting 0.1");
   expect_one_line_error(diverged, "forgetting factor");
   EXPECT_EQ(diverged.err.find("nan"), std::string::npos) << diverged.err;
+  // a free response has no force: the factor would weigh nothing
+  expect_one_line_error(run_cli("identify " + sc.write("free.csv", response_csv(false)) + " --forgetting 0.9"),
+                        "--forgetting: weights the recursive least squares");
 }
 
 }  // namespace tu_cli_test_cli_chatter

@@ -91,6 +91,13 @@ TEST(CliLimits, BadToolFilesAreRefusedInOneLine) {
   expect_one_line_error(run_cli("cut-force --teeth 4 --spindle-speed \"500 rpm\" --radial-depth \"20 mm\" "
                                 "--axial-depth \"10 mm\" --force \"4200 N\""),
                         "--feed-per-tooth");
+  // from a specific force, the feed is given once: both would leave one ignored
+  expect_one_line_error(run_cli("cut-force --teeth 4 --spindle-speed \"500 rpm\" --radial-depth \"20 mm\" --axial-depth \"10 mm\" "
+                                "--specific-force \"205 N/mm^3\" --feed-speed \"1 mm/s\" --feed-per-tooth \"0.1 mm\""),
+                        "--feed-per-tooth: and --feed-speed both give the feed");
+  EXPECT_EQ(run_cli("cut-force --teeth 4 --spindle-speed \"500 rpm\" --radial-depth \"20 mm\" --axial-depth \"10 mm\" "
+                    "--specific-force \"205 N/mm^3\" --feed-per-tooth \"0.1 mm\"").code,
+            0);
 }
 
 }  // namespace tu_cli_test_cli_limits

@@ -109,6 +109,17 @@ TEST(CliMonitor, BadInputIsOneLine) {
   const std::string out = sc.path("never.csv");
   r = run_cli("monitor --generate " + out + kArgs + " --rate \"-5 Hz\"");
   expect_refused(r, sc, out, "--rate");
+  // an option of the other mode, or one that another makes moot, is refused rather than ignored
+  expect_one_line_error(run_cli("monitor examples/monitor/clean.csv" + kArgs + " --duration \"2 s\""), "--duration requires --generate");
+  expect_one_line_error(run_cli("monitor examples/monitor/clean.csv" + kArgs + " --break-at \"3 s\""), "--break-at requires --generate");
+  expect_refused(run_cli("monitor --generate " + out + kArgs + " --threshold 0.5"), sc, out, "--threshold");
+  expect_refused(run_cli("monitor --generate " + out + kArgs + " --json"), sc, out, "--json");
+  expect_one_line_error(run_cli("monitor examples/monitor/clean.csv" + kArgs + " --friction \"1 N m s/rad\""),
+                        "--friction requires --estimate-force");
+  expect_one_line_error(run_cli("monitor examples/monitor/clean.csv" + kArgs + " --threshold 0.5 --threshold-factor 10"),
+                        "excludes --threshold-factor");
+  expect_one_line_error(run_cli("monitor examples/monitor/clean.csv" + kArgs + " --no-chatter --chatter-setpoint \"10 N\""),
+                        "excludes");
 }
 
 }  // namespace tu_cli_test_cli_monitor

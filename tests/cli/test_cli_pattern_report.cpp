@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <string>
 
@@ -54,6 +55,15 @@ TEST(PatternReport, ASandTablePatternGetsWhatItDrawsAndHowLong) {
   EXPECT_NEAR(std::stod(row(html, "time lost where the requested speed is not kept")), 18 * M_PI / 3, 0.01);
   EXPECT_NE(html.find("describes no masses and motors"), std::string::npos);
   EXPECT_NE(html.find("coupled"), std::string::npos);
+  // the job report's options have nothing to set in this report: refused rather than ignored
+  for (const char* opt : {" --map-size 4", " --max-evaluations 10", " --safety-factor 3"}) {
+    SCOPED_TRACE(opt);
+    const std::string other = sc.path("other.html");
+    expect_one_line_error(run_cli("report " + kSource + "/examples/patterns/diameters.thr --machine " + kTable +
+                                  " --speed \"40 mm/s\" -o " + other + opt),
+                          "has no pole survey, pole search or torque ratios");
+    EXPECT_FALSE(std::filesystem::exists(other));
+  }
 }
 
 TEST(PatternReport, AMotorTooSlowForThePatternIsNoGoWithTheSpeedThatWouldDo) {

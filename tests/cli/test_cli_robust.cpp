@@ -147,6 +147,14 @@ TEST(CliRobust, DevicesAreWrittenThroughNotReplaced) {
   r = run_cli("export " + job + " --format svg -o " + full);  // written as a stream
   expect_one_line_error(r, full, 3);
   EXPECT_TRUE(fs::is_symlink(full));
+  // two outputs, the second a full device: the device is written first, so its failure leaves the file output
+  // as it was (here: not there)
+  const std::string full_svg = sc.path("full.svg");
+  fs::create_symlink("/dev/full", full_svg);
+  r = run_cli("analyze " + std::string(POLARCAM_SOURCE_DIR) + "/examples/ch6/witch_grinding.toml --csv " +
+              sc.path("a.csv") + " --plot " + full_svg);
+  expect_one_line_error(r, full_svg, 3);
+  EXPECT_FALSE(fs::exists(sc.path("a.csv")));
   expect_no_partial(sc);
 
   // the standard output as a file name (a link to the process's descriptor 1, as /dev/stdout is): the CSV goes to

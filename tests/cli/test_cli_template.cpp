@@ -161,6 +161,9 @@ TEST(CliTemplate, TemplateSpeedCommandTabulatesAndDrawsFigure32) {
   EXPECT_NEAR(k["rollers"][0]["points"][0]["v_star_roller_side"].get<double>(), 2 * (3.5 / 3 - 1.0 / 3) / (7.0 / 3 + 1), 1e-12);
   expect_one_line_error(run_cli("template-speed --thickness \"0 mm\" --roller-radius \"1 mm\""), "--thickness");
   expect_one_line_error(run_cli("template-speed --thickness \"3 mm\" --roller-radius \"1 kg\""), "--roller-radius");
+  // the plot's axis without a plot would be ignored
+  expect_one_line_error(run_cli("template-speed --thickness \"3 mm\" --roller-radius \"1 mm\" --rho-star-max 20"),
+                        "--rho-star-max requires --plot");
 }
 
 }  // namespace tu_cli_test_cli_template

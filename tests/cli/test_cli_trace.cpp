@@ -97,6 +97,19 @@ TEST(Trace, BadImagesAndOptionsAreOneLineErrors) {
   // a missing file is bad input, an output into a missing directory an I/O error
   expect_one_line_error(run_cli("trace " + sc.path("none.png") + " -o " + out), "none.png");
   expect_one_line_error(run_cli("trace " + kCam + " -o " + sc.path("no/dir/o.svg")), "o.svg", 3);
+  // the tracing options of an input that is not an image would be ignored: refused, naming the option
+  const std::string src = kSource;
+  expect_one_line_error(run_cli("digitize " + src + "/examples/circle.toml -o " + sc.path("c.tape") + " --invert"),
+                        "--invert: traces a template image (.png, .pbm, .pgm)");
+  EXPECT_FALSE(std::filesystem::exists(sc.path("c.tape")));
+  expect_one_line_error(run_cli("digitize " + src + "/examples/patterns/logo.svg --machine " + kTable +
+                                " --speed \"40 mm/s\" -o " + sc.path("s.tape") + " --threshold 0.9"),
+                        "--threshold: traces a template image");
+  expect_one_line_error(run_cli("check " + src + "/examples/patterns/star.thr --despeckle 7"), "--despeckle");
+  ASSERT_EQ(run_cli("digitize " + src + "/examples/circle.toml -o " + sc.path("x.tape")).code, 0);
+  expect_one_line_error(run_cli("error " + sc.path("x.tape") + " --job " + src + "/examples/circle.toml --pixel-size \"1 mm\""),
+                        "--pixel-size");
+  expect_one_line_error(run_cli("preview " + sc.path("x.tape") + " -o " + sc.path("p.svg") + " --invert"), "--invert");
   // the drawing is SVG: another name is refused, and nothing is written under it
   expect_refused(run_cli("trace " + disk + " -o " + sc.path("o.png") + " --pixel-size \"0.1 mm\""), sc, sc.path("o.png"),
                  "the traced drawing is written as .svg");

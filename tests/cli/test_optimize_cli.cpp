@@ -2,6 +2,8 @@
 // bad input (one line naming the file and key, exit code 2, no output file).
 #include <gtest/gtest.h>
 
+#include <vector>
+
 #include <cmath>
 #include <numbers>
 #include <filesystem>
@@ -143,6 +145,23 @@ TEST(OptimizeCli, F1HoldsAndBadInput) {
   const std::string csv = sc.path("never.csv");
   expect_one_line_error(run_cli("optimize " + job + " --map " + csv + " --map-image " + sc.path("m.jpg")), ".png or .svg");
   EXPECT_FALSE(std::filesystem::exists(csv));
+  // options that would be ignored are refused, naming themselves: each applies to another objective or output
+  const std::string ch6 = std::string(POLARCAM_SOURCE_DIR) + "/examples/ch6/circle_inertial.toml";
+  for (const auto& [args, mention] : std::vector<std::pair<std::string, std::string>>{
+           {job + " --map-size 5", "--map-size: sizes the map"},
+           {job + " --levels 3", "--levels: applies to --objective pareto"},
+           {job + " --survey 5", "--survey: applies to --objective pareto"},
+           {job + " --objective area --segments 7", "--segments: applies to --objective f1"},
+           {ch6 + " --speed \"30 cm/s\"", "--speed: the area error and F1 do not depend on it"},
+           {ch6 + " --objective f1 --safety-factor 5", "--safety-factor: the area error and F1 do not depend on it"},
+           {ch6 + " --objective pareto --method hooke-jeeves", "--method"},
+           {ch6 + " --objective pareto --torque-limit", "--torque-limit"},
+           {ch6 + " --objective pareto --map-size 5", "--map-size"}}) {
+    SCOPED_TRACE(args);
+    expect_one_line_error(run_cli("optimize " + args), mention);
+  }
+  // where they apply they are taken
+  EXPECT_EQ(run_cli("optimize " + ch6 + " --speed \"1 cm/s\" --torque-limit --safety-factor 1.5 --max-evaluations 40 --quiet").code, 0);
   // a job with [optimize] still digitizes as before
   EXPECT_EQ(run_cli("digitize " + job).code, 0);
 }
