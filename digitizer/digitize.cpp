@@ -229,8 +229,10 @@ void check_radius(const Track& tr, double c, const Grid& grid, double shift) {
   // the radial motor is geared to the arm and has no travel of its own to bound
   TrackExtent rmin = tr.q_min(0), rmax = tr.q_max(0);
   if (c != 0.0) ball_radius_range(tr, c, rmin, rmax);
-  // the ball's r on a coupled arm is q0 - c q1, rounded at the size of c theta: a thousandth of a step is slack
-  const double slack = c == 0.0 ? 0.0 : 1e-3 * grid.dr;
+  // the ball's r on a coupled arm is q0 - c q1, rounded at the size of c theta: a thousandth of a step is slack;
+  // on a polar machine 1e-12 m (as theta's 1e-12 rad): the rounding of a track built another way, such as the pole
+  // search's, which may put a pole where the path touches r_max
+  const double slack = c == 0.0 ? 1e-12 : 1e-3 * grid.dr;
   if (rmin.value < grid.r_min - slack)
     throw InputError("the path leaves the work area: r falls to " + fmt(rmin.value * 1e3) + " mm < r_min " +
                      fmt(grid.r_min * 1e3) + " mm " + where(tr, rmin, shift, c));

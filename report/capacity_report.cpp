@@ -98,6 +98,13 @@ std::string capacity_text(const Job& job, const JobCapacity& c) {
     } else
       s += fmt::format("  load       even without {} the torque ratios exceed the limit at {} cm/s\n",
                        load_display_name(c.measure), g(c.load_speed * 100));
+    // the curve (--curve N, or for --csv and --plot): the largest load at each speed
+    for (size_t i = 0; i < c.curve.size(); ++i) {
+      const CapacityPoint& p = c.curve[i];
+      s += fmt::format("  {}{} cm/s: {}\n", i == 0 ? "curve      " : "           ", g(p.speed * 100, 6),
+                       p.load ? g(load_display(job, c.measure, *p.load), 6) + " " + unit + (p.capped ? " or more" : "")
+                              : std::string("none within the limit"));
+    }
   }
   return s;
 }

@@ -29,6 +29,16 @@ TEST(Messages, CapacityCallsAHugeLoadATheoreticalLimitOfTheMotors) {
   EXPECT_FALSE(std::regex_search(r.out, std::regex("[0-9]e[+-][0-9]+ times"))) << r.out;
   const nlohmann::json j = cli_json("capacity " + example("ch6/circle_inertial.toml") + " --json");
   EXPECT_EQ(j["load_theoretical_only"], true);
+  // --curve N prints the curve in the text too, the same values as the JSON's
+  const CliResult curve = run_cli("capacity " + example("ch6/circle_inertial.toml") + " --curve 5");
+  ASSERT_EQ(curve.code, 0) << curve.err;
+  const nlohmann::json jc = cli_json("capacity " + example("ch6/circle_inertial.toml") + " --curve 5 --json");
+  ASSERT_EQ(jc["curve"].size(), 5u) << jc.dump();
+  const size_t head = curve.out.find("  curve      ");
+  ASSERT_NE(head, std::string::npos) << curve.out;
+  size_t lines = 0;
+  for (size_t at = curve.out.find(" cm/s: ", head); at != std::string::npos; at = curve.out.find(" cm/s: ", at + 1)) ++lines;
+  EXPECT_EQ(lines, 5u) << curve.out;
 }
 
 // At a crawl the drives need a tiny share of their torque: the report's margins are ratios, not "5.55e+04 %".

@@ -160,6 +160,11 @@ TEST(OptimizeCli, F1HoldsAndBadInput) {
     SCOPED_TRACE(args);
     expect_one_line_error(run_cli("optimize " + args), mention);
   }
+  // a pole where the path touches r_max exactly (the balanced circle's): the job at that pole is digitized, not
+  // refused for a radius beyond r_max by a rounding of the track built another way
+  const CliResult edge = run_cli("optimize " + std::string(POLARCAM_SOURCE_DIR) + "/examples/circle.toml --objective balanced --json --quiet");
+  ASSERT_EQ(edge.code, 0) << edge.err;
+  EXPECT_NEAR(json::parse(edge.out)["C_mm"].get<double>(), 330.2 - 50.8, 1e-6);  // r_max less the circle's radius
   // where they apply they are taken
   EXPECT_EQ(run_cli("optimize " + ch6 + " --speed \"1 cm/s\" --torque-limit --safety-factor 1.5 --max-evaluations 40 --quiet").code, 0);
   // a job with [optimize] still digitizes as before
