@@ -32,6 +32,9 @@ TraceOptions trace_options(const PatternArgs& a);
 // InputError naming the option when a tracing option was given but `input` is not an image (.png, .pbm, .pgm):
 // it would be silently ignored. load_job_input checks it.
 void check_trace_options_apply(const PatternArgs& a, const std::string& input);
+// One warning line on stderr for each motor that the job's steps would drive above its max_step_rate (the tape is
+// still made: a slower replay may run it).
+void warn_step_rate_excess(const Job& job, const DigitizeResult& r);
 // The job file or pattern `path` with the pattern options; a bad --speed is an InputError naming it.
 // `tolerance` (m): how close a drawing's joined contours stay to their curves (job/pattern.hpp).
 Job load_job_input(const std::string& path, const PatternArgs& a, double tolerance = 1e-4);

@@ -177,12 +177,7 @@ void register_digitize(CLI::App& app, Action& action) {
         }
       }
       // the tape is still written (a faster controller or a slower replay may run it): a warning, not an error
-      for (const StepRateExcess& e : step_rate_excess(job, d.result))
-        std::fprintf(stderr,
-                     "warning: the %s motor would step at %s steps/s (%s tape steps/s x %s), above its max_step_rate "
-                     "of %s steps/s: lower the speed or replay the tape slower\n",
-                     e.axis == 0 ? "radial" : "angular", fmt(e.motor_rate_hz, 5).c_str(), fmt(e.tape_rate_hz, 5).c_str(),
-                     fmt(e.motor_steps_per_tape_step, 4).c_str(), fmt(e.limit_hz, 5).c_str());
+      warn_step_rate_excess(job, d.result);
       if (o->json)
         std::cout << summary_json(job, d, o->out).dump(2) << "\n";
       else

@@ -37,7 +37,16 @@ void register_preview(CLI::App& app, Action& action) {
       check_trace_options_apply(o->pattern, o->input);
       if (tape && (!o->pattern.machine.empty() || !o->pattern.speed.empty()))
         throw InputError("a tape carries its machine and speed: --machine and --speed apply to patterns", "--machine");
-      const Preview pv = tape ? preview_tape(o->input, res * 1e3) : preview_job(load_job_input(o->input, o->pattern), res * 1e3);
+      Preview pv;
+      if (tape) {
+        pv = preview_tape(o->input, res * 1e3);
+      } else {
+        // the job's steps, as digitize makes them: a motor driven above its step rate is warned of as digitize does
+        const Job job = load_job_input(o->input, o->pattern);
+        DigitizedJob d;
+        pv = preview_job(job, res * 1e3, &d);
+        warn_step_rate_excess(job, d.result);
+      }
       save_preview(pv, o->out);
       if (o->json) {
         nlohmann::ordered_json j;

@@ -2,11 +2,14 @@
 #include "app/cli.hpp"
 
 #include <cmath>
+#include <cstdio>
 
 #include "cam/error.hpp"
+#include "cam/format.hpp"
 #include "cam/image_trace.hpp"
 #include "cam/units.hpp"
 #include "job/pattern.hpp"
+#include "pipeline/job_tape.hpp"
 
 namespace polarcam::cli {
 
@@ -58,6 +61,16 @@ void apply_safety_factor(const SafetyFactor& sf, Job& job) {
   if (sf.option == nullptr || sf.option->count() == 0) return;
   if (!(sf.value >= 1.0) || !std::isfinite(sf.value)) throw InputError("must be at least 1", "--safety-factor");
   job.safety_factor = sf.value;
+}
+
+void warn_step_rate_excess(const Job& job, const DigitizeResult& r) {
+  for (const StepRateExcess& e : step_rate_excess(job, r))
+    std::fprintf(stderr,
+                 "warning: the %s motor would step at %s steps/s (%s tape steps/s x %s), above its max_step_rate "
+                 "of %s steps/s: lower the speed or replay the tape slower\n",
+                 e.axis == 0 ? "radial" : "angular", significant(e.motor_rate_hz, 5).c_str(),
+                 significant(e.tape_rate_hz, 5).c_str(), significant(e.motor_steps_per_tape_step, 4).c_str(),
+                 significant(e.limit_hz, 5).c_str());
 }
 
 Job load_job_input(const std::string& path, const PatternArgs& a, double tolerance) {

@@ -162,6 +162,27 @@ TEST(Cli, UnknownCommandsAndBadOptionsAreOneLineErrors) {
   expect_one_line_error(run_cli("check " + src + "/examples/patterns/logo.svg"), "check reads theta-rho patterns (.thr)");
 }
 
+// The circle (radius 50.8 mm, its centre 203.2 mm from the pole) at 50 cm/s: the radial speed reaches the whole
+// 50 cm/s where the path runs along the arm, 0.5 / 0.0000254 = 19 685 tape steps/s, 8 motor steps each on the
+// thesis's machine (0.001 in, 20 turns per inch, 400 steps per turn): 157 480 steps/s against 5 500. digitize and
+// preview both warn, make their output and succeed; at the job's own speed neither warns.
+TEST(Cli, AMotorAboveItsStepRateIsWarnedOfByDigitizeAndPreview) {
+  Scratch sc;
+  const std::string job = std::string(POLARCAM_SOURCE_DIR) + "/examples/circle.toml";
+  for (const std::string& cmd : {"digitize " + job + " -o " + sc.path("c.tape"), "preview " + job + " -o " + sc.path("c.svg")}) {
+    SCOPED_TRACE(cmd);
+    const CliResult fast = run_cli(cmd + " --speed \"50 cm/s\"");
+    EXPECT_EQ(fast.code, 0) << fast.err;
+    EXPECT_NE(fast.err.find("warning: the radial motor would step at 1.5748e+05 steps/s (19685 tape steps/s x 8), above "
+                            "its max_step_rate of 5500 steps/s"),
+              std::string::npos)
+        << fast.err;
+    const CliResult own = run_cli(cmd);
+    EXPECT_EQ(own.code, 0) << own.err;
+    EXPECT_EQ(own.err.find("warning"), std::string::npos) << own.err;
+  }
+}
+
 // Every command takes --quiet, so that a script may pass it to all; a command that draws no bar prints the same.
 TEST(Cli, EveryCommandTakesQuiet) {
   const std::string ex = std::string(POLARCAM_SOURCE_DIR) + "/examples/";
