@@ -28,15 +28,7 @@ int run(const Opts& o) {
   process::Tool t = load_tool_file(o.file);
   if (!o.diameter.empty()) t.diameter_m = option_quantity(o.diameter, dim::length, "--diameter");
   if (!o.length.empty()) t.length_m = option_quantity(o.length, dim::length, "--length");
-  if (o.teeth != 0) {
-    // the count of teeth enters the feed-per-tooth limit alone (Fussell & Gagne Eq. 14-18), which needs the tool
-    // file's [tooth] and [cut]: without them it would change nothing
-    if (!(t.tooth && t.cut))
-      throw InputError("enters only the feed-per-tooth limit, which needs [tooth] and [cut] tables in " + o.file +
-                           " (it has " + (t.tooth ? "no [cut]" : (t.cut ? "no [tooth]" : "neither")) + ")",
-                       "--teeth");
-    t.teeth = o.teeth;
-  }
+  if (o.teeth != 0) t.teeth = o.teeth;
   process::ToolLimits l;
   try {
     l = process::tool_limits(t);

@@ -88,16 +88,6 @@ TEST(CliLimits, BadToolFilesAreRefusedInOneLine) {
                                                      "cutting_stiffness = \"2000 N/mm^2\"\n")),
                         "key 'structure.re_g_min'");
   expect_one_line_error(run_cli("limits " + sc.write("g.toml", kGoodTool) + " --length \"0 mm\""), "--length");
-  // the count of teeth enters the feed-per-tooth limit alone: a tool without [tooth] and [cut] has none to change
-  expect_one_line_error(run_cli("limits " + sc.write("h.toml", kGoodTool) + " --teeth 6"),
-                        "--teeth: enters only the feed-per-tooth limit");
-  const std::string cut = sc.write("i.toml", kGoodTool + "[tooth]\nthickness = \"2 mm\"\nwidth = \"3 mm\"\nlength = \"25 mm\"\n"
-                                                         "[cut]\nspindle_speed = \"2000 rpm\"\naxial_depth = \"0.25 in\"\n"
-                                                         "radial_depth = \"0.25 in\"\nmaterial_constant = 0.2\n");
-  const auto four = cli_json("limits " + cut + " --json"), six = cli_json("limits " + cut + " --json --teeth 6");
-  // Eq. 17: the feed per tooth is inversely proportional to the count of teeth (4 in the file)
-  EXPECT_NEAR(six["feed_per_tooth_limit_mm"].get<double>(), four["feed_per_tooth_limit_mm"].get<double>() * 4.0 / 6.0,
-              1e-12 * four["feed_per_tooth_limit_mm"].get<double>());
   expect_one_line_error(run_cli("cut-force --teeth 4 --spindle-speed \"500 rpm\" --radial-depth \"20 mm\" "
                                 "--axial-depth \"10 mm\" --force \"4200 N\""),
                         "--feed-per-tooth");
