@@ -3,6 +3,7 @@
 
 #include <sys/stat.h>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 #include <zlib.h>
 
 #include <cmath>
@@ -493,6 +494,17 @@ void refuse_tool_events(const TapeHeader& h, const std::string& path, const std:
     throw InputError(what + " does not handle tool events (tool up / tool down, " + std::to_string(h.event_count) +
                          " in this tape): " + advice,
                      path);
+}
+
+double tape_coupling_steps_per_rev(const TapeHeader& h) {
+  const auto prov = nlohmann::json::parse(h.provenance, nullptr, false);
+  if (prov.is_discarded() || !prov.is_object() || !prov.contains("job")) return 0.0;
+  const auto& job = prov["job"];
+  if (!job.is_object() || !job.contains("machine") || !job["machine"].is_object()) return 0.0;
+  const auto& m = job["machine"];
+  if (!m.contains("coupling_steps_per_rev") || !m["coupling_steps_per_rev"].is_number()) return 0.0;
+  const double c = m["coupling_steps_per_rev"].get<double>();
+  return std::isfinite(c) ? c : 0.0;
 }
 
 bool is_tape_file(const std::string& path) {

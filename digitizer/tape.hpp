@@ -148,6 +148,11 @@ class TapeReader {
 // Tool events are checked and counted.
 TapeHeader verify_tape(const std::string& path);
 
+// The radial motor steps per arm turn of a sand-table arm's coupling, as the tape's provenance records it
+// ("job" / "machine" / "coupling_steps_per_rev"); 0 for a plain polar machine (or a provenance that says none).
+// On such a tape the radial index is the radial motor's, q0 = r + c theta: the ball's radius is q0 - c theta.
+double tape_coupling_steps_per_rev(const TapeHeader& h);
+
 // For readers that do not handle tool events: InputError naming the tape, "<what> does not handle tool events
 // (tool up / tool down): <advice>", when the tape carries any.
 void refuse_tool_events(const TapeHeader& h, const std::string& path, const std::string& what, const std::string& advice);

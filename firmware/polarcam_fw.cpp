@@ -759,6 +759,8 @@ __attribute__((noinline)) void handle(const uint8_t* f) {
   update_state();
   switch (type) {
     case IDENTIFY:
+      // a host starting a session (or reconnecting) numbers its requests afresh: forget an earlier host's ids
+      for (bool& h : have_req) h = false;
       reply_ident(seq);
       return;
     case STATUS:

@@ -1,7 +1,6 @@
 #include "pipeline/preview.hpp"
 
 #include <cmath>
-#include <nlohmann/json.hpp>
 
 #include "cam/error.hpp"
 #include "digitizer/replay.hpp"
@@ -175,11 +174,7 @@ Preview preview_tape(const std::string& path, double resolution_mm) {
   pv.r_min_mm = h.r_min * 1e3;
   if (h.has_r_max) pv.r_max_mm = h.r_max * 1e3;
   // the coupling of a sand-table arm, from the machine the provenance records
-  double c = 0.0;
-  const auto prov = nlohmann::json::parse(h.provenance, nullptr, false);
-  if (!prov.is_discarded() && prov.contains("job") && prov["job"].contains("machine") &&
-      prov["job"]["machine"].contains("coupling_steps_per_rev") && prov["job"]["machine"]["coupling_steps_per_rev"].is_number())
-    c = prov["job"]["machine"]["coupling_steps_per_rev"].get<double>() * h.res[0] / (2.0 * M_PI);
+  const double c = tape_coupling_steps_per_rev(h) * h.res[0] / (2.0 * M_PI);
   const NodeMap map{h.res[0], h.res[1], c};
   Runs th(pv, resolution_mm);
   if (h.tool_starts_up) th.tool(false);

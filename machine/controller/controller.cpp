@@ -205,6 +205,9 @@ void Controller::handle_queue(const std::string& p) {
 void Controller::handle(const Frame& f, uint64_t now) {
   switch (f.type) {
     case IDENTIFY: {
+      // a host starting a session (or reconnecting) numbers its requests afresh: the ids of an earlier host's
+      // requests must not make this one's look like repeats (its first CONFIGURE would be answered, not done)
+      last_req_.clear();
       Ident id;
       id.tick_ps = spec_.tick_ps;
       id.slots = spec_.slots;

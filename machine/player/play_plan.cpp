@@ -52,6 +52,20 @@ PlayPlan plan_playback(const std::string& tape, const PlayScaling& sc, const std
   }
   const Ratio size = sc.size;
   const bool spread = size.num > size.den;  // one tape step may give several machine steps
+  // a sand-table arm's tape: its radial index is the radial motor's, q0 = r + c theta (c radial steps per angular
+  // step), so the ball's radius is q0 - c theta; scaling q0 or turning the arm would not scale or turn the drawing
+  const double coupling = tape_coupling_steps_per_rev(h);
+  const double k_couple = coupling != 0.0 && h.steps_per_rev > 0 ? coupling / static_cast<double>(h.steps_per_rev) : 0.0;
+  if (coupling != 0.0) {
+    if (size.num != size.den)
+      throw InputError("scales the radial motor, which on this sand-table arm also follows the arm's turning (" +
+                           num(coupling) + " steps a turn): the drawing would be distorted, not scaled",
+                       "--size-scale");
+    if (sc.angle_offset != 0)
+      throw InputError("turns the arm, which on this sand-table arm also moves the ball along it (" + num(coupling) +
+                           " radial steps a turn): the drawing would be distorted, not turned",
+                       "--angle-offset");
+  }
 
   int64_t n = h.start[0];
   int64_t N = scaled_radial_index(n, size);
@@ -60,6 +74,8 @@ PlayPlan plan_playback(const std::string& tape, const PlayScaling& sc, const std
   p.start[1] = M;
   p.lo[0] = p.hi[0] = N;
   p.lo[1] = p.hi[1] = M;
+  // the ball's radius in radial steps (the radial index itself on a plain polar machine)
+  double ball_lo = static_cast<double>(N) - k_couple * static_cast<double>(M), ball_hi = ball_lo;
   p.steps.reserve(h.record_count + (spread ? (h.plus[0] + h.minus[0]) * static_cast<uint64_t>(size.num / size.den) : 0));
 
   std::vector<PlayStep> pending;  // angular steps since the last radial tape step (size scale > 1 only)
@@ -70,6 +86,11 @@ PlayPlan plan_playback(const std::string& tape, const PlayScaling& sc, const std
     p.lo[s.axis] = std::min(p.lo[s.axis], node);
     p.hi[s.axis] = std::max(p.hi[s.axis], node);
     ++p.steps_per_axis[s.axis];
+    if (k_couple != 0.0) {
+      const double ball = static_cast<double>(N) - k_couple * static_cast<double>(M);
+      ball_lo = std::min(ball_lo, ball);
+      ball_hi = std::max(ball_hi, ball);
+    }
   };
 
   TapeReader rd(tape);
@@ -119,13 +140,26 @@ PlayPlan plan_playback(const std::string& tape, const PlayScaling& sc, const std
   // work area: every node the machine stands on, within half a resolution of the area (the nearest-node tolerance)
   const Grid& g = m.grid;
   const std::string scale_note = " with size scale " + to_string(size) + " and angle offset " + std::to_string(sc.angle_offset);
-  const double r_lo = static_cast<double>(p.lo[0]) * g.dr, r_hi = static_cast<double>(p.hi[0]) * g.dr;
-  if (p.lo[0] < 0 || r_lo < g.r_min - 0.5 * g.dr)
-    throw InputError("leaves the work area" + scale_note + ": r falls to " + num(r_lo * 1e3) + " mm (node " +
-                     std::to_string(p.lo[0]) + ") < r_min " + num(g.r_min * 1e3) + " mm of " + m.source, tape);
-  if (g.r_max && r_hi > *g.r_max + 0.5 * g.dr)
-    throw InputError("leaves the work area" + scale_note + ": r reaches " + num(r_hi * 1e3) + " mm (node " +
-                     std::to_string(p.hi[0]) + ") > r_max " + num(*g.r_max * 1e3) + " mm of " + m.source, tape);
+  if (k_couple != 0.0) {
+    // the work area bounds the ball's radius; the radial motor has no travel of its own to bound (as digitize).
+    // The nearest node of q0 is within half a radial step of it, and the angle within half an angular step, which
+    // moves the ball by half of c angular steps: the tolerance is their sum.
+    const double r_lo = ball_lo * g.dr, r_hi = ball_hi * g.dr, slack = 0.5 * g.dr * (1.0 + std::abs(k_couple));
+    if (r_lo < g.r_min - slack)
+      throw InputError("leaves the work area: the ball's radius falls to " + num(r_lo * 1e3) + " mm < r_min " +
+                       num(g.r_min * 1e3) + " mm of " + m.source, tape);
+    if (g.r_max && r_hi > *g.r_max + slack)
+      throw InputError("leaves the work area: the ball's radius reaches " + num(r_hi * 1e3) + " mm > r_max " +
+                       num(*g.r_max * 1e3) + " mm of " + m.source, tape);
+  } else {
+    const double r_lo = static_cast<double>(p.lo[0]) * g.dr, r_hi = static_cast<double>(p.hi[0]) * g.dr;
+    if (p.lo[0] < 0 || r_lo < g.r_min - 0.5 * g.dr)
+      throw InputError("leaves the work area" + scale_note + ": r falls to " + num(r_lo * 1e3) + " mm (node " +
+                       std::to_string(p.lo[0]) + ") < r_min " + num(g.r_min * 1e3) + " mm of " + m.source, tape);
+    if (g.r_max && r_hi > *g.r_max + 0.5 * g.dr)
+      throw InputError("leaves the work area" + scale_note + ": r reaches " + num(r_hi * 1e3) + " mm (node " +
+                       std::to_string(p.hi[0]) + ") > r_max " + num(*g.r_max * 1e3) + " mm of " + m.source, tape);
+  }
   if (g.theta_min) {
     const double th_lo = static_cast<double>(p.lo[1]) * g.dtheta, th_hi = static_cast<double>(p.hi[1]) * g.dtheta;
     if (th_lo < *g.theta_min - 0.5 * g.dtheta)

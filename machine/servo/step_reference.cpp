@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 
 #include "cam/error.hpp"
 #include "digitizer/tape.hpp"
@@ -56,13 +55,10 @@ Reference reference_from_tape(const std::string& path, bool polar_drives, double
                          (polar ? "[r] and [theta]" : "[x] and [y]") + " in the drives file",
                      path);
   // a sand-table arm's tape steps the radial motor, which stands at r + coupling theta, not at the tool's radius
-  const std::string key = "\"coupling_steps_per_rev\":";
-  if (const size_t at = h.provenance.find(key); at != std::string::npos) {
-    if (std::strtod(h.provenance.c_str() + at + key.size(), nullptr) != 0.0)
-      throw InputError("the tape is a sand-table arm's (its radial motor is coupled to the angle): the servo model "
-                       "takes r and theta as its axes",
-                       path);
-  }
+  if (tape_coupling_steps_per_rev(h) != 0.0)
+    throw InputError("the tape is a sand-table arm's (its radial motor is coupled to the angle): the servo model "
+                     "takes r and theta as its axes",
+                     path);
   StepSampler s(h.res, h.start[0], h.start[1]);
   reader.on_tool_event([](const ToolEvent&) {});
   StepRecord rec;

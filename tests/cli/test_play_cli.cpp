@@ -123,6 +123,53 @@ TEST(PlayCli, LimaconToAControllerOf384BytesThatDropsFramesAhead) {
   EXPECT_EQ(j["naks"], 0);
 }
 
+// One controller, several jobs: each `play` numbers its requests from 1, and the controller forgets the earlier
+// host's at IDENTIFY, so the second job is configured and played rather than taken for a repeat of the first (it
+// failed with "malformed queue item" and left the controller faulted). The limacon (22 000 steps), then the
+// circle, then the limacon again, each to its last step; a job the controller refuses is refused again, not
+// "not configured".
+TEST(PlayCli, OneControllerPlaysSeveralTapesInARow) {
+  Scratch s;
+  Emulator emu(s, "--time-scale 50");
+  ASSERT_FALSE(emu.pty.empty());
+  const std::string limacon = example_tape("limacon"), circle = example_tape("circle");
+  for (const std::string& tape : {limacon, circle, limacon}) {
+    SCOPED_TRACE(tape);
+    const nlohmann::json j = test::cli_json("play " + tape + " --port " + emu.pty + " --speed-scale 10 --json");
+    EXPECT_EQ(j["steps_confirmed"], j["steps_sent"]);
+    if (tape == limacon) {
+      EXPECT_EQ(j["steps_confirmed"], 22000);
+    }
+  }
+  Scratch s2;
+  const std::string other = s2.write("other.toml", "[machine]\nradial_resolution = \"0.0005 in\"\nangular_steps_per_rev = 16000\n");
+  Emulator strict(s2, "--machine " + other);
+  ASSERT_FALSE(strict.pty.empty());
+  for (int i = 0; i < 2; ++i)
+    expect_one_line_error(run_cli("play " + circle + " --port " + strict.pty), "grid mismatch");
+}
+
+// A sand-table arm's tape (the example table: 2 560 radial steps of coupling a turn of the arm, 20 000 angular
+// steps a turn): its radial index is the radial motor's, r + c theta, which runs far past r_max while the ball stays
+// within the 200 mm table. The work area bounds the ball, so the tape plays; scaling the radial motor or turning
+// the arm would distort the drawing on such an arm, and is refused.
+TEST(PlayCli, ASandTableTapePlaysAndIsNotScaledOrTurned) {
+  Scratch s;
+  const std::string src = POLARCAM_SOURCE_DIR;
+  const std::string tape = s.path("rose.tape");
+  ASSERT_EQ(run_cli("digitize " + src + "/examples/patterns/rose.thr --machine " + src +
+                    "/examples/machines/sand-table.toml --speed \"40 mm/s\" -o " + tape)
+                .code,
+            0);
+  const nlohmann::json j = test::cli_json("play " + tape + " --simulate --json");
+  EXPECT_GT(j["steps_total"].get<uint64_t>(), 0u);
+  EXPECT_EQ(j["steps_executed"], j["steps_total"]);
+  EXPECT_EQ(j["steps_mismatched"], 0);
+  EXPECT_EQ(j["end_node"], j["end_node_expected"]);
+  expect_one_line_error(run_cli("play " + tape + " --simulate --size-scale 1/2"), "--size-scale: scales the radial motor");
+  expect_one_line_error(run_cli("play " + tape + " --simulate --angle-offset 100"), "--angle-offset: turns the arm");
+}
+
 TEST(PlayCli, SerpentineAtTenTimesSpeedWithCorruptedBytes) {
   nlohmann::json j;
   play_at_ten_times_speed("serpentine", "--faults corrupt=0.01,seed=5", j);
