@@ -90,6 +90,7 @@ void register_play(CLI::App& app, Action& action) {
     unsigned long long resume = 0;
     double tick_ns = 1000;
     bool simulate = false, json = false, quiet = false;
+    CLI::Option* log_opt = nullptr;
   };
   auto o = std::make_shared<Opts>();
   CLI::App* c = app.add_subcommand("play", "Play a step tape on a stepper controller over a serial line, or simulate it");
@@ -97,24 +98,27 @@ void register_play(CLI::App& app, Action& action) {
   auto* port = c->add_option("--port", o->port, "serial port of the controller (e.g. /dev/ttyUSB0)");
   auto* sim = c->add_flag("--simulate", o->simulate, "run the in-process simulated machine instead of a controller");
   port->excludes(sim);
-  c->add_option("--baud", o->baud, "baud rate (default 115200)");
-  c->add_option("--flow", o->flow, "flow control: none or hardware (default none)");
+  // the line's options go with --port, the simulated controller's with --simulate: refused with the other
+  c->add_option("--baud", o->baud, "baud rate (default 115200)")->needs(port);
+  c->add_option("--flow", o->flow, "flow control: none or hardware (default none)")->needs(port);
   c->add_option("--speed-scale", o->speed, "speed factor K: every interval divided by K (e.g. 10, 0.5, 3/2)");
   c->add_option("--size-scale", o->size, "radial size ratio P/Q about the machine pole (e.g. 2/1, 1/2)");
-  c->add_option("--angle-offset", o->angle_offset, "angular steps added to every angular index (floating angular reference)");
+  c->add_option("--angle-offset", o->angle_offset, "angular steps added to every angular index (floating angular reference)")
+      ->check(CLI::Range(-(int64_t{1} << 50), int64_t{1} << 50).description("within +-2^50 steps"));
   c->add_option("--machine", o->machine, "machine file: the tape must be for its grid; its work area is checked");
   c->add_option("--accel", o->accel, "acceleration limit for holds and stops (default: the job's motion.accel)");
-  c->add_option("--tick", o->tick_ns, "simulated controller tick in ns (--simulate; default 1000)");
-  c->add_option("--log", o->log, "write the executed steps as CSV t_ns,axis,dir (--simulate)");
+  c->add_option("--tick", o->tick_ns, "simulated controller tick in ns (--simulate; default 1000)")->needs(sim);
+  o->log_opt = c->add_option("--log", o->log, "write the executed steps as CSV t_ns,axis,dir (--simulate)")->needs(sim);
   c->add_option("--resume", o->resume,
                 "skip the first N machine steps: continue a run that stopped after N confirmed steps (the error "
-                "message of the stopped run gives N; use the same tape, scales and offset)");
+                "message of the stopped run gives N; use the same tape, scales and offset)")
+      ->check(CLI::NonNegativeNumber);
   c->add_flag("--json", o->json, "print the result as one JSON object");
   c->add_flag("--quiet", o->quiet, "no progress bar (shown on a terminal only)");
   c->callback([o, &action] {
     action = [o] {
       if (!o->simulate && o->port.empty()) throw InputError("play: give --port DEV (a controller) or --simulate");
-      if (!o->log.empty()) check_output_path(o->log);  // before any work
+      if (o->log_opt->count() > 0) check_output_path(o->log);  // before any work (an empty name is refused)
       if (!o->simulate) check_baud(o->baud);
       if (o->flow != "none" && o->flow != "hardware") throw InputError("--flow " + o->flow + ": must be none or hardware");
       PlayScaling sc;

@@ -195,6 +195,10 @@ std::vector<uint64_t> tool_ticks(const PlayPlan& plan, uint64_t tick_ps) {
   return T;
 }
 
+namespace {
+constexpr int64_t kMaxPlayTicks = int64_t{1} << 47;
+}  // namespace
+
 std::vector<StepWindow> step_windows(const PlayPlan& plan, uint64_t tick_ps) {
   if (tick_ps == 0) throw InputError("the controller tick is zero");
   const size_t n = plan.steps.size();
@@ -209,6 +213,14 @@ std::vector<StepWindow> step_windows(const PlayPlan& plan, uint64_t tick_ps) {
   for (size_t i = 0; i < n; ++i) {
     while (before < plan.tools.size() && plan.tools[before].before <= i) ++before;
     X[i] = static_cast<i128>(plan.steps[i].t) * F + static_cast<i128>(before) * dwell * D;
+    // the controller's clock and its runs' fixed-point sums are exact up to 2^48 ticks (2^47: a margin of two);
+    // checked before the window is narrowed to 64 bits
+    if (floor_div(X[i], D) + 1 > kMaxPlayTicks)
+      throw InputError("at speed scale " + to_string(plan.scaling.speed) + " the playback would last more than " +
+                           significant(static_cast<double>(kMaxPlayTicks) * static_cast<double>(tick_ps) * 1e-12, 3) +
+                           " s (2^47 controller ticks of " + significant(static_cast<double>(tick_ps) * 1e-3, 6) +
+                           " ns), longer than a controller's clock times: use a larger speed scale",
+                       "--speed-scale");
     w[i].lo = static_cast<int64_t>(ceil_div(X[i], D) - 1);
     w[i].hi = static_cast<int64_t>(floor_div(X[i], D) + 1);
     // on its side of the tool items: after the tick of the last one before it, at or before the next one's

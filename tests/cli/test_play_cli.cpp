@@ -195,6 +195,18 @@ TEST(PlayCli, BadInputIsRefusedBeforeAnyStep) {
   refused(tape + " --port " + emu.pty + " --accel \"0 m/s^2\"", "--accel: must be a positive acceleration");
   const std::string other = s.write("other.toml", "[machine]\nradial_resolution = \"0.0005 in\"\nangular_steps_per_rev = 16000\n");
   refused(tape + " --port " + emu.pty + " --machine " + other, "another machine grid");
+  // the circle's 21 s at 1/10^7 would be 2.1e8 s, beyond the 2^47 ticks (1.41e8 s of 1 us) a controller's clock
+  // times: refused by name instead of an internal error at the end of the simulation
+  refused(tape + " --simulate --speed-scale 1/10000000",
+          "--speed-scale: at speed scale 1/10000000 the playback would last more than 1.41e+08 s");
+  // the line's options go with --port, the simulated controller's with --simulate; numbers that would wrap
+  refused(tape + " --simulate --baud 9600", "--baud requires --port");
+  refused(tape + " --simulate --flow hardware", "--flow requires --port");
+  refused(tape + " --port " + emu.pty + " --tick 333", "--tick requires --simulate");
+  refused(tape + " --port " + emu.pty + " --log " + s.path("never.csv"), "--log requires --simulate");
+  refused(tape + " --simulate --resume -1", "--resume");
+  refused(tape + " --simulate --angle-offset 9223372036854775807", "--angle-offset");
+  refused(tape + " --simulate --log ''", "the output file name is empty", 3);
   refused(s.write("junk.tape", "not a tape") + " --port " + emu.pty, "junk.tape");
   // ports that are not serial ports: a device error (exit status 3), one line, never an abort
   const std::string fifo = s.path("port.fifo");
