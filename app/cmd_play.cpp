@@ -112,7 +112,13 @@ void register_play(CLI::App& app, Action& action) {
   c->add_option("--resume", o->resume,
                 "skip the first N machine steps: continue a run that stopped after N confirmed steps (the error "
                 "message of the stopped run gives N; use the same tape, scales and offset)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Validator(
+          [](std::string& v) -> std::string {
+            return !v.empty() && v.find_first_not_of("0123456789") == std::string::npos
+                       ? ""
+                       : "'" + v + "' must be a whole number of machine steps, 0 or more";
+          },
+          "N >= 0"));
   c->add_flag("--json", o->json, "print the result as one JSON object");
   c->add_flag("--quiet", o->quiet, "no progress bar (shown on a terminal only)");
   c->callback([o, &action] {
