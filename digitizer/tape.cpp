@@ -384,6 +384,14 @@ TapeReader::~TapeReader() {
 
 void TapeReader::fail(const std::string& what) const { throw InputError(what, path_); }
 
+void TapeReader::ran_out(const std::string& which) const {
+  // every byte the header counts is there, yet the records end early: a damaged record, not a short file
+  if (bytes_ >= h_.records_bytes && crc_ != h_.records_crc)
+    fail(which + " is missing although all " + std::to_string(h_.records_bytes) +
+         " bytes of records are there, and their checksum does not match: the tape is corrupted");
+  fail(which + " is missing (the tape is truncated)");
+}
+
 bool TapeReader::fill() {
   len_ = std::fread(buf_.data(), 1, buf_.size(), f_);
   pos_ = 0;
@@ -417,9 +425,9 @@ bool TapeReader::next(StepRecord& r) {
     uint8_t b = 0;
     for (;;) {
       if (pos_ == len_ && !fill())
-        fail(h_.event_count == 0 ? which + " of " + std::to_string(h_.record_count) + " is missing (the tape is truncated)"
-                                 : which + " of " + std::to_string(h_.record_count) + " steps and " +
-                                       std::to_string(h_.event_count) + " tool events is missing (the tape is truncated)");
+        ran_out(h_.event_count == 0 ? which + " of " + std::to_string(h_.record_count)
+                                    : which + " of " + std::to_string(h_.record_count) + " steps and " +
+                                          std::to_string(h_.event_count) + " tool events");
       b = buf_[pos_++];
       ++nbytes;
       if (shift == 63 && (b & 0x7e)) fail(which + " is malformed (varint overflow)");
@@ -438,7 +446,7 @@ bool TapeReader::next(StepRecord& r) {
       v = 0;
       shift = 0;
       for (;;) {
-        if (pos_ == len_ && !fill()) fail(ev + " is missing (the tape is truncated)");
+        if (pos_ == len_ && !fill()) ran_out(ev);
         b = buf_[pos_++];
         if (shift == 63 && (b & 0x7e)) fail(ev + " is malformed (varint overflow)");
         v |= static_cast<uint64_t>(b & 0x7f) << shift;

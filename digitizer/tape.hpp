@@ -135,6 +135,7 @@ class TapeReader {
   TapeHeader h_;
   std::vector<uint8_t> buf_;
   size_t pos_ = 0, len_ = 0;
+  [[noreturn]] void ran_out(const std::string& which) const;  // the records ended before `which`
   uint64_t n_ = 0, bytes_ = 0, cum_ = 0;
   uint64_t plus_[2] = {0, 0}, minus_[2] = {0, 0};
   uint32_t crc_ = 0;

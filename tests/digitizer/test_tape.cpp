@@ -119,6 +119,24 @@ TEST(Tape, DamageIsDetected) {
   s[good.size() / 2] ^= 0x10;
   expect_bad(s, "a flipped bit in the records");
   expect_bad(good.substr(0, good.size() - 3), "a truncated tape");
+  // a record byte set to 0xff (its continuation bit set) runs the varints together, so the records end early though
+  // every byte is there: called corrupted, not truncated; a short file is still called truncated
+  auto message = [&](const std::string& bytes) {
+    spit(q, bytes);
+    try {
+      verify_tape(q);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  s = good;
+  s[good.size() / 2] = static_cast<char>(0xff);
+  const std::string merged = message(s);
+  EXPECT_NE(merged.find("the tape is corrupted"), std::string::npos) << merged;
+  EXPECT_EQ(merged.find("truncated"), std::string::npos) << merged;
+  const std::string shorter = message(good.substr(0, good.size() - 3));
+  EXPECT_NE(shorter.find("the tape is truncated"), std::string::npos) << shorter;
   expect_bad(good + "x", "trailing bytes");
   s = good;
   s[60] ^= 1;
