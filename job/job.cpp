@@ -11,6 +11,7 @@
 #include "job/job_milling.hpp"
 #include "job/toml_section.hpp"
 #include "cam/error.hpp"
+#include "digitizer/tape_file.hpp"
 #include "digitizer/template_speed.hpp"
 
 namespace polarcam {
@@ -391,6 +392,7 @@ Job load_job(const std::string& path) {
 }
 
 Machine load_machine(const std::string& path, json* prov) {
+  if (is_tape_file(path)) throw InputError("is a step tape, not a machine file (a TOML file with a [machine] table)", path);
   toml::table root = jobfile::parse_toml_file(path);
   const toml::node* mt = root.get("machine");
   if (!mt || !mt->is_table()) throw InputError("the [machine] section is missing", path);

@@ -46,7 +46,8 @@ Ratio parse_ratio(const std::string& text, const std::string& what) {
   if (!parse_decimal(a, an, ad) || !parse_decimal(b, bn, bd))
     return bad("expected a positive decimal number, or a ratio of two, such as 2, 0.5 or 3/2 (no exponent, sign or unit)");
   // (an/ad) / (bn/bd)
-  if (an == 0 || bn == 0) return bad("must be greater than zero");
+  if (bn == 0) return bad("has a zero denominator");
+  if (an == 0) return bad("must be greater than zero");
   i128 num = static_cast<i128>(an) * bd, den = static_cast<i128>(ad) * bn;
   // reduce with 128-bit Euclid
   i128 x = num, y = den;
@@ -57,7 +58,7 @@ Ratio parse_ratio(const std::string& text, const std::string& what) {
   }
   num /= x;
   den /= x;
-  if (num > kMaxPart || den > kMaxPart) return bad("has too many digits (numerator and denominator must fit 31 bits)");
+  if (num >= kMaxPart || den >= kMaxPart) return bad("has too many digits (numerator and denominator must fit 31 bits)");
   return Ratio{static_cast<int64_t>(num), static_cast<int64_t>(den)};
 }
 

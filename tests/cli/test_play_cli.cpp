@@ -207,6 +207,8 @@ TEST(PlayCli, BadInputIsRefusedBeforeAnyStep) {
   refused(tape + " --simulate --resume -1", "--resume");
   refused(tape + " --simulate --angle-offset 9223372036854775807", "--angle-offset");
   refused(tape + " --simulate --log ''", "the output file name is empty", 3);
+  refused(tape + " --simulate --machine " + tape, "is a step tape, not a machine file");
+  refused(tape + " --simulate --speed-scale 1/0", "--speed-scale '1/0': has a zero denominator");
   refused(s.write("junk.tape", "not a tape") + " --port " + emu.pty, "junk.tape");
   // ports that are not serial ports: a device error (exit status 3), one line, never an abort
   const std::string fifo = s.path("port.fifo");

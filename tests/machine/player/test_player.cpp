@@ -38,6 +38,19 @@ TEST(Scaling, ParsesExactRatios) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("--speed-scale"), std::string::npos);
   }
+  auto why = [](const std::string& text) {
+    try {
+      parse_ratio(text, "--speed-scale");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(why("3/0").find("zero denominator"), std::string::npos) << why("3/0");
+  // 31-bit parts: 2^31 - 1 fits, 2^31 does not
+  EXPECT_EQ(parse_ratio("2147483647", "x").num, 2147483647);
+  EXPECT_NE(why("2147483648").find("must fit 31 bits"), std::string::npos) << why("2147483648");
+  EXPECT_NE(why("1/2147483648").find("must fit 31 bits"), std::string::npos);
 }
 
 TEST(Scaling, RadialIndexIsTheNearestToNTimesPOverQHalvesUp) {
