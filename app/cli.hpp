@@ -37,7 +37,8 @@ void check_trace_options_apply(const PatternArgs& a, const std::string& input);
 void warn_step_rate_excess(const Job& job, const DigitizeResult& r);
 // The job file or pattern `path` with the pattern options; a bad --speed is an InputError naming it.
 // `tolerance` (m): how close a drawing's joined contours stay to their curves (job/pattern.hpp).
-Job load_job_input(const std::string& path, const PatternArgs& a, double tolerance = 1e-4);
+// `speed_used` false: the command's result does not depend on the speed (PatternOptions::speed_used).
+Job load_job_input(const std::string& path, const PatternArgs& a, double tolerance = 1e-4, bool speed_used = true);
 // The quantity an option gives ("0.1 mm"), of dimension d; InputError naming the option otherwise.
 double option_quantity(const std::string& text, const Dim& d, const std::string& option);
 

@@ -75,7 +75,7 @@ void register_error(CLI::App& app, Action& action) {
       ->check(CLI::Range(1, 100000));
   c->callback([o, &action] {
     action = [o] {
-      const Job job = load_job_input(o->job, o->pattern);
+      const Job job = load_job_input(o->job, o->pattern, 1e-4, false);  // the metrics are geometry alone
       TapeAxes axes;
       {
         TapeReader rd(o->tape);

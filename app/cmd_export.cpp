@@ -105,7 +105,8 @@ int run(const Opts& o) {
     else throw InputError("must be inverse-time or axis", "--feed-mode");
   }
   check_output_path(o.out);
-  const Job job = load_job_input(o.input, o.pattern, eo.tolerance);
+  // a .thr or SVG export is the path's geometry: only G-code carries the speed
+  const Job job = load_job_input(o.input, o.pattern, eo.tolerance, eo.format == ExportFormat::gcode);
   OutputStream file(o.out);  // written as it is made, put in place when whole
   const ExportResult r = [&] {
     TerminalBar bar("export", o.quiet);  // erased before the output

@@ -140,7 +140,10 @@ int run(const Opts& o) {
   if (!o.map.empty()) check_output_path(o.map);
   if (!o.map_image.empty()) plot::check_plot_path(o.map_image);
   if (!o.write_job.empty()) check_output_path(o.write_job);
-  Job job = load_job_input(o.job, o.pattern);
+  // a pattern's search for the least area error or F1 is geometry: it needs no speed (a job file's objective may
+  // come from its [optimize] table, so a job's --speed is checked once that is known, below)
+  const bool speed_used = !is_pattern_file(o.job) || o.objective == "balanced" || o.objective == "pareto" || o.torque_limit;
+  Job job = load_job_input(o.job, o.pattern, 1e-4, speed_used);
   apply_safety_factor(o.safety_factor, job);
   PlacementOptions opt = job.optimize;
   if (!o.objective.empty()) {

@@ -73,9 +73,10 @@ void warn_step_rate_excess(const Job& job, const DigitizeResult& r) {
                  significant(e.limit_hz, 5).c_str());
 }
 
-Job load_job_input(const std::string& path, const PatternArgs& a, double tolerance) {
+Job load_job_input(const std::string& path, const PatternArgs& a, double tolerance, bool speed_used) {
   check_trace_options_apply(a, path);
   PatternOptions o;
+  o.speed_used = speed_used;
   o.machine_file = a.machine;
   o.tolerance = tolerance;
   if (!a.speed.empty()) o.speed = option_quantity(a.speed, dim::speed, "--speed");

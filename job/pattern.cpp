@@ -150,8 +150,12 @@ CurvePtr pattern_contour(const std::string& path, const Machine& m, double toler
 Job pattern_job(const std::string& path, const PatternOptions& o) {
   if (o.machine_file.empty())
     throw InputError("a pattern file needs the machine that draws it: --machine FILE (e.g. examples/machines/sand-table.toml)", "--machine");
-  if (!o.speed) throw InputError("a pattern file needs the speed along it: --speed (e.g. \"40 mm/s\")", "--speed");
-  if (!(*o.speed > 0.0)) throw InputError("must be a positive speed", "--speed");
+  if (!o.speed_used && o.speed)
+    throw InputError("does not enter what this command computes (the path's geometry alone): leave it out", "--speed");
+  if (o.speed_used && !o.speed)
+    throw InputError("a pattern file needs the speed along it: --speed (e.g. \"40 mm/s\")", "--speed");
+  const double speed = o.speed.value_or(kUnusedSpeed);
+  if (!(speed > 0.0)) throw InputError("must be a positive speed", "--speed");
   Job job;
   job.file = path;
   json prov;
@@ -163,9 +167,13 @@ Job pattern_job(const std::string& path, const PatternOptions& o) {
   prov["placement"] = {{"C_m", 0.0}, {"beta_rad", 0.0}};
   job.tool.side = ToolSide::left;
   prov["tool"] = {{"radius_m", 0.0}, {"side", "left"}};
-  job.motion.speed = *o.speed;
+  job.motion.speed = speed;
   job.motion.rule = StepRule::nearest;
-  prov["motion"] = {{"speed_mps", *o.speed}, {"rule", "nearest"}, {"direction", "forward"}};
+  // the provenance's keys in their order of old (the tapes' bytes are compared): the speed only when it was given
+  if (o.speed)
+    prov["motion"] = {{"speed_mps", *o.speed}, {"rule", "nearest"}, {"direction", "forward"}};
+  else
+    prov["motion"] = {{"rule", "nearest"}, {"direction", "forward"}};
   job.cartesian.resolution = job.machine.grid.dr;
   job.cartesian.tolerance = 0.25 * job.machine.grid.dr;
   // the optional tables of a job, absent: their defaults
@@ -189,6 +197,8 @@ Job load_job_or_pattern(const std::string& path, const PatternOptions& o) {
   if (!o.machine_file.empty())
     throw InputError("applies to pattern files (.thr, .svg, .dxf, .csv, images); a job file names its machine in [machine]", "--machine");
   Job job = load_job(path);
+  if (!o.speed_used && o.speed)
+    throw InputError("does not enter what this command computes (the path's geometry alone): leave it out", "--speed");
   if (o.speed) {
     if (!(*o.speed > 0.0)) throw InputError("must be a positive speed", "--speed");
     job.motion.speed = *o.speed;

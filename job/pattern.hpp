@@ -29,10 +29,18 @@ void check_pattern_travel(const std::vector<ThetaRho>& vertices, double dtheta, 
 
 struct PatternOptions {
   std::string machine_file;        // --machine: required for a pattern, refused for a job file
-  std::optional<double> speed;     // --speed (m/s): required for a pattern; overrides a job's [motion] speed
+  std::optional<double> speed;     // --speed (m/s): required for a pattern where used (speed_used); overrides a job's [motion] speed
   double tolerance = 1e-4;         // m: contours of a drawing joined into one theta-rho path stay this close
   TraceOptions trace;              // an image: how it is traced (its pixel size, threshold, ...)
+  // false for a command whose result does not depend on the speed (the geometry alone: `error`, an export to
+  // .thr or SVG, a pole search for the area error): a pattern then needs no --speed, and a --speed given (with a
+  // pattern or a job file) is refused as it would be ignored. The job is made with kUnusedSpeed.
+  bool speed_used = true;
 };
+
+// The speed of a pattern job made for a command that does not use it (PatternOptions::speed_used false): 1 m/s,
+// written nowhere.
+inline constexpr double kUnusedSpeed = 1.0;
 
 // True for the file types read as patterns (by extension, case-insensitive): .thr, .svg, .dxf, .csv, and the
 // images .png, .pbm, .pgm.

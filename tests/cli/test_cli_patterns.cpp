@@ -190,10 +190,10 @@ TEST(Patterns, BadPatternsAreOneLineErrors) {
   // theta beyond any tape: 1e9 rad is 1.59e8 turns, 3.18e12 angular steps of this table (20 000 a turn); refused at
   // once by every command that takes the pattern on a machine, instead of walked for hours
   const std::string far = sc.write("far.thr", "0 0\n1e9 0.5\n");
-  for (const std::string& cmd : {std::string("digitize ") + far + " -o " + sc.path("far.tape"), "check " + far,
-                                 "export " + far + " --format thr -o " + sc.path("far2.thr")}) {
+  for (const std::string& cmd : {std::string("digitize ") + far + " -o " + sc.path("far.tape") + " --speed \"40 mm/s\"",
+                                 "check " + far + " --speed \"40 mm/s\"", "export " + far + " --format thr -o " + sc.path("far2.thr")}) {
     SCOPED_TRACE(cmd);
-    const CliResult r = run_cli(cmd + " --machine " + kTable + " --speed \"40 mm/s\"");
+    const CliResult r = run_cli(cmd + " --machine " + kTable);
     expect_one_line_error(r, "far.thr: the pattern turns the arm 1.59e+08 times: at least 3.18e+12 angular steps");
   }
   // the same pattern named by a job file's [contour] kind = "theta-rho" is refused by the digitizer, naming the job
@@ -265,7 +265,7 @@ TEST(Patterns, AnSvgDrawingIsCentredScaledToTheTableAndItsContoursJoined) {
   // the same drawing exported as a theta-rho file and read back draws the same steps (the file holds the vertices)
   Scratch sc;
   const std::string thr = sc.path("logo.thr");
-  cli_json("export " + kSource + "/examples/patterns/logo.svg --machine " + kTable + " --speed \"40 mm/s\" --format thr -o " + thr + " --json");
+  cli_json("export " + kSource + "/examples/patterns/logo.svg --machine " + kTable + " --format thr -o " + thr + " --json");
   const json k = cli_json(digitize_args(thr));
   EXPECT_NEAR(k.value("steps_total", 0.0), j.value("steps_total", 0.0), 4.0);
 }
@@ -283,7 +283,31 @@ TEST(Patterns, TheCartesianMachinesStepAThetaRhoPatternAndACoupledArmIsNamed) {
   cli_json("compare " + rose + " --machine " + plain + " --speed \"40 mm/s\" --method exact --json");
   expect_one_line_error(run_cli("compare " + rose + " --machine " + kTable + " --speed \"40 mm/s\" --json"), "coupled");
   cli_json("digitize " + rose + " --machine " + kTable + " --speed \"40 mm/s\" -o " + sc.path("x.tape") + " --json");
-  expect_one_line_error(run_cli("error " + sc.path("x.tape") + " --job " + rose + " --machine " + kTable + " --speed \"40 mm/s\""), "coupled");
+  expect_one_line_error(run_cli("error " + sc.path("x.tape") + " --job " + rose + " --machine " + kTable), "coupled");
+}
+
+// Where the speed does not enter the result (an export to .thr or SVG, the error metrics, a pole search for the
+// least area error), a pattern needs no --speed and a --speed given is refused rather than ignored; the files are
+// the same bytes as when one was needed. G-code, which carries the speed, still needs it.
+TEST(Patterns, TheSpeedIsAskedForOnlyWhereItEntersTheResult) {
+  Scratch sc;
+  const std::string star = kSource + "/examples/patterns/star.thr";
+  for (const char* format : {"thr", "svg"}) {
+    SCOPED_TRACE(format);
+    const std::string out = sc.path(std::string("s.") + format);
+    ASSERT_EQ(run_cli("export " + star + " --machine " + kTable + " --format " + format + " -o " + out).code, 0);
+    expect_one_line_error(run_cli("export " + star + " --machine " + kTable + " --speed \"40 mm/s\" --format " + format +
+                                  " -o " + sc.path(std::string("t.") + format)),
+                          "--speed: does not enter what this command computes");
+  }
+  expect_one_line_error(run_cli("export " + star + " --machine " + kTable + " --format gcode -o " + sc.path("s.gcode")),
+                        "a pattern file needs the speed along it");
+  // a job file's own speed is kept; an override that nothing would use is refused the same way
+  const std::string circle = kSource + "/examples/circle.toml";
+  ASSERT_EQ(run_cli("digitize " + circle + " -o " + sc.path("c.tape")).code, 0);
+  EXPECT_EQ(run_cli("error " + sc.path("c.tape") + " --job " + circle).code, 0);
+  expect_one_line_error(run_cli("error " + sc.path("c.tape") + " --job " + circle + " --speed \"2 cm/s\""),
+                        "--speed: does not enter");
 }
 
 }  // namespace tu_cli_test_cli_patterns

@@ -24,6 +24,8 @@ const std::string kSrc = std::string(POLARCAM_SOURCE_DIR);
 const std::string kPlotter = kSrc + "/examples/machines/pen-plotter.toml";
 const std::string kLogo = kSrc + "/examples/patterns/logo.svg";
 const std::string kPattern = kLogo + " --machine " + kPlotter + " --speed \"20 mm/s\"";
+// for the commands whose result does not depend on the speed (an SVG or .thr export, the error metrics)
+const std::string kDrawing = kLogo + " --machine " + kPlotter;
 
 uint32_t file_crc(const std::string& p) {
   const std::string b = read_file(p);
@@ -183,7 +185,7 @@ TEST(CliPenUp, GcodeLiftsTheToolAroundEachRapidAndLinuxCncAcceptsIt) {
 TEST(CliPenUp, SvgAndPreviewDrawTheRapidsDashed) {
   Scratch sc;
   const std::string svg = sc.path("logo.svg");
-  cli_json("export " + kPattern + " --format svg -o " + svg + " --json");
+  cli_json("export " + kDrawing + " --format svg -o " + svg + " --json");
   const std::string s = read_file(svg);
   const size_t conn = s.find("<g id=\"connecting\""), path = s.find("<g id=\"path\"");
   ASSERT_NE(conn, std::string::npos);
@@ -211,10 +213,10 @@ TEST(CliPenUp, ReadersThatCannotTakeToolEventsRefuseInOneLine) {
   Scratch sc;
   const std::string tape = sc.path("logo.tape");
   ASSERT_EQ(run_cli("digitize " + kPattern + " -o " + tape).code, 0);
-  expect_one_line_error(run_cli("error " + tape + " --job " + kPattern), "lifts its tool");
+  expect_one_line_error(run_cli("error " + tape + " --job " + kDrawing), "lifts its tool");
   expect_one_line_error(run_cli("compare " + kPattern), "lifts its tool");
   const std::string thr = sc.path("logo.thr");
-  const CliResult r = run_cli("export " + kPattern + " --format thr -o " + thr);
+  const CliResult r = run_cli("export " + kDrawing + " --format thr -o " + thr);
   expect_refused(r, sc, thr, "cannot lift the tool");
 }
 

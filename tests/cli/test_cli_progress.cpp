@@ -106,7 +106,7 @@ TEST(Progress, LongCommandsAreSilentWhenPiped) {
       {"optimize " + ex + "ch6/circle_inertial.toml --objective pareto --survey 4 --levels 1 --max-evaluations 20 --json --quiet",
        false},
       {"report " + ex + "ch6/circle_inertial.toml -o " + sc.path("r.html") + " --map-size 4 --max-evaluations 20", false},
-      {"export " + ex + "patterns/star.thr --machine " + table + " --speed \"40 mm/s\" --format thr -o " + sc.path("s.thr"),
+      {"export " + ex + "patterns/star.thr --machine " + table + " --format thr -o " + sc.path("s.thr"),
        true},
       {"analyze " + ex + "ch5/circle.toml --json", true},
       {"compare " + ex + "testpiece_diamond.toml --json", true},
