@@ -52,8 +52,8 @@ void register_trace(CLI::App& app, Action& action) {
                 << "  image      " << tr.width_px << " x " << tr.height_px << " pixels of "
                 << significant(tr.pixel_size_m * 1e3, 4) << " mm: " << significant(tr.width_m() * 1e3, 6) << " x "
                 << significant(tr.height_m() * 1e3, 6) << " mm\n"
-                << "  contours   " << tr.contours.size() << " (" << counted(tr.contours.size() - holes, "outline") << ", "
-                << counted(holes, "hole") << ")\n"
+                << "  contours   " << tr.contours.size() << " (" << count_of(tr.contours.size() - holes, "outline") << ", "
+                << count_of(holes, "hole") << ")\n"
                 << "  written    " << o->out << "\n";
       return 0;
     };

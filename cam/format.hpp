@@ -16,8 +16,8 @@ inline std::string significant(double v, int digits = 6) {
   return os.str();
 }
 
-// A count and its noun, singular for one: counted(1, "hole") is "1 hole", counted(3, "hole") "3 holes".
-inline std::string counted(uint64_t n, const std::string& noun) {
+// A count and its noun, singular for one: count_of(1, "hole") is "1 hole", count_of(3, "hole") "3 holes".
+inline std::string count_of(uint64_t n, const std::string& noun) {
   return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
 }
 
