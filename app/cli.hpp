@@ -14,6 +14,9 @@ namespace polarcam::cli {
 using Action = std::function<int()>;
 
 // --machine and --speed: what makes a pattern file (.thr, .svg, .dxf, .csv) a job (job/pattern.hpp).
+// Whether an option was given on the command line (a default value, or 0, is not "not given"); false for none.
+inline bool option_given(const CLI::Option* opt) { return opt != nullptr && opt->count() > 0; }
+
 struct PatternArgs {
   std::string machine, speed;
   std::string pixel_size;  // an image's tracing (cam/image_trace.hpp)

@@ -304,7 +304,7 @@ void register_capture(CLI::App& app, Action& action) {
         else if (o->invert_dir == "r,theta" || o->invert_dir == "theta,r") co.invert_dir[0] = co.invert_dir[1] = true;
         else throw InputError("'" + o->invert_dir + "' is not r, theta or r,theta", "--invert-dir");
       }
-      if (!sd && o->dir_setup_opt->count() > 0)
+      if (!sd && option_given(o->dir_setup_opt))
         throw InputError("applies to --encoding step-dir only (an encoder has no direction line)", "--dir-setup");
       co.dir_setup_ns = option_ns(o->dir_setup, "--dir-setup");
       if (o->machine.empty() && o->compare.empty())

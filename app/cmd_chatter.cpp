@@ -65,7 +65,7 @@ int run(const Opts& o) {
     const char* why = "shapes the stability lobes: give --lobes (the table) or --plot FILE (the figure) with it";
     if (!o.spindle_min.empty()) throw InputError(why, "--spindle-min");
     if (!o.spindle_max.empty()) throw InputError(why, "--spindle-max");
-    if (o.lobe_count_opt != nullptr && o.lobe_count_opt->count() > 0) throw InputError(why, "--lobe-count");
+    if (option_given(o.lobe_count_opt)) throw InputError(why, "--lobe-count");
   }
   if (!o.plot.empty()) plot::check_plot_path(o.plot);
   if (o.csv_given && !csv_stdout) check_output_path(o.csv);

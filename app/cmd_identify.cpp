@@ -29,7 +29,7 @@ int run(const Opts& o) {
   const auto dec = process::log_decrement(r.displacement, r.period);
   std::optional<process::DiscreteModel> batch, rls;
   std::optional<process::SecondOrder> sb, sr;
-  if (r.force.empty() && o.forgetting_opt != nullptr && o.forgetting_opt->count() > 0)
+  if (r.force.empty() && option_given(o.forgetting_opt))
     throw InputError("weights the recursive least squares, which need a force_N column; " + o.file +
                          " has none (its free response gives the logarithmic decrement only)",
                      "--forgetting");

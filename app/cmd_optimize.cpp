@@ -43,8 +43,6 @@ struct Opts {
               *map_size_opt = nullptr, *speed_opt = nullptr;
 };
 
-bool given(const CLI::Option* opt) { return opt != nullptr && opt->count() > 0; }
-
 // The dynamics at a placement as `analyze` reports them (the balanced objective, the worst ratios, the verdict).
 void torque_fields(json& j, const CaseResult& c) {
   const TorqueAnalysis& a = c.analysis;
@@ -164,23 +162,23 @@ int run(const Opts& o) {
       throw InputError("--map, --map-image and --write-job go with one optimum, not with --objective pareto");
     if (o.torque_limit)
       throw InputError("the Pareto front spans every torque ratio; its limit is 1 / safety factor", "--torque-limit");
-    if (given(o.method_opt)) throw InputError("the Pareto front has a search of its own", "--method");
-    if (given(o.segments_opt)) throw InputError("applies to --objective f1", "--segments");
-    if (given(o.map_size_opt)) throw InputError("sizes --map or --map-image, which the Pareto front does not draw", "--map-size");
+    if (option_given(o.method_opt)) throw InputError("the Pareto front has a search of its own", "--method");
+    if (option_given(o.segments_opt)) throw InputError("applies to --objective f1", "--segments");
+    if (option_given(o.map_size_opt)) throw InputError("sizes --map or --map-image, which the Pareto front does not draw", "--map-size");
     return run_pareto(job, opt, o);
   }
   const bool dynamics = is_torque_objective(opt.objective) || opt.torque_limit;
-  if (given(o.levels_opt)) throw InputError("applies to --objective pareto", "--levels");
-  if (given(o.survey_opt)) throw InputError("applies to --objective pareto", "--survey");
-  if (given(o.map_size_opt) && o.map.empty() && o.map_image.empty())
+  if (option_given(o.levels_opt)) throw InputError("applies to --objective pareto", "--levels");
+  if (option_given(o.survey_opt)) throw InputError("applies to --objective pareto", "--survey");
+  if (option_given(o.map_size_opt) && o.map.empty() && o.map_image.empty())
     throw InputError("sizes the map: give --map FILE.csv or --map-image FILE.png with it", "--map-size");
-  if (given(o.segments_opt) && opt.objective != PoleObjective::f1) throw InputError("applies to --objective f1", "--segments");
+  if (option_given(o.segments_opt) && opt.objective != PoleObjective::f1) throw InputError("applies to --objective f1", "--segments");
   if (!dynamics) {
     // the area error and F1 are geometry: neither the speed nor the torque limits enter them
     const char* why = "the area error and F1 do not depend on it: it applies with --torque-limit, --objective balanced "
                       "or pareto";
-    if (o.safety_factor.option != nullptr && o.safety_factor.option->count() > 0) throw InputError(why, "--safety-factor");
-    if (given(o.speed_opt) && !is_pattern_file(o.job)) throw InputError(why, "--speed");
+    if (option_given(o.safety_factor.option)) throw InputError(why, "--safety-factor");
+    if (option_given(o.speed_opt) && !is_pattern_file(o.job)) throw InputError(why, "--speed");
   }
 
   const PoleProblem problem = job_pole_problem(job, opt, dynamics);

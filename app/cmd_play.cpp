@@ -124,7 +124,7 @@ void register_play(CLI::App& app, Action& action) {
   c->callback([o, &action] {
     action = [o] {
       if (!o->simulate && o->port.empty()) throw InputError("play: give --port DEV (a controller) or --simulate");
-      if (o->log_opt->count() > 0) check_output_path(o->log);  // before any work (an empty name is refused)
+      if (option_given(o->log_opt)) check_output_path(o->log);  // before any work (an empty name is refused)
       if (!o->simulate) check_baud(o->baud);
       if (o->flow != "none" && o->flow != "hardware") throw InputError("--flow " + o->flow + ": must be none or hardware");
       PlayScaling sc;

@@ -33,9 +33,9 @@ int run(const Opts& o) {
   if (pattern_report_applies(job)) {
     const char* why = "the report of a machine without dynamics (or with a coupled arm) has no pole survey, pole "
                       "search or torque ratios for it to set";
-    if (o.map_size_opt->count() > 0) throw InputError(why, "--map-size");
-    if (o.evaluations_opt->count() > 0) throw InputError(why, "--max-evaluations");
-    if (o.safety_factor.option->count() > 0) throw InputError(why, "--safety-factor");
+    if (option_given(o.map_size_opt)) throw InputError(why, "--map-size");
+    if (option_given(o.evaluations_opt)) throw InputError(why, "--max-evaluations");
+    if (option_given(o.safety_factor.option)) throw InputError(why, "--safety-factor");
   }
   const OperatorReport r = [&] {
     TerminalBar bar("report", o.quiet);  // erased before the output

@@ -23,7 +23,7 @@ struct Opts {
   std::string input, path, drives, feed, ramp, tolerance, csv, plot, corner;
   double integral = 0.0;
   CLI::Option* integral_option = nullptr;  // whether --integral was given: every value of it is checked
-  bool integral_given() const { return integral_option != nullptr && integral_option->count() > 0; }
+  bool integral_given() const { return option_given(integral_option); }
   bool json = false, report_model = false;
 };
 

@@ -31,7 +31,7 @@ void check_trace_options_apply(const PatternArgs& a, const std::string& input) {
   static const char* const kNames[4] = {"--pixel-size", "--threshold", "--invert", "--despeckle"};
   if (is_image_file(input)) return;
   for (int i = 0; i < 4; ++i)
-    if (a.trace_given[i] != nullptr && a.trace_given[i]->count() > 0)
+    if (option_given(a.trace_given[i]))
       throw InputError("traces a template image (.png, .pbm, .pgm); " + input + " is not one, so it would be ignored",
                        kNames[i]);
 }
@@ -58,7 +58,7 @@ void add_safety_factor_option(CLI::App* c, SafetyFactor& sf) {
 }
 
 void apply_safety_factor(const SafetyFactor& sf, Job& job) {
-  if (sf.option == nullptr || sf.option->count() == 0) return;
+  if (!option_given(sf.option)) return;
   if (!(sf.value >= 1.0) || !std::isfinite(sf.value)) throw InputError("must be at least 1", "--safety-factor");
   job.safety_factor = sf.value;
 }

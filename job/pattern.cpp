@@ -150,8 +150,6 @@ CurvePtr pattern_contour(const std::string& path, const Machine& m, double toler
 Job pattern_job(const std::string& path, const PatternOptions& o) {
   if (o.machine_file.empty())
     throw InputError("a pattern file needs the machine that draws it: --machine FILE (e.g. examples/machines/sand-table.toml)", "--machine");
-  if (!o.speed_used && o.speed)
-    throw InputError("does not enter what this command computes (the path's geometry alone): leave it out", "--speed");
   if (o.speed_used && !o.speed)
     throw InputError("a pattern file needs the speed along it: --speed (e.g. \"40 mm/s\")", "--speed");
   const double speed = o.speed.value_or(kUnusedSpeed);
@@ -193,12 +191,13 @@ bool is_pattern_file(const std::string& path) {
 }
 
 Job load_job_or_pattern(const std::string& path, const PatternOptions& o) {
+  // a speed the command does not use, for a pattern or a job file alike
+  if (!o.speed_used && o.speed)
+    throw InputError("does not enter what this command computes (the path's geometry alone): leave it out", "--speed");
   if (is_pattern_file(path)) return pattern_job(path, o);
   if (!o.machine_file.empty())
     throw InputError("applies to pattern files (.thr, .svg, .dxf, .csv, images); a job file names its machine in [machine]", "--machine");
   Job job = load_job(path);
-  if (!o.speed_used && o.speed)
-    throw InputError("does not enter what this command computes (the path's geometry alone): leave it out", "--speed");
   if (o.speed) {
     if (!(*o.speed > 0.0)) throw InputError("must be a positive speed", "--speed");
     job.motion.speed = *o.speed;
