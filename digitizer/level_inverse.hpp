@@ -89,80 +89,107 @@ inline void eval_levels(const LevelInverse& inv, double n0, double dn, double hs
   for (; j < count; ++j) out[j] = inv(((n0 + dn * static_cast<double>(j)) + hs) - base);
 }
 
-// Fits sigma on [ta, tb] for the series pk (as eval_value_packed) of degree n; false when the fit is refused (see
-// above). tol: the largest error in S accepted (the interpolant is checked to tol / 4).
-inline bool fit_level_inverse(const Lane2* pk, int n, double ta, double tb, double tol, LevelInverse& out) {
+// The fit of K functions v_k(t) of a track piece as series of the abscissa y = g(t) on [ta, tb], where g is
+// strictly monotone: sample(t, y, v) gives g and the K values at t. The points (g(t_i), v_k(t_i)) at the
+// Chebyshev-Lobatto points of [ta, tb] lie on the graphs exactly (up to the rounding of the series), so each
+// interpolant is formed in barycentric form in z = (y - yc) ik and re-expanded as a Chebyshev series; it is
+// accepted under the tests above, function k to tol[k]. Every function shares yc and ik. With K = 1 this is
+// fit_level_inverse's arithmetic, operation for operation.
+template <int K, class Sample>
+bool fit_inverse(Sample&& sample, double ta, double tb, const double* tol, double& yc, double& ik, Cheb* out) {
   constexpr int D = kChebMaxDegree;
   const auto& x = cheb_points();  // cos(pi j / D), from +1 down to -1
   const double tm = 0.5 * (ta + tb), hw = 0.5 * (tb - ta);
-  double y[D + 1], s[D + 1];
+  double y[D + 1], s[K][D + 1];
   for (int i = 0; i <= D; ++i) {
     const double t = i == 0 ? tb : (i == D ? ta : tm + hw * x[i]);
-    const Lane2 v = eval_value_packed(pk, n, t);
-    y[i] = v[0];
-    s[i] = v[1];
+    double v[K];
+    sample(t, y[i], v);
+    for (int k = 0; k < K; ++k) s[k][i] = v[k];
   }
   const double span = y[0] - y[D];
   if (!(span != 0.0) || !std::isfinite(span)) return false;
   for (int i = 0; i < D; ++i)
     if (!((y[i] - y[i + 1]) * span > 0.0)) return false;  // strictly monotone, in the direction of the ends
-  out.yc = 0.5 * (y[0] + y[D]);
-  out.ik = 2.0 / span;
+  yc = 0.5 * (y[0] + y[D]);
+  ik = 2.0 / span;
   double z[D + 1], w[D + 1];
-  for (int i = 0; i <= D; ++i) z[i] = i == 0 ? 1.0 : (i == D ? -1.0 : (y[i] - out.yc) * out.ik);
+  for (int i = 0; i <= D; ++i) z[i] = i == 0 ? 1.0 : (i == D ? -1.0 : (y[i] - yc) * ik);
   for (int i = 0; i <= D; ++i) {
     double prod = 1.0;
     for (int j = 0; j <= D; ++j)
       if (j != i) prod *= z[i] - z[j];
     w[i] = 1.0 / prod;
   }
-  // the interpolant in barycentric form at z (not a node)
-  auto bary = [&](double zz) {
-    double num = 0.0, den = 0.0;
+  // the interpolants in barycentric form at z (not a node)
+  auto bary = [&](double zz, double* f) {
+    double num[K] = {}, den = 0.0;
     for (int i = 0; i <= D; ++i) {
       const double q = w[i] / (zz - z[i]);
-      num += q * s[i];
+      for (int k = 0; k < K; ++k) num[k] += q * s[k][i];
       den += q;
     }
-    return num / den;
+    for (int k = 0; k < K; ++k) f[k] = num[k] / den;
   };
   // refused early at the outermost halfway points, where a turn of g at an end of the interval shows first (the
   // same test as below, on the interpolant before its re-expansion)
   for (int i : {0, D - 1}) {
     const double t = tm + hw * std::cos(std::numbers::pi * (i + 0.5) / D);
-    const Lane2 v = eval_value_packed(pk, n, t);
-    const double zz = (v[0] - out.yc) * out.ik;
-    if (!(zz > z[i + 1] && zz < z[i]) || !(std::abs(bary(zz) - v[1]) <= 0.25 * tol)) return false;
+    double yy, v[K], f[K];
+    sample(t, yy, v);
+    const double zz = (yy - yc) * ik;
+    if (!(zz > z[i + 1] && zz < z[i])) return false;
+    bary(zz, f);
+    for (int k = 0; k < K; ++k)
+      if (!(std::abs(f[k] - v[k]) <= 0.25 * tol[k])) return false;
   }
-  // the interpolant at the Chebyshev-Lobatto points of z, then its Chebyshev series (DCT)
-  double f[D + 1];
-  f[0] = s[0];
-  f[D] = s[D];
-  for (int k = 1; k < D; ++k) {
-    double num = 0.0, den = 0.0;
+  // the interpolants at the Chebyshev-Lobatto points of z, then their Chebyshev series (DCT)
+  double f[K][D + 1];
+  for (int k = 0; k < K; ++k) {
+    f[k][0] = s[k][0];
+    f[k][D] = s[k][D];
+  }
+  for (int j = 1; j < D; ++j) {
+    double num[K] = {}, den = 0.0;
     int hit = -1;
     for (int i = 0; i <= D; ++i) {
-      const double dz = x[k] - z[i];
+      const double dz = x[j] - z[i];
       if (dz == 0.0) {
         hit = i;
         break;
       }
       const double q = w[i] / dz;
-      num += q * s[i];
+      for (int k = 0; k < K; ++k) num[k] += q * s[k][i];
       den += q;
     }
-    f[k] = hit >= 0 ? s[hit] : num / den;
+    for (int k = 0; k < K; ++k) f[k][j] = hit >= 0 ? s[k][hit] : num[k] / den;
   }
-  out.p = cheb_fit(f, D);
-  if (!(std::abs(out.p.c[D]) + std::abs(out.p.c[D - 1]) <= 0.1 * tol)) return false;
-  // halfway points: on the graph of sigma, between the interpolation points
+  for (int k = 0; k < K; ++k) {
+    out[k] = cheb_fit(f[k], D);
+    if (!(std::abs(out[k].c[D]) + std::abs(out[k].c[D - 1]) <= 0.1 * tol[k])) return false;
+  }
+  // halfway points: on the graphs, between the interpolation points
   for (int i = 0; i < D; ++i) {
     const double t = tm + hw * std::cos(std::numbers::pi * (i + 0.5) / D);
-    const Lane2 v = eval_value_packed(pk, n, t);
-    if (!(std::abs(out.p((v[0] - out.yc) * out.ik) - v[1]) <= 0.25 * tol)) return false;
+    double yy, v[K];
+    sample(t, yy, v);
+    const double zz = (yy - yc) * ik;
+    for (int k = 0; k < K; ++k)
+      if (!(std::abs(out[k](zz) - v[k]) <= 0.25 * tol[k])) return false;
   }
-  cheb_chop(out.p, 0.05 * tol);
+  for (int k = 0; k < K; ++k) cheb_chop(out[k], 0.05 * tol[k]);
   return true;
+}
+
+// Fits sigma on [ta, tb] for the series pk (as eval_value_packed) of degree n; false when the fit is refused (see
+// above). tol: the largest error in S accepted (the interpolant is checked to tol / 4).
+inline bool fit_level_inverse(const Lane2* pk, int n, double ta, double tb, double tol, LevelInverse& out) {
+  auto sample = [&](double t, double& y, double* v) {
+    const Lane2 g = eval_value_packed(pk, n, t);
+    y = g[0];
+    v[0] = g[1];
+  };
+  return fit_inverse<1>(sample, ta, tb, &tol, out.yc, out.ik, &out.p);
 }
 
 }  // namespace polarcam

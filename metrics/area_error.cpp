@@ -10,6 +10,7 @@
 
 #include "cam/error.hpp"
 #include "cam/format.hpp"
+#include "digitizer/level_inverse.hpp"
 #include "metrics/area_roots.hpp"
 
 namespace polarcam {
@@ -203,18 +204,136 @@ void StairAreaMeter::walk_emit(const WalkPt& a, const WalkPt& b) {
   add_sub(s, j);
 }
 
+void StairAreaMeter::walk_solve(const Span& s) {
+  Walk& w = walk_;
+  const sweep::PieceView& p = track_.pieces[w.piece];
+  double lo = s.ta, glo = s.ga, hist[3] = {0, 0, 0};
+  int nh = 0;
+  for (int64_t q = s.j0; q < s.j1; ++q) {
+    const double Ld = static_cast<double>(walk_level(q));
+    // Newton's method from the extrapolation of the last three edges (the chord to the stretch's end at first)
+    double guess;
+    if (nh >= 3)
+      guess = 3.0 * hist[0] - 3.0 * hist[1] + hist[2];
+    else if (nh == 2)
+      guess = 2.0 * hist[0] - hist[1];
+    else
+      guess = lo + (Ld - glo) / (s.gb - glo) * (s.tb - lo);
+    const double y = Ld * frame_.width - frame_.shift - p.g_a;
+    const double t = solve_level(*p.G, y, lo, s.tb, (glo - Ld) * frame_.width, guess);
+    double h, a;
+    eval_rA(*p.H, areas_[w.piece], t, h, a);
+    const WalkPt lv{t, Ld, p.h_a + h, a};
+    w.buf.push_back(lv);
+    lo = lv.t;
+    glo = Ld;
+    hist[2] = hist[1];
+    hist[1] = hist[0];
+    hist[0] = lv.t;
+    if (nh < 3) ++nh;
+  }
+}
+
+bool StairAreaMeter::walk_fit(const Span& s) {
+  Walk& w = walk_;
+  const sweep::PieceView& p = track_.pieces[w.piece];
+  const LongCheb& A = areas_[w.piece];
+  const Cheb& G = *p.G;
+  const Cheb& H = *p.H;
+  // t, H and Astar less their values at ta: the fits keep the digits of the stretch's own variation
+  double hb, ab;
+  eval_rA(H, A, s.ta, hb, ab);
+  auto sample = [&](double t, double& y, double* v) {
+    y = G(t);
+    double h, a;
+    eval_rA(H, A, t, h, a);
+    v[0] = t - s.ta;
+    v[1] = h - hb;
+    v[2] = a - ab;
+  };
+  double yc, ik;
+  Cheb f[3];
+  if (!fit_inverse<3>(sample, s.ta, s.tb, w.tol, yc, ik, f)) return false;
+  // the edges: the three series at each edge's z, two edges to a vector
+  const int n = std::max({f[0].deg, f[1].deg, f[2].deg});
+  Lane2 c[3][kChebMaxDegree + 1];
+  for (int k = 0; k < 3; ++k)
+    for (int i = 0; i <= n; ++i) {
+      const double v = i <= f[k].deg ? f[k].c[static_cast<size_t>(i)] : 0.0;
+      c[k][i] = Lane2{v, v};
+    }
+  const double base_y = frame_.shift + p.g_a;
+  auto z_of = [&](int64_t q) {
+    const double y = static_cast<double>(walk_level(q)) * frame_.width - base_y;
+    return std::clamp((y - yc) * ik, -1.0, 1.0);
+  };
+  for (int64_t q = s.j0; q < s.j1; q += 2) {
+    const bool two = q + 1 < s.j1;
+    const Lane2 z = {z_of(q), two ? z_of(q + 1) : 0.0}, tt = z + z;
+    Lane2 b1[3] = {}, b2[3] = {};
+    for (int i = n; i >= 1; --i)
+      for (int k = 0; k < 3; ++k) {
+        const Lane2 b0 = (c[k][i] - b2[k]) + tt * b1[k];
+        b2[k] = b1[k];
+        b1[k] = b0;
+      }
+    Lane2 r[3];
+    for (int k = 0; k < 3; ++k) r[k] = (c[k][0] - b2[k]) + z * b1[k];
+    for (int e = 0; e < (two ? 2 : 1); ++e) {
+      const double t = std::clamp(s.ta + r[0][e], s.ta, s.tb);
+      w.buf.push_back({t, static_cast<double>(walk_level(q + e)), p.h_a + (hb + r[1][e]), ab + r[2][e]});
+    }
+  }
+  return true;
+}
+
+void StairAreaMeter::walk_refill() {
+  // A stretch of at least kMinFit edges is fitted (at most kMaxFit at once) and halved where the fit is refused;
+  // the edges of shorter stretches are solved one by one.
+  constexpr int64_t kMinFit = 48, kMaxFit = 2048;
+  Walk& w = walk_;
+  const sweep::PieceView& p = track_.pieces[w.piece];
+  w.buf.clear();
+  w.bpos = 0;
+  while (w.buf.empty() && !w.spans.empty()) {
+    const Span s = w.spans.back();
+    w.spans.pop_back();
+    const int64_t n = s.j1 - s.j0;
+    if (n <= 0) continue;
+    if (n >= kMinFit) {
+      if (n <= kMaxFit && walk_fit(s)) break;
+      const double tm = 0.5 * (s.ta + s.tb);
+      if (s.depth < 40 && tm > s.ta && tm < s.tb) {
+        const double gm = std::clamp((p.g_a + (*p.G)(tm) + frame_.shift) / frame_.width, std::min(s.ga, s.gb),
+                                     std::max(s.ga, s.gb));
+        // the edges up to and including gm go to the first half
+        int64_t jm = w.dir > 0 ? static_cast<int64_t>(std::floor(gm)) - w.first + 1
+                               : w.last - static_cast<int64_t>(std::ceil(gm)) + 1;
+        jm = std::clamp(jm, s.j0, s.j1);
+        w.spans.push_back(Span{tm, s.tb, gm, s.gb, jm, s.j1, s.depth + 1});
+        w.spans.push_back(Span{s.ta, tm, s.ga, gm, s.j0, jm, s.depth + 1});
+        continue;
+      }
+    }
+    walk_solve(s);
+  }
+  if (w.buf.empty()) throw std::logic_error("internal error: the area walk lost the edges of a segment");
+}
+
 void StairAreaMeter::walk_segment_start() {
   Walk& w = walk_;
   w.nxt = walk_at(w.ts[w.seg + 1]);
   w.dir = w.nxt.g > w.cur.g ? 1 : (w.nxt.g < w.cur.g ? -1 : 0);
   w.q = w.count = 0;
-  w.nh = 0;
-  w.hist[0] = w.hist[1] = w.hist[2] = 0.0;
+  w.spans.clear();
+  w.buf.clear();
+  w.bpos = 0;
   if (w.dir != 0) {
     const double lo_g = std::min(w.cur.g, w.nxt.g), hi_g = std::max(w.cur.g, w.nxt.g);
     w.first = static_cast<int64_t>(std::floor(lo_g)) + 1;
     w.last = static_cast<int64_t>(std::ceil(hi_g)) - 1;
     w.count = w.last - w.first + 1;
+    w.spans.push_back(Span{w.cur.t, w.nxt.t, w.cur.g, w.nxt.g, 0, w.count, 0});
   }
 }
 
@@ -227,6 +346,15 @@ void StairAreaMeter::walk_piece_start() {
   for (uint32_t k = p.ext_begin; k < p.ext_end; ++k) w.ts.push_back(E[k]);
   w.ts.push_back(1.0);
   w.seg = 0;
+  // the fits' tolerances: eight units of rounding of t, and of the radius and area series' evaluation
+  constexpr double eps = std::numeric_limits<double>::epsilon();
+  const LongCheb& A = areas_[w.piece];
+  double sh = std::abs(p.h_a), sa = 0.0;
+  for (int k = 0; k <= p.H->deg; ++k) sh += std::abs(p.H->c[static_cast<size_t>(k)]);
+  for (int k = 0; k <= A.deg; ++k) sa += std::abs(A.c[static_cast<size_t>(k)]);
+  w.tol[0] = 64.0 * eps;
+  w.tol[1] = 8.0 * eps * sh;
+  w.tol[2] = 16.0 * eps * sa + std::numeric_limits<double>::min();
   w.cur = walk_at(-1.0);
   walk_segment_start();
 }
@@ -241,27 +369,10 @@ bool StairAreaMeter::walk_next() {
   Walk& w = walk_;
   if (w.done) return false;
   if (w.q < w.count) {
-    const sweep::PieceView& p = track_.pieces[w.piece];
-    const int64_t L = w.dir > 0 ? w.first + w.q : w.last - w.q;
-    const double Ld = static_cast<double>(L);
-    double guess;
-    if (w.nh >= 3)
-      guess = 3.0 * w.hist[0] - 3.0 * w.hist[1] + w.hist[2];
-    else if (w.nh == 2)
-      guess = 2.0 * w.hist[0] - w.hist[1];
-    else
-      guess = w.cur.t + (Ld - w.cur.g) / (w.nxt.g - w.cur.g) * (w.nxt.t - w.cur.t);
-    const double y = Ld * frame_.width - frame_.shift - p.g_a;
-    const double t = solve_level(*p.G, y, w.cur.t, w.nxt.t, (w.cur.g - Ld) * frame_.width, guess);
-    double h, a;
-    eval_rA(*p.H, areas_[w.piece], t, h, a);
-    const WalkPt lv{t, Ld, p.h_a + h, a};
+    if (w.bpos == w.buf.size()) walk_refill();
+    const WalkPt lv = w.buf[w.bpos++];
     walk_emit(w.cur, lv);
     w.cur = lv;
-    w.hist[2] = w.hist[1];
-    w.hist[1] = w.hist[0];
-    w.hist[0] = t;
-    if (w.nh < 3) ++w.nh;
     ++w.q;
     return true;
   }

@@ -162,6 +162,13 @@ class StairAreaMeter {
   struct WalkPt {
     double t, g, h, A;
   };
+  // A stretch [ta, tb] of a segment of the walk holding its edges j0..j1-1 (ga, gb: the abscissa, in grid units,
+  // at its ends).
+  struct Span {
+    double ta, tb, ga, gb;
+    int64_t j0, j1;
+    int depth;
+  };
   struct Walk {
     bool done = true;
     size_t piece = 0, seg = 0;
@@ -169,8 +176,11 @@ class StairAreaMeter {
     WalkPt cur{}, nxt{};
     int dir = 0;
     int64_t first = 0, last = 0, count = 0, q = 0;
-    double hist[3] = {0, 0, 0};
-    int nh = 0;
+    // the segment's stretches still to do (the next on top), and the edges of the one done
+    std::vector<Span> spans;
+    std::vector<WalkPt> buf;
+    size_t bpos = 0;
+    double tol[3] = {0, 0, 0};  // the fits' tolerances in t, h and Astar on this piece
   };
 
   uint32_t key(int64_t j) const;
@@ -181,6 +191,13 @@ class StairAreaMeter {
   void walk_piece_start();
   void walk_segment_start();
   WalkPt walk_at(double t) const;
+  int64_t walk_level(int64_t q) const { return walk_.dir > 0 ? walk_.first + q : walk_.last - q; }
+  // The edges of the segment's next stretch into walk_.buf: a stretch of many edges from fits of t, the radius
+  // and Astar as series of the abscissa (walk_fit; false where a fit is refused, and the stretch is halved), a
+  // short one by Newton's method on the abscissa's series edge by edge (walk_solve).
+  void walk_refill();
+  bool walk_fit(const Span& s);
+  void walk_solve(const Span& s);
   void walk_emit(const WalkPt& a, const WalkPt& b);
   void add_sub(const Sub& s, int64_t j);
   void close_visit();
