@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace polarcam {
 namespace {
@@ -69,6 +70,7 @@ bool FootTracker::track(Vec2 p, double guess, double reach, double& u_out) {
       const double d = norm(eval2(wrap(u)).p - p);
       if (!(kappa * (d + reach) <= 0.5)) return false;
       dist_ = d;
+      kappa_ = kappa;
       u_out = wrap(u);
       return true;
     }
@@ -170,6 +172,7 @@ bool FootTracker::model_track(Vec2 p, double guess, double reach, double& u_out)
       const double d = std::sqrt(dot(qn, qn));
       if (!(kappa * (d + reach) <= 0.5)) return false;
       dist_ = d;
+      kappa_ = kappa;
       u_out = wrap(m_.uc + s);
       return true;
     }
@@ -185,6 +188,7 @@ double FootTracker::find(Vec2 p, double guess, double reach) {
   }
 
   tracking_ = true;
+  kappa_ = std::numeric_limits<double>::quiet_NaN();  // the window search does not vouch for the neighbourhood
   const double span = u1_ - u0_;
   double speed = norm(c_.eval(wrap(guess), 1).d1);
   double w = speed > 0.0 ? reach / speed : span;
@@ -267,9 +271,10 @@ void DeviationMeter::consider(double d, Vec2 p) {
 void DeviationMeter::start(Vec2 node, double reach) {
   max_ = 0.0;
   at_ = node;
-  refined_ = 0;
+  refined_ = middles_ = 0;
   u_ = ft_.find(node, c_.u_begin(), reach);
   d_node_ = ft_.distance();
+  k_node_ = ft_.curvature();
   consider(d_node_, node);
 }
 
@@ -280,19 +285,35 @@ bool DeviationMeter::breaks_between(double ua, double ub) const {
   return it != breaks_.end() && *it < ub;
 }
 
-double DeviationMeter::piece(const StairPiece& p, double reach) {
+DeviationMeter::Feet DeviationMeter::piece(const StairPiece& p, double reach) {
   const double u_a = u_, d_a = d_node_;
-  const Vec2 pm = p.at(0.5), pb = p.at(1.0);
-  const double u_m = ft_.find(pm, u_a, reach);
-  const double d_m = ft_.distance();
-  const double u_b = ft_.find(pb, u_m, reach);
+  const Vec2 pb = p.b;
+  const double u_b = ft_.find(pb, u_a, reach);
   const double d_b = ft_.distance();
-  consider(d_m, pm);
   consider(d_b, pb);
   u_ = u_b;
   d_node_ = d_b;
-
+  const double k_a = k_node_, k_b = ft_.curvature();
+  k_node_ = k_b;
   const double len = p.length();
+  // nothing inside the piece can beat (d_a + d_b + len) / 2 (the distance is 1-Lipschitz); nor, where both ends'
+  // feet were tracked in the convex regime with no corner of the path between them, max(d_a, d_b) + len^2 / 8 times
+  // the bound on the distance's second derivative along the piece: kappa / (1 - kappa d) <= 2 kappa from the path's
+  // curvature (taken as twice the larger of the feet's), plus 1 / rho for an arc
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  if (!every_middle_) {
+    if (!(0.5 * (d_a + d_b + len) > max_)) return {u_a, nan, u_b};
+    if (std::isfinite(k_a) && std::isfinite(k_b) && !breaks_between(u_a, u_b)) {
+      const double curv = 4.0 * std::max(k_a, k_b) + (p.arc ? 1.0 / p.rho : 0.0);
+      if (std::max(d_a, d_b) + 0.125 * len * len * curv <= max_) return {u_a, nan, u_b};
+    }
+  }
+  ++middles_;
+
+  const Vec2 pm = p.at(0.5);
+  const double u_m = ft_.find(pm, u_b, reach);
+  const double d_m = ft_.distance();
+  consider(d_m, pm);
   const double bound = std::max({d_a, d_m, d_b}) + 0.25 * len;  // distance is 1-Lipschitz along the piece
   // the parabola through the three samples has its maximum inside the piece
   const double curv = 2.0 * d_m - d_a - d_b;
@@ -317,7 +338,9 @@ double DeviationMeter::piece(const StairPiece& p, double reach) {
     const double tau = f1 > f2 ? x1 : x2;
     consider(std::max(f1, f2), p.at(tau));
   }
-  return u_m;
+  return {u_a, u_m, u_b};
 }
+
+double DeviationMeter::middle_foot(const StairPiece& p, double reach) { return ft_.find(p.at(0.5), u_, reach); }
 
 }  // namespace polarcam

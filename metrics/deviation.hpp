@@ -3,14 +3,16 @@
 // from a point of the machine path to the tool path (one-sided: machine path to contour), the same for the polar
 // staircase (radial segments and arcs about the pole) and the Cartesian one (axis-aligned unit segments).
 //
-// The machine path is fed piece by piece in order. Each piece is sampled at its two ends and its middle; the
-// distance along a piece is smooth while the nearest point of the tool path moves smoothly with it, and then the
-// largest of the three samples is the maximum unless the distance has a maximum inside the piece. A piece is
-// searched for its true maximum (golden section on the piece) when the parabola through the three samples has
-// its maximum inside the piece, or when the nearest points of its ends and middle lie on different smooth
-// stretches of the path (a corner of the path between them, where the distance may have a kink), unless even the
-// Lipschitz bound (the distance changes at most as fast as the point moves) cannot beat the largest value found
-// so far.
+// The machine path is fed piece by piece in order. Each piece is sampled at its end (its start is the previous
+// piece's end). The distance changes at most as fast as the point moves (it is 1-Lipschitz), so nothing inside a
+// piece of length L whose ends are at distances d_a and d_b exceeds (d_a + d_b + L) / 2: where that bound does not
+// beat the largest value found so far, the piece is done. Otherwise it is sampled at its middle too; the distance
+// along a piece is smooth while the nearest point of the tool path moves smoothly with it, and then the largest of
+// the three samples is the maximum unless the distance has a maximum inside the piece. A piece is searched for its
+// true maximum (golden section on the piece) when the parabola through the three samples has its maximum inside
+// the piece, or when the nearest points of its ends and middle lie on different smooth stretches of the path (a
+// corner of the path between them, where the distance may have a kink), unless even the Lipschitz bound cannot
+// beat the largest value found so far.
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -20,7 +22,7 @@
 namespace polarcam {
 
 // A piece of a quasi-static path: a straight segment from a to b, or an arc about the origin of radius rho from
-// angle phi0 to phi1.
+// angle phi0 to phi1 whose end the caller puts in b too.
 struct StairPiece {
   bool arc = false;
   Vec2 a, b;
@@ -59,6 +61,9 @@ class FootTracker {
   // Parameter of the point of the curve nearest p, near `guess`; distance() is then |p - curve(u)|.
   double find(Vec2 p, double guess, double reach);
   double distance() const { return dist_; }
+  // The path's curvature at the foot find() returned when it tracked (Newton's method from the guess, accepted in
+  // the convex regime |kappa| (d + reach) <= 1/2); NaN after a window search.
+  double curvature() const { return kappa_; }
   // Testing: always the window search.
   void set_full_search(bool on) { full_ = on; }
   // Testing: never the local model (track on the curve itself); stretches of the model taken so far.
@@ -95,7 +100,7 @@ class FootTracker {
   bool closed_;
   std::vector<double> breaks_;
   bool tracking_ = false, full_ = false, model_on_ = true;
-  double dist_ = 0.0;
+  double dist_ = 0.0, kappa_ = std::numeric_limits<double>::quiet_NaN();
 };
 
 class DeviationMeter {
@@ -103,9 +108,14 @@ class DeviationMeter {
   explicit DeviationMeter(const Curve& path);
   // The first node of the machine path; `reach`: how far from the previous foot point to search (a few cells).
   void start(Vec2 node, double reach);
-  // The next piece, from the current node (piece.at(0)) to the next (piece.at(1)). Returns the foot parameter
-  // of the piece's middle.
-  double piece(const StairPiece& p, double reach);
+  // The next piece, from the current node (piece.a) to the next (piece.b). Returns the foot parameters of its
+  // ends, and of its middle where the middle was sampled (NaN where it was not).
+  struct Feet {
+    double a, m, b;
+  };
+  Feet piece(const StairPiece& p, double reach);
+  // The foot parameter of the middle of the piece just fed (for a piece whose middle piece() did not sample).
+  double middle_foot(const StairPiece& p, double reach);
 
   double max() const { return max_; }
   Vec2 at() const { return at_; }  // the point of the machine path where the largest distance is
@@ -113,6 +123,9 @@ class DeviationMeter {
   void set_full_search(bool on) { ft_.set_full_search(on); }  // testing
   void set_model(bool on) { ft_.set_model(on); }              // testing
   uint64_t anchors() const { return ft_.anchors(); }          // testing
+  // Testing: sample every piece's middle (no bound skips it); middles sampled so far.
+  void set_every_middle(bool on) { every_middle_ = on; }
+  uint64_t middles() const { return middles_; }
 
  private:
   void consider(double d, Vec2 p);
@@ -122,10 +135,11 @@ class DeviationMeter {
   std::vector<double> breaks_;
   double span_;
   bool closed_;
-  double u_ = 0.0, d_node_ = 0.0;
+  double u_ = 0.0, d_node_ = 0.0, k_node_ = std::numeric_limits<double>::quiet_NaN();
   double max_ = 0.0;
   Vec2 at_;
-  uint64_t refined_ = 0;
+  uint64_t refined_ = 0, middles_ = 0;
+  bool every_middle_ = false;
 };
 
 }  // namespace polarcam

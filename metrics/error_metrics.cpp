@@ -65,10 +65,20 @@ void ErrorMeters::follow(int axis, int dir) {
     piece.rho = n * dr;
     piece.phi0 = m * dth;
     piece.phi1 = (m + dir) * dth;
+    piece.b = node(n, m + dir);  // the next radial step shares its angle's cosine and sine
   }
   const double mn = axis == kAxisRadial ? n + 0.5 * dir : n;
-  const double u = dev_->piece(piece, reach(mn));  // foot point of the step's middle
-  (axis == kAxisRadial ? nr_ : nt_)[static_cast<size_t>(segment_of(u))] += 1;
+  const DeviationMeter::Feet f = dev_->piece(piece, reach(mn));
+  // the step counts in the segment of its middle's foot point; where the deviation did not need the middle, in
+  // the segment of its ends' foot points when they share one
+  int seg;
+  if (!std::isnan(f.m))
+    seg = segment_of(f.m);
+  else if (segment_of(f.a) == segment_of(f.b))
+    seg = segment_of(f.a);
+  else
+    seg = segment_of(dev_->middle_foot(piece, reach(mn)));
+  (axis == kAxisRadial ? nr_ : nt_)[static_cast<size_t>(seg)] += 1;
   (axis == kAxisRadial ? n : m) += dir;
 }
 

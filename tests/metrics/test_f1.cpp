@@ -127,4 +127,69 @@ TEST(F1, DeviationOfACircleAboutThePole) {
   EXPECT_NEAR(m.deviation_max_m, R - 50e-3, 1e-12);
 }
 
+// The deviation samples a step's middle only where a bound on the distance inside the step (from its ends'
+// distances, its length and the path's curvature at their feet) could beat the largest distance so far; the
+// largest distance and its place are those of sampling every middle, and most middles are skipped.
+TEST(F1, DeviationSkipsOnlyMiddlesThatCannotBeTheLargest) {
+  struct Case {
+    const char* name;
+    ToolPathPtr path;
+    Grid grid;
+  };
+  auto placed = [](CurvePtr c, double C, double beta) {
+    return make_tool_path(std::move(c), Placement{C, beta}, ToolSpec{}, TravelSpec{});
+  };
+  const Grid thesis = coarse_grid(0.0254e-3, 16000);
+  std::vector<Case> cases = {
+      {"limacon", placed(make_limacon(0.0508, 0.0762), 0.0127, 0.0), thesis},
+      {"witch", placed(make_witch(0.2159, -0.2032, 0.2032), 0.1546, 1.236), thesis},
+      {"circle, pole outside", placed(make_circle({0, 0}, 0.0508), 0.2032, 1.5 * std::numbers::pi), thesis},
+      {"serpentine near the pole", placed(make_serpentine(0.0127, 0.0762, -0.0762, 0.0762), 0.0537, 4.247), thesis},
+      {"limacon, a grid ten times finer", placed(make_limacon(0.0508, 0.0762), 0.0127, 0.0),
+       coarse_grid(0.00254e-3, 160000)},
+  };
+  for (const auto& c : cases) {
+    const Grid& g = c.grid;
+    AreaRun r = area_run(*c.path, g, StepRule::nearest);
+    auto node = [&](double n, double m) {
+      return Vec2{n * g.dr * std::cos(m * g.dtheta), n * g.dr * std::sin(m * g.dtheta)};
+    };
+    auto reach = [&](double n) { return 3.0 * std::max(g.dr, n * g.dr * g.dtheta) + 1e-12; };
+    double dev[2];
+    Vec2 at[2];
+    uint64_t middles[2];
+    for (int every = 0; every < 2; ++every) {
+      DeviationMeter dm(*c.path);
+      dm.set_every_middle(every == 1);
+      double n = static_cast<double>(r.dig.start_n), m = static_cast<double>(r.dig.start_m);
+      dm.start(node(n, m), reach(n));
+      for (const auto& s : r.steps) {
+        StairPiece p;
+        if (s.axis == kAxisRadial) {
+          p.a = node(n, m);
+          p.b = node(n + s.dir, m);
+        } else {
+          p.arc = true;
+          p.rho = n * g.dr;
+          p.phi0 = m * g.dtheta;
+          p.phi1 = (m + s.dir) * g.dtheta;
+          p.b = node(n, m + s.dir);
+        }
+        dm.piece(p, reach(s.axis == kAxisRadial ? n + 0.5 * s.dir : n));
+        (s.axis == kAxisRadial ? n : m) += s.dir;
+      }
+      dev[every] = dm.max();
+      at[every] = dm.at();
+      middles[every] = dm.middles();
+    }
+    EXPECT_EQ(middles[1], r.steps.size()) << c.name;
+    EXPECT_LT(middles[0] * 4, r.steps.size()) << c.name;
+    EXPECT_GT(dev[0], 0.25 * g.dr) << c.name;
+    // the same distance to the rounding of the path's coordinates, at the same place
+    EXPECT_NEAR(dev[0], dev[1], 1e-9 * dev[1]) << c.name;
+    EXPECT_NEAR(at[0].x, at[1].x, 1e-12) << c.name;
+    EXPECT_NEAR(at[0].y, at[1].y, 1e-12) << c.name;
+  }
+}
+
 }  // namespace tu_metrics_test_f1
