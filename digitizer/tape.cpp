@@ -418,27 +418,29 @@ bool TapeReader::next(StepRecord& r) {
       finished_ = true;
       return false;
     }
-    const std::string which = n_ < h_.record_count ? "record " + std::to_string(n_ + 1)
-                                                   : "tool event " + std::to_string(events_ + 1);
+    // the record's name for a message, formed only when one is needed
+    auto which = [&] {
+      return n_ < h_.record_count ? "record " + std::to_string(n_ + 1) : "tool event " + std::to_string(events_ + 1);
+    };
     uint64_t v = 0;
     int shift = 0, nbytes = 0;
     uint8_t b = 0;
     for (;;) {
       if (pos_ == len_ && !fill())
-        ran_out(h_.event_count == 0 ? which + " of " + std::to_string(h_.record_count)
-                                    : which + " of " + std::to_string(h_.record_count) + " steps and " +
+        ran_out(h_.event_count == 0 ? which() + " of " + std::to_string(h_.record_count)
+                                    : which() + " of " + std::to_string(h_.record_count) + " steps and " +
                                           std::to_string(h_.event_count) + " tool events");
       b = buf_[pos_++];
       ++nbytes;
-      if (shift == 63 && (b & 0x7e)) fail(which + " is malformed (varint overflow)");
+      if (shift == 63 && (b & 0x7e)) fail(which() + " is malformed (varint overflow)");
       v |= static_cast<uint64_t>(b & 0x7f) << shift;
       if (!(b & 0x80)) break;
       shift += 7;
-      if (shift > 63) fail(which + " is malformed (varint too long)");
+      if (shift > 63) fail(which() + " is malformed (varint too long)");
     }
     if (h_.version >= kTapeVersionEvents && nbytes > 1 && b == 0) {
       // version 2: 0x80 0x00 announces a tool event; no other overlong varint is written
-      if (nbytes != 2) fail(which + " is malformed (an overlong varint)");
+      if (nbytes != 2) fail(which() + " is malformed (an overlong varint)");
       if (events_ == h_.event_count)
         fail("tool event " + std::to_string(events_ + 1) + " is one more than the header's " +
              std::to_string(h_.event_count));
