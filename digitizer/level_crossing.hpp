@@ -123,6 +123,24 @@ struct LevelCrossing {
   double t, s;  // s = S(t), when asked for
 };
 
+// The roots found so far along a sequence of levels, for the next one's first guess: extrapolated from the last
+// three (quadratic) or the last two (linear).
+struct RootHistory {
+  double h[3] = {0, 0, 0};
+  int n = 0;
+  double guess(double none) const {  // `none` while fewer than two roots are known
+    if (n >= 3) return 3.0 * h[0] - 3.0 * h[1] + h[2];
+    if (n >= 2) return 2.0 * h[0] - h[1];
+    return none;
+  }
+  void push(double t) {
+    h[2] = h[1];
+    h[1] = h[0];
+    h[0] = t;
+    if (n < 3) ++n;
+  }
+};
+
 // Root of g(t) = y in [lo, hi]; flo = g(lo) - y and fhi = g(hi) - y as the caller knows them (opposite signs,
 // or flo == 0). Newton from `guess` with bisection as the safeguard. The last Newton step is taken without a
 // further evaluation once its own error, g'' dt^2 / (2 g'), is below 1e-15 (t is on [-1, 1]) and so is that of

@@ -61,8 +61,7 @@ void walk_sub_interval(const Lane2 packed[2][kChebMaxDegree + 1], const int n_ax
     int dir = 0;
     bool done = false, solving = false;
     double lo = 0, flo = 0, level = 0;  // bracket start (the last crossing) and the axis value there
-    double hist[3] = {0, 0, 0};
-    int nh = 0;
+    RootHistory hist;
     CrossingSolve q;
     unsigned head = 0, tail = 0;  // crossings found and not yet emitted: [head, tail) modulo kAhead
     double bt[kAhead], bs[kAhead];
@@ -78,10 +77,7 @@ void walk_sub_interval(const Lane2 packed[2][kChebMaxDegree + 1], const int n_ax
     node[a] += x.dir;
     x.lo = x.q.r.t;
     x.flo = x.level;  // the axis stands at the level it just crossed
-    x.hist[2] = x.hist[1];
-    x.hist[1] = x.hist[0];
-    x.hist[0] = x.q.r.t;
-    if (x.nh < 3) ++x.nh;
+    x.hist.push(x.q.r.t);
   };
   // Starts the axis's next crossing while it has one and room for it; crossings known without iterating are recorded.
   auto begin = [&](int a) {
@@ -92,11 +88,7 @@ void walk_sub_interval(const Lane2 packed[2][kChebMaxDegree + 1], const int n_ax
         x.done = true;
         return;
       }
-      double guess = -2.0;  // none: the solver starts from the secant
-      if (x.nh >= 3)
-        guess = 3.0 * x.hist[0] - 3.0 * x.hist[1] + x.hist[2];
-      else if (x.nh >= 2)
-        guess = 2.0 * x.hist[0] - x.hist[1];
+      const double guess = x.hist.guess(-2.0);  // -2: none, the solver starts from the secant
       x.level = level;
       if (x.q.start(pc.S, level - base[a], x.lo, th, x.flo - level, fend[a] - level, guess))
         x.solving = true;
@@ -215,23 +207,16 @@ void walk_sub_interval_inverse(const Cheb g[2], const Lane2 packed[2][kChebMaxDe
   }
   // The crossings of levels [j0, j1) of axis a on [ta, tb], fa and fb the axis values at the ends.
   auto one_by_one = [&](int a, double ta, double tb, double fa, double fb, size_t j0, size_t j1) {
-    double lo = ta, flo = fa, hist[3] = {0, 0, 0};
-    int nh = 0;
+    double lo = ta, flo = fa;
+    RootHistory hist;
     for (size_t j = j0; j < j1; ++j) {
       const double lv = level(a, j);
-      double guess = -2.0;
-      if (nh >= 3)
-        guess = 3.0 * hist[0] - 3.0 * hist[1] + hist[2];
-      else if (nh >= 2)
-        guess = 2.0 * hist[0] - hist[1];
-      const LevelCrossing r = solve_crossing<true>(g[a], pc.S, lv - base[a], lo, tb, flo - lv, fb - lv, guess);
+      const LevelCrossing r =
+          solve_crossing<true>(g[a], pc.S, lv - base[a], lo, tb, flo - lv, fb - lv, hist.guess(-2.0));
       scr.s[a][j] = r.s;
       lo = r.t;
       flo = lv;
-      hist[2] = hist[1];
-      hist[1] = hist[0];
-      hist[0] = r.t;
-      if (nh < 3) ++nh;
+      hist.push(r.t);
     }
   };
   auto fill = [&](auto&& self, int a, double ta, double tb, double fa, double fb, size_t j0, size_t j1,

@@ -207,18 +207,12 @@ void StairAreaMeter::walk_emit(const WalkPt& a, const WalkPt& b) {
 void StairAreaMeter::walk_solve(const Span& s) {
   Walk& w = walk_;
   const sweep::PieceView& p = track_.pieces[w.piece];
-  double lo = s.ta, glo = s.ga, hist[3] = {0, 0, 0};
-  int nh = 0;
+  double lo = s.ta, glo = s.ga;
+  RootHistory hist;
   for (int64_t q = s.j0; q < s.j1; ++q) {
     const double Ld = static_cast<double>(walk_level(q));
-    // Newton's method from the extrapolation of the last three edges (the chord to the stretch's end at first)
-    double guess;
-    if (nh >= 3)
-      guess = 3.0 * hist[0] - 3.0 * hist[1] + hist[2];
-    else if (nh == 2)
-      guess = 2.0 * hist[0] - hist[1];
-    else
-      guess = lo + (Ld - glo) / (s.gb - glo) * (s.tb - lo);
+    // Newton's method from the extrapolation of the last edges (the chord to the stretch's end at first)
+    const double guess = hist.n >= 2 ? hist.guess(0.0) : lo + (Ld - glo) / (s.gb - glo) * (s.tb - lo);
     const double y = Ld * frame_.width - frame_.shift - p.g_a;
     const double t = solve_level(*p.G, y, lo, s.tb, (glo - Ld) * frame_.width, guess);
     double h, a;
@@ -227,10 +221,7 @@ void StairAreaMeter::walk_solve(const Span& s) {
     w.buf.push_back(lv);
     lo = lv.t;
     glo = Ld;
-    hist[2] = hist[1];
-    hist[1] = hist[0];
-    hist[0] = lv.t;
-    if (nh < 3) ++nh;
+    hist.push(lv.t);
   }
 }
 
