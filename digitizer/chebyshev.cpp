@@ -10,9 +10,11 @@ constexpr int N = kChebMaxDegree;
 
 struct Tables {
   std::array<double, N + 1> pts;
+  std::array<double, N> mids;                          // cos(pi (j + 1/2) / N)
   std::array<std::array<double, N + 1>, N + 1> cosjk;  // cos(pi j k / N)
   Tables() {
     for (int j = 0; j <= N; ++j) pts[j] = std::cos(std::numbers::pi * j / N);
+    for (int j = 0; j < N; ++j) mids[j] = std::cos(std::numbers::pi * (j + 0.5) / N);
     pts[N / 2] = 0.0;
     for (int j = 0; j <= N; ++j)
       for (int k = 0; k <= N; ++k) cosjk[j][k] = std::cos(std::numbers::pi * ((j * k) % (2 * N)) / N);
@@ -25,6 +27,7 @@ const Tables& tables() {
 }  // namespace
 
 const std::array<double, kChebMaxDegree + 1>& cheb_points() { return tables().pts; }
+const std::array<double, kChebMaxDegree>& cheb_midpoints() { return tables().mids; }
 
 Cheb cheb_fit(const double* f, int n) {
   // DCT-I: c_k = (2/n) sum'' f_j cos(pi j k / n); cos(pi j k / n) = cos(pi (j s) k / N) = cosjk[j s][k], s = N / n

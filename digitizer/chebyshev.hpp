@@ -51,6 +51,8 @@ struct Cheb {
 
 // Chebyshev-Lobatto points t_j = cos(pi j / n), j = 0..n (from +1 down to -1), n = kChebMaxDegree.
 const std::array<double, kChebMaxDegree + 1>& cheb_points();
+// The points halfway (in angle) between them, cos(pi (j + 1/2) / n), j = 0..n-1.
+const std::array<double, kChebMaxDegree>& cheb_midpoints();
 
 // Coefficients of the degree-n interpolant through values f_j, j = 0..n, at t_j = cos(pi j / n) (n = 8 or 16;
 // the degree-8 points are every other point of cheb_points()).

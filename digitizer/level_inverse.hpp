@@ -19,7 +19,6 @@
 // polynomial) the caller splits the interval or solves the crossings one by one (level_crossing.hpp).
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 
 #include "digitizer/chebyshev.hpp"
 #include "digitizer/level_crossing.hpp"
@@ -98,7 +97,8 @@ inline void eval_levels(const LevelInverse& inv, double n0, double dn, double hs
 template <int K, class Sample>
 bool fit_inverse(Sample&& sample, double ta, double tb, const double* tol, double& yc, double& ik, Cheb* out) {
   constexpr int D = kChebMaxDegree;
-  const auto& x = cheb_points();  // cos(pi j / D), from +1 down to -1
+  const auto& x = cheb_points();      // cos(pi j / D), from +1 down to -1
+  const auto& xm = cheb_midpoints();  // cos(pi (j + 1/2) / D), halfway between
   const double tm = 0.5 * (ta + tb), hw = 0.5 * (tb - ta);
   double y[D + 1], s[K][D + 1];
   for (int i = 0; i <= D; ++i) {
@@ -134,7 +134,7 @@ bool fit_inverse(Sample&& sample, double ta, double tb, const double* tol, doubl
   // refused early at the outermost halfway points, where a turn of g at an end of the interval shows first (the
   // same test as below, on the interpolant before its re-expansion)
   for (int i : {0, D - 1}) {
-    const double t = tm + hw * std::cos(std::numbers::pi * (i + 0.5) / D);
+    const double t = tm + hw * xm[i];
     double yy, v[K], f[K];
     sample(t, yy, v);
     const double zz = (yy - yc) * ik;
@@ -170,7 +170,7 @@ bool fit_inverse(Sample&& sample, double ta, double tb, const double* tol, doubl
   }
   // halfway points: on the graphs, between the interpolation points
   for (int i = 0; i < D; ++i) {
-    const double t = tm + hw * std::cos(std::numbers::pi * (i + 0.5) / D);
+    const double t = tm + hw * xm[i];
     double yy, v[K];
     sample(t, yy, v);
     const double zz = (yy - yc) * ik;
