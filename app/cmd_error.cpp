@@ -1,7 +1,8 @@
-// polarcam error TAPE --job JOB.toml [--json] [--segments N]: polar or Cartesian tapes
+// polarcam error TAPE --job JOB.toml [--json] [--segments N] [--threads N]: polar or Cartesian tapes
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <thread>
 
 #include "app/cli.hpp"
 #include "io/output.hpp"
@@ -22,6 +23,7 @@ struct Opts {
   PatternArgs pattern;
   bool json = false, quiet = false;
   int segments = 0;
+  int threads = 0;
 };
 
 // A Cartesian tape: area error and deviation (F1 is a polar measure).
@@ -73,6 +75,10 @@ void register_error(CLI::App& app, Action& action) {
   c->add_flag("--quiet", o->quiet, "no progress bar (shown on a terminal only)");
   c->add_option("--segments", o->segments, "segments for F_sum, F_dif, F1 (default: the job's [optimize] segments, 100)")
       ->check(CLI::Range(1, 100000));
+  c->add_option("--threads", o->threads,
+                "threads (default: all cores; 2 or more measure the deviation beside the area error; the result does "
+                "not depend on it)")
+      ->check(CLI::Range(1, 1024));
   c->callback([o, &action] {
     action = [o] {
       const Job job = load_job_input(o->job, o->pattern, 1e-4, false);  // the metrics are geometry alone
@@ -84,7 +90,8 @@ void register_error(CLI::App& app, Action& action) {
       if (axes == TapeAxes::cartesian) return cartesian(*o, job);
       const PolarTapeMetrics pm = [&] {
         TerminalBar bar("error", o->quiet);  // erased before the output
-        return polar_tape_metrics(job, o->tape, o->segments, bar.callback());
+        const int threads = o->threads > 0 ? o->threads : static_cast<int>(std::thread::hardware_concurrency());
+        return polar_tape_metrics(job, o->tape, o->segments, bar.callback(), threads);
       }();
       const ErrorMetrics& m = pm.m;
       const Grid& g = pm.grid;

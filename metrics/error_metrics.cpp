@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <stdexcept>
+#include <thread>
 
 #include "metrics/deviation.hpp"
 
@@ -14,7 +16,9 @@ void ErrorMeters::reset(const Curve& path, const PolarTrack& track, const Grid& 
   grid_ = grid;
   segments_ = std::max(1, segments);
   steps_.clear();
+  lane_.reset();
   dev_.reset();
+  parallel_ = false;
   node_m_ = std::numeric_limits<double>::quiet_NaN();  // the grid may be another
   area_.reset(track, grid);
 }
@@ -52,6 +56,10 @@ void ErrorMeters::start_following(int64_t n0, int64_t m0) {
   dev_->start(at(n_, m_), reach(n_));
 }
 
+void ErrorMeters::follow_all(const uint8_t* steps, size_t count) {
+  for (size_t i = 0; i < count; ++i) follow(steps[i] & 1, (steps[i] & 2) ? 1 : -1);
+}
+
 void ErrorMeters::follow(int axis, int dir) {
   const double dr = grid_.dr, dth = grid_.dtheta;
   double& n = n_;
@@ -86,14 +94,40 @@ void ErrorMeters::stream_from(int64_t n0, int64_t m0) {
   if (!path_) throw std::logic_error("ErrorMeters::stream_from before reset");
   start_following(n0, m0);
   area_.stream_from(n0, m0);
+  if (parallel_) lane_ = std::make_unique<StepLane>([this](const uint8_t* s, size_t n) { follow_all(s, n); });
 }
 
 ErrorMetrics ErrorMeters::finish(int64_t n0, int64_t m0) {
   ErrorMetrics out;
-  out.area = area_.finish(n0, m0);  // checks that the staircase follows the path
-  if (!dev_) {
+  if (lane_) {
+    out.area = area_.finish(n0, m0);  // checks that the staircase follows the path
+    lane_->close();
+    lane_.reset();
+  } else if (dev_) {
+    out.area = area_.finish(n0, m0);
+  } else if (parallel_) {
+    // recorded: the area meter computes on a second thread while the deviation replays the steps
+    std::exception_ptr area_err, dev_err;
+    std::thread th([&] {
+      try {
+        out.area = area_.finish(n0, m0);
+      } catch (...) {
+        area_err = std::current_exception();
+      }
+    });
+    try {
+      start_following(n0, m0);
+      follow_all(steps_.data(), steps_.size());
+    } catch (...) {
+      dev_err = std::current_exception();
+    }
+    th.join();
+    if (area_err) std::rethrow_exception(area_err);  // the staircase does not follow the path: that first
+    if (dev_err) std::rethrow_exception(dev_err);
+  } else {
+    out.area = area_.finish(n0, m0);
     start_following(n0, m0);
-    for (uint8_t s : steps_) follow(s & 1, (s & 2) ? 1 : -1);
+    follow_all(steps_.data(), steps_.size());
   }
   const double dr = grid_.dr, dth = grid_.dtheta;
   out.deviation_max_m = dev_->max();

@@ -9,7 +9,8 @@
 //    segment where the foot point of its middle lies, and from the chords (Eq. 4.15).
 // Steps are recorded (one byte each) and measured by finish(); or, after begin() with the start node, measured as
 // they come in a window of constant size (area_error.hpp: the streamed mode; the deviation and the step counts
-// are running values), with the same results.
+// are running values), with the same results. With set_parallel(true), the deviation and the step counts run on
+// a thread of their own beside the area meter (step_lane.hpp), with the same results again.
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -19,6 +20,7 @@
 #include "metrics/area_error.hpp"
 #include "metrics/deviation.hpp"
 #include "metrics/f1.hpp"
+#include "metrics/step_lane.hpp"
 
 namespace polarcam {
 
@@ -36,15 +38,20 @@ class ErrorMeters final : public StepSink {
  public:
   // path: the tool-centre path in the machine frame, track: its polar track (both must outlive finish()).
   void reset(const Curve& path, const PolarTrack& track, const Grid& grid, int segments);
+  // Measure the deviation on a second thread (call after reset(), before stream_from() and the first step).
+  void set_parallel(bool on) { parallel_ = on; }
   // Streams from here on: the staircase starts on node (n0, m0) (call after reset(), before the first step).
   // Not StepSink::begin, which the digitizer calls on every sink: the meters stream only when asked.
   void stream_from(int64_t n0, int64_t m0);
   void step(int axis, int dir, int64_t) override { record(axis, dir); }
   void record(int axis, int dir) {
-    if (dev_)
+    const auto s = static_cast<uint8_t>(axis | (dir > 0 ? 2 : 0));
+    if (lane_)
+      lane_->push(s);
+    else if (dev_)
       follow(axis, dir);
     else
-      steps_.push_back(static_cast<uint8_t>(axis | (dir > 0 ? 2 : 0)));
+      steps_.push_back(s);
     area_.record(axis, dir);
   }
   // Throws InputError when the staircase does not follow the path. After begin(): check streamed(); when it is
@@ -56,6 +63,7 @@ class ErrorMeters final : public StepSink {
  private:
   void follow(int axis, int dir);  // the deviation and the step counts of one step
   void start_following(int64_t n0, int64_t m0);
+  void follow_all(const uint8_t* steps, size_t count);
   Vec2 at(double n, double m) const;
   Vec2 node(double n, double m);  // at(n, m), the cosine and sine of the last angle remembered
   double node_m_ = std::numeric_limits<double>::quiet_NaN(), node_cos_ = 0.0, node_sin_ = 0.0;
@@ -71,6 +79,8 @@ class ErrorMeters final : public StepSink {
   int segments_ = 1;
   std::vector<uint8_t> steps_;
   PolarAreaMeter area_;
+  bool parallel_ = false;
+  std::unique_ptr<StepLane> lane_;  // streamed and parallel: the steps on their way to follow()
 };
 
 }  // namespace polarcam

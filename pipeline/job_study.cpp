@@ -88,6 +88,7 @@ JobStudy study_job(const Job& job, const StudyOptions& o, const Progress& progre
         st.dyn.plan ? st.dyn.plan->schedule.profile : make_job_profile(job, *st.path, track.length());
     ErrorMeters meters;
     meters.reset(*st.path, track, job.machine.grid, job.optimize.segments);
+    meters.set_parallel(threads > 1);
     Tee tee(meters, st.staircase.steps);
     const Progress tape_part = progress_part(progress, 0.0, 0.1);
     ProgressSink counted(&tee, tape_part, prof->total_time());

@@ -11,7 +11,8 @@
 
 namespace polarcam {
 
-PolarTapeMetrics polar_tape_metrics(const Job& job, const std::string& tape, int segments, const Progress& progress) {
+PolarTapeMetrics polar_tape_metrics(const Job& job, const std::string& tape, int segments, const Progress& progress,
+                                    int threads) {
   // the area and deviation meters measure the staircase of a polar machine, whose radial steps move the tool
   // radially and angular steps about the pole; on a coupled arm an angular step also moves the ball radially
   if (job.machine.coupling != 0.0)
@@ -43,6 +44,7 @@ PolarTapeMetrics polar_tape_metrics(const Job& job, const std::string& tape, int
   for (int pass = 0; pass < 2; ++pass) {
     ErrorMeters em;
     em.reset(*path, track, g, nseg);
+    em.set_parallel(threads > 1);
     if (pass == 0) em.stream_from(h.start[0], h.start[1]);
     std::optional<TapeReader> again;
     if (pass == 1) again.emplace(tape);

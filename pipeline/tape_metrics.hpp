@@ -19,9 +19,10 @@ struct PolarTapeMetrics {
   TapeRule rule = TapeRule::nearest;
 };
 // `segments`: F_sum, F_dif, F1 segments (0: the job's [optimize] segments). `progress`: the share of the tape's
-// records read.
+// records read. `threads`: 2 or more measures the deviation on a thread of its own beside the area meter (the same
+// results).
 PolarTapeMetrics polar_tape_metrics(const Job& job, const std::string& tape, int segments,
-                                    const Progress& progress = {});
+                                    const Progress& progress = {}, int threads = 1);
 
 struct CartesianTapeMetrics {
   CartesianErrorMetrics m;

@@ -38,6 +38,9 @@ TEST(ErrorCli, MetricsOfTapesOfBothRules) {
     EXPECT_GT(m["area_error_mm2"].get<double>(), 0.0);
     EXPECT_NEAR(m["F1"].get<double>(), m["F_dif"].get<double>() / m["F_sum"].get<double>(), 1e-12);
     areas[k++] = m["area_error_mm2"].get<double>();
+    // one thread or the deviation beside the area meter: the same bytes
+    EXPECT_EQ(run_cli("error " + tape + " --job " + job + " --json --threads 1").out,
+              run_cli("error " + tape + " --job " + job + " --json --threads 2").out);
     CliResult t = run_cli("error " + tape + " --job " + job);
     EXPECT_EQ(t.code, 0);
     EXPECT_NE(t.out.find("area error"), std::string::npos);

@@ -8,6 +8,7 @@
 
 #include "tests/area_helpers.hpp"
 #include "cam/curves.hpp"
+#include "cam/error.hpp"
 #include "metrics/error_metrics.hpp"
 
 namespace tu_metrics_test_area_stream {  // the test files of a program compile together (unity build)
@@ -87,24 +88,30 @@ TEST(AreaStream, SameAsRecordedInAWindowThatDoesNotGrow) {
         EXPECT_EQ(a.run_steps, r.area.run_steps) << what;
         EXPECT_EQ(a.rise_steps, r.area.rise_steps) << what;
         if (finer == 10) {
-          // the error meters, streamed and recorded
-          ErrorMeters rec, str;
-          rec.reset(*c.path, r.track, g, 100);
-          str.reset(*c.path, r.track, g, 100);
+          // the error meters, streamed and recorded, on one thread and with the deviation on a second one
+          ErrorMeters rec, str, rec2, str2;
+          for (ErrorMeters* m : {&rec, &str, &rec2, &str2}) m->reset(*c.path, r.track, g, 100);
+          rec2.set_parallel(true);
+          str2.set_parallel(true);
           str.stream_from(r.dig.start_n, r.dig.start_m);
-          for (const auto& s : r.steps) {
-            rec.record(s.axis, s.dir);
-            str.record(s.axis, s.dir);
-          }
+          str2.stream_from(r.dig.start_n, r.dig.start_m);
+          for (const auto& s : r.steps)
+            for (ErrorMeters* m : {&rec, &str, &rec2, &str2}) m->record(s.axis, s.dir);
           const ErrorMetrics x = rec.finish(r.dig.start_n, r.dig.start_m);
-          const ErrorMetrics y = str.finish(r.dig.start_n, r.dig.start_m);
-          ASSERT_TRUE(str.streamed()) << what;
-          EXPECT_EQ(x.area.area_m2, y.area.area_m2) << what;
-          EXPECT_EQ(x.deviation_max_m, y.deviation_max_m) << what;
-          EXPECT_EQ(x.deviation_at.x, y.deviation_at.x) << what;
-          EXPECT_EQ(x.deviation_at.y, y.deviation_at.y) << what;
-          EXPECT_EQ(x.f_counts.F1, y.f_counts.F1) << what;
-          EXPECT_EQ(x.f_counts.F_sum, y.f_counts.F_sum) << what;
+          ASSERT_TRUE(str.streamed() && str2.streamed()) << what;
+          const std::pair<ErrorMeters*, const char*> others[] = {
+              {&str, ", streamed"}, {&rec2, ", recorded, 2 threads"}, {&str2, ", streamed, 2 threads"}};
+          for (const auto& [m, name] : others) {
+            const ErrorMetrics y = m->finish(r.dig.start_n, r.dig.start_m);
+            const std::string which = what + name;
+            EXPECT_EQ(x.area.area_m2, y.area.area_m2) << which;
+            EXPECT_EQ(x.deviation_max_m, y.deviation_max_m) << which;
+            EXPECT_EQ(x.deviation_at.x, y.deviation_at.x) << which;
+            EXPECT_EQ(x.deviation_at.y, y.deviation_at.y) << which;
+            EXPECT_EQ(x.f_counts.F1, y.f_counts.F1) << which;
+            EXPECT_EQ(x.f_counts.F_sum, y.f_counts.F_sum) << which;
+            EXPECT_EQ(x.f_counts.F_dif, y.f_counts.F_dif) << which;
+          }
         }
       }
     }
@@ -134,5 +141,26 @@ TEST(AreaStream, AStaircaseThatComesBackIsLeftToTheRecordedMode) {
   const AreaErrorResult a = m.finish(r.dig.start_n, r.dig.start_m);
   EXPECT_GT(a.area_m2, r.area.area_m2);  // the detour adds area
 }
+
+// The lane hands every byte over, in order, across many blocks; a consumer's exception comes back from close();
+// a lane dropped without close() stops its thread.
+TEST(StepLane, HandsEveryStepOverInOrder) {
+  std::vector<uint8_t> got;
+  const size_t n = 300001;  // about nine blocks and a part
+  {
+    StepLane lane([&](const uint8_t* s, size_t k) { got.insert(got.end(), s, s + k); });
+    for (size_t i = 0; i < n; ++i) lane.push(static_cast<uint8_t>((i * 7919) % 251));
+    lane.close();
+  }
+  ASSERT_EQ(got.size(), n);
+  for (size_t i = 0; i < n; ++i) ASSERT_EQ(got[i], (i * 7919) % 251) << i;
+
+  StepLane bad([](const uint8_t*, size_t) { throw InputError("the consumer refused"); });
+  for (size_t i = 0; i < n; ++i) bad.push(1);
+  EXPECT_THROW(bad.close(), InputError);
+
+  StepLane dropped([](const uint8_t*, size_t) {});
+  for (size_t i = 0; i < 100000; ++i) dropped.push(2);
+}  // `dropped` is destroyed without close()
 
 }  // namespace tu_metrics_test_area_stream
