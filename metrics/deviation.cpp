@@ -155,19 +155,26 @@ bool FootTracker::model_track(Vec2 p, double guess, double reach, double& u_out)
     }
     s = 0.0;
   }
-  // Newton on (C(s) - p) . C'(s) = 0 as in track(), on the polynomial; C - p first (nearby points: exact)
+  // Halley's method on g(s) = (C(s) - p) . C'(s) = 0 (Newton's, as in track(), with the curvature of g) on the
+  // polynomial; C - p first (nearby points: exact). It stops once a step is below the tolerance, or once the error
+  // left after a step, |g''^2 / (4 g'^2) - g''' / (6 g')| |ds|^3 (Halley's cubic convergence), is below a quarter
+  // of it: from the previous foot that is one step.
   const double lo = s - w, hi = s + w;
-  const Vec2 d0 = m_.p0 - p;
+  const Vec2 d0 = m_.p0 - p, c3 = 6.0 * m_.p3;
   for (int it = 0; it < 8; ++it) {
     const Vec2 q = d0 + s * (m_.p1 + s * (m_.p2 + s * m_.p3));
-    const Vec2 c1 = m_.p1 + s * (2.0 * m_.p2 + 3.0 * s * m_.p3), c2 = 2.0 * m_.p2 + (6.0 * s) * m_.p3;
+    const Vec2 c1 = m_.p1 + s * (2.0 * m_.p2 + 3.0 * s * m_.p3), c2 = 2.0 * m_.p2 + s * c3;
     const double s2 = dot(c1, c1), g = dot(q, c1), dg = s2 + dot(q, c2);
     if (!(dg > 0.0)) return false;
-    const double ds = -g / dg, sn = s + ds;
+    const double g2 = 3.0 * dot(c1, c2) + dot(q, c3), g3 = 4.0 * dot(c1, c3) + 3.0 * dot(c2, c2);
+    const double den = dg - 0.5 * g * g2 / dg;  // Halley's denominator; Newton's where the correction is large
+    const double ds = -g / (den > 0.5 * dg ? den : dg), sn = s + ds;
     if (!(sn > lo && sn < hi)) return false;
     s = sn;
-    if (std::abs(ds) * std::sqrt(s2) <= 1e-9 * std::sqrt(dot(q, q)) + 1e-15) {
-      const double kappa = std::abs(cross(c1, c2)) / (s2 * std::sqrt(s2));
+    const double speed = std::sqrt(s2), tol = 1e-9 * std::sqrt(dot(q, q)) + 1e-15, ads = std::abs(ds);
+    const double left = 4.0 * std::abs(g2 * g2 / (4.0 * dg * dg) - g3 / (6.0 * dg)) * ads * ads * ads;
+    if (ads * speed <= tol || (den > 0.5 * dg && left * speed <= tol)) {
+      const double kappa = std::abs(cross(c1, c2)) / (s2 * speed);
       const Vec2 qn = d0 + s * (m_.p1 + s * (m_.p2 + s * m_.p3));
       const double d = std::sqrt(dot(qn, qn));
       if (!(kappa * (d + reach) <= 0.5)) return false;

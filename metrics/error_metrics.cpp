@@ -20,6 +20,9 @@ void ErrorMeters::reset(const Curve& path, const PolarTrack& track, const Grid& 
   dev_.reset();
   parallel_ = false;
   node_m_ = std::numeric_limits<double>::quiet_NaN();  // the grid may be another
+  tab_cos_.clear();
+  tab_sin_.clear();
+  block_ = std::numeric_limits<int64_t>::min();
   area_.reset(track, grid);
 }
 
@@ -28,12 +31,30 @@ Vec2 ErrorMeters::at(double n, double m) const {
   return Vec2{rho * std::cos(phi), rho * std::sin(phi)};
 }
 
+void ErrorMeters::turn(int64_t m, double& c, double& s) {
+  if (tab_cos_.empty()) {
+    tab_cos_.resize(kTurnBlock);
+    tab_sin_.resize(kTurnBlock);
+    for (int64_t k = 0; k < kTurnBlock; ++k) {
+      tab_cos_[k] = std::cos(static_cast<double>(k) * grid_.dtheta);
+      tab_sin_[k] = std::sin(static_cast<double>(k) * grid_.dtheta);
+    }
+  }
+  const int64_t k = ((m % kTurnBlock) + kTurnBlock) % kTurnBlock, b = m - k;
+  if (b != block_) {
+    block_ = b;
+    const double phi = static_cast<double>(b) * grid_.dtheta;
+    block_cos_ = std::cos(phi);
+    block_sin_ = std::sin(phi);
+  }
+  c = block_cos_ * tab_cos_[k] - block_sin_ * tab_sin_[k];
+  s = block_sin_ * tab_cos_[k] + block_cos_ * tab_sin_[k];
+}
+
 Vec2 ErrorMeters::node(double n, double m) {
   if (!(m == node_m_)) {  // a radial step keeps the angle: its two nodes share one cosine and sine
-    const double phi = m * grid_.dtheta;
     node_m_ = m;
-    node_cos_ = std::cos(phi);
-    node_sin_ = std::sin(phi);
+    turn(static_cast<int64_t>(m), node_cos_, node_sin_);
   }
   const double rho = n * grid_.dr;
   return Vec2{rho * node_cos_, rho * node_sin_};
