@@ -81,6 +81,10 @@ void ErrorMeters::follow_all(const uint8_t* steps, size_t count) {
   for (size_t i = 0; i < count; ++i) follow(steps[i] & 1, (steps[i] & 2) ? 1 : -1);
 }
 
+void ErrorMeters::area_all(const uint8_t* steps, size_t count) {
+  for (size_t i = 0; i < count; ++i) area_.record(steps[i] & 1, (steps[i] & 2) ? 1 : -1);
+}
+
 void ErrorMeters::follow(int axis, int dir) {
   const double dr = grid_.dr, dth = grid_.dtheta;
   double& n = n_;
@@ -115,15 +119,16 @@ void ErrorMeters::stream_from(int64_t n0, int64_t m0) {
   if (!path_) throw std::logic_error("ErrorMeters::stream_from before reset");
   start_following(n0, m0);
   area_.stream_from(n0, m0);
-  if (parallel_) lane_ = std::make_unique<StepLane>([this](const uint8_t* s, size_t n) { follow_all(s, n); });
+  // the area meter, the larger part, on a thread of its own; the deviation with the caller, who reads the steps
+  if (parallel_) lane_ = std::make_unique<StepLane>([this](const uint8_t* s, size_t n) { area_all(s, n); });
 }
 
 ErrorMetrics ErrorMeters::finish(int64_t n0, int64_t m0) {
   ErrorMetrics out;
   if (lane_) {
-    out.area = area_.finish(n0, m0);  // checks that the staircase follows the path
     lane_->close();
     lane_.reset();
+    out.area = area_.finish(n0, m0);  // checks that the staircase follows the path
   } else if (dev_) {
     out.area = area_.finish(n0, m0);
   } else if (parallel_) {

@@ -46,9 +46,12 @@ class ErrorMeters final : public StepSink {
   void step(int axis, int dir, int64_t) override { record(axis, dir); }
   void record(int axis, int dir) {
     const auto s = static_cast<uint8_t>(axis | (dir > 0 ? 2 : 0));
-    if (lane_)
+    if (lane_) {  // the area meter on the lane's thread, the deviation here
       lane_->push(s);
-    else if (dev_)
+      follow(axis, dir);
+      return;
+    }
+    if (dev_)
       follow(axis, dir);
     else
       steps_.push_back(s);
@@ -64,6 +67,7 @@ class ErrorMeters final : public StepSink {
   void follow(int axis, int dir);  // the deviation and the step counts of one step
   void start_following(int64_t n0, int64_t m0);
   void follow_all(const uint8_t* steps, size_t count);
+  void area_all(const uint8_t* steps, size_t count);
   Vec2 at(double n, double m) const;
   Vec2 node(double n, double m);  // at(n, m), the cosine and sine of the last angle remembered
   double node_m_ = std::numeric_limits<double>::quiet_NaN(), node_cos_ = 0.0, node_sin_ = 0.0;
@@ -88,7 +92,7 @@ class ErrorMeters final : public StepSink {
   std::vector<uint8_t> steps_;
   PolarAreaMeter area_;
   bool parallel_ = false;
-  std::unique_ptr<StepLane> lane_;  // streamed and parallel: the steps on their way to follow()
+  std::unique_ptr<StepLane> lane_;  // streamed and parallel: the steps on their way to the area meter
 };
 
 }  // namespace polarcam
