@@ -87,6 +87,7 @@ void StairAreaMeter::reset(sweep::TrackView track, const StairGrid& grid) {
   for (uint32_t i = 0; i < slots_.size(); ++i) free_slots_.push_back(i);
   order_.clear();
   done_.clear();
+  done_lo_ = 1, done_hi_ = 0;
   pinned_.clear();
   peak_slots_ = 0;
   walk_.done = true;
@@ -435,21 +436,19 @@ double StairAreaMeter::fast_visit(const Visit& v, double rho, const std::vector<
   return s;
 }
 
+bool StairAreaMeter::one_pass(const Visit& v, const ArcRec& a, const std::vector<Sub>& subs) {
+  if (force_general_ || !v.full || v.sigma != a.dir) return false;
+  total_.add(fast_visit(v, static_cast<double>(a.n) * grid_.height, subs));
+  return true;
+}
+
 void StairAreaMeter::add_sector(SectorIn& in, StairAreaResult& res) {
   const double dr = grid_.height;
   auto& vs = in.vs;
   auto& as = in.as;
   const std::vector<Sub>& subs = *in.subs;
   ++res.sectors;
-  if (!force_general_ && !in.forced && vs.size() == 1 && as.size() == 1) {
-    // the common case: one pass of the contour and one level strand
-    const Visit& v = *vs[0];
-    const ArcRec& a = *as[0];
-    if (v.full && v.sigma == a.dir) {
-      total_.add(fast_visit(v, static_cast<double>(a.n) * dr, subs));
-      return;
-    }
-  }
+  if (!in.forced && vs.size() == 1 && as.size() == 1 && one_pass(*vs[0], *as[0], subs)) return;
   bool fast = !force_general_ && !in.forced && !vs.empty() && vs.size() == as.size();
   for (size_t i = 0; fast && i < vs.size(); ++i) fast = vs[i]->full;
   if (fast && vs.size() > 1) {
@@ -554,6 +553,7 @@ bool StairAreaMeter::pinned(uint32_t k) const {
 }
 
 bool StairAreaMeter::finalized(uint32_t k) const {
+  if (k < done_lo_ || k > done_hi_) return false;  // a sector not yet measured beside the last ones (the usual case)
   auto it = done_.upper_bound(k);
   if (it == done_.begin()) return false;
   --it;
@@ -561,6 +561,9 @@ bool StairAreaMeter::finalized(uint32_t k) const {
 }
 
 void StairAreaMeter::mark_finalized(uint32_t k) {
+  if (done_.empty()) done_lo_ = done_hi_ = k;
+  done_lo_ = std::min(done_lo_, k);
+  done_hi_ = std::max(done_hi_, k);
   auto next = done_.upper_bound(k);
   if (next != done_.begin()) {
     auto prev = std::prev(next);
@@ -612,6 +615,12 @@ StairAreaMeter::Slot* StairAreaMeter::slot(uint32_t k) {
 
 void StairAreaMeter::finalize(uint32_t i) {
   Slot& sl = slots_[i];
+  if (!sl.forced && sl.visits.size() == 1 && sl.arcs.size() == 1 && sl.extra.empty() &&
+      one_pass(sl.visits[0], sl.arcs[0], sl.subs)) {  // without gathering the sector's strands
+    ++sres_.sectors;
+    free_slots_.push_back(i);
+    return;
+  }
   SectorIn& in = sector_in_;
   in.vs.clear();
   in.as.clear();

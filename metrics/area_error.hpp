@@ -203,6 +203,9 @@ class StairAreaMeter {
   void close_visit();
   void add_connector(Vec2 a, double ga, Vec2 b, double gb);
   double fast_visit(const Visit& v, double rho, const std::vector<Sub>& subs) const;
+  // The common case of a sector: one pass of the contour, monotone from one side to the other in the direction of
+  // the one level strand (fast_visit); false, with nothing added, where the sector needs more.
+  bool one_pass(const Visit& v, const ArcRec& a, const std::vector<Sub>& subs);
   void add_sector(SectorIn& in, StairAreaResult& res);
   Vec2 node_point(int64_t h, int64_t g) const;
   Vec2 path_point(double h, double g) const;
@@ -253,6 +256,7 @@ class StairAreaMeter {
   std::vector<uint32_t> free_slots_;
   std::deque<uint32_t> order_;  // keys in the order their slots were opened
   std::map<uint32_t, uint32_t> done_;  // measured keys: disjoint ranges [first, last]
+  uint32_t done_lo_ = 1, done_hi_ = 0;  // the least and the largest of them (none: lo > hi)
   std::vector<uint32_t> pinned_;  // keys about the start and end (connectors): measured at finish()
   uint32_t pins_[3] = {0, 0, 0};
   uint32_t stair_key_ = 0, walk_key_ = 0;
