@@ -318,6 +318,7 @@ TapeReader::TapeReader(const std::string& path) : path_(path) {
   h_.header_crc = stored;
   h_.provenance.assign(reinterpret_cast<const char*>(all.data() + kTapeFixedHeader), plen);
   validate_header();
+  max_ticks_ = max_time_ticks();
   struct stat st;  // the read buffer no larger than the records (a small tape does not take a megabyte)
   const bool sized = ::fstat(::fileno(f_), &st) == 0 && st.st_size >= 0;
   buf_.resize(sized ? std::min<size_t>(kBuf, static_cast<size_t>(st.st_size) + 1) : kBuf);
@@ -402,7 +403,7 @@ bool TapeReader::fill() {
   return len_ > 0;
 }
 
-bool TapeReader::next(StepRecord& r) {
+bool TapeReader::next_record(StepRecord& r) {
   if (finished_) return false;
   for (;;) {
     if (n_ == h_.record_count && events_ == h_.event_count) {
@@ -477,7 +478,7 @@ bool TapeReader::next(StepRecord& r) {
     r.dir = (v & 1) ? 1 : -1;
     ++n_;
     (r.dir > 0 ? plus_ : minus_)[r.axis] += 1;
-    if (r.interval > max_time_ticks() - cum_)
+    if (r.interval > max_ticks_ - cum_)
       fail("record " + std::to_string(n_) + " takes the tape's time beyond 2^62 ns (about 146 years)");
     cum_ += r.interval;
     r.interval += pending_;

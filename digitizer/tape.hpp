@@ -119,7 +119,29 @@ class TapeReader {
   // interval is the time since the previous step (tool events between them included). Tool events of a version 2
   // tape (checked: they alternate, from the header's starting state) go to the handler; without a handler the
   // first one is an InputError ("this reader does not handle tool events").
-  bool next(StepRecord& r);
+  bool next(StepRecord& r) {
+    // the usual record, inline: a varint of at most nine bytes, whole in the buffer, with every tool event read;
+    // anything else (and every check that can fail but these two) in next_record()
+    if (pos_ + 9 <= len_ && n_ < h_.record_count && events_ == h_.event_count) {
+      const uint8_t* p = buf_.data() + pos_;
+      uint64_t v = p[0] & 0x7f;
+      size_t k = 1;
+      for (; (p[k - 1] & 0x80) && k < 9; ++k) v |= static_cast<uint64_t>(p[k] & 0x7f) << (7 * k);
+      const uint64_t interval = v >> 2;
+      if (!(p[k - 1] & 0x80) && (k == 1 || p[k - 1] != 0) && interval <= max_ticks_ - cum_) {
+        pos_ += k;
+        r.interval = interval + pending_;
+        r.axis = static_cast<int>((v >> 1) & 1);
+        r.dir = (v & 1) ? 1 : -1;
+        ++n_;
+        (r.dir > 0 ? plus_ : minus_)[r.axis] += 1;
+        cum_ += interval;
+        pending_ = 0;
+        return true;
+      }
+    }
+    return next_record(r);
+  }
   // Receives the tool events of a version 2 tape, in order, as they are read.
   void on_tool_event(std::function<void(const ToolEvent&)> handler) { on_event_ = std::move(handler); }
   uint64_t events_read() const { return events_; }
@@ -129,6 +151,8 @@ class TapeReader {
   [[noreturn]] void fail(const std::string& what) const;
   void validate_header() const;     // InputError for values later arithmetic cannot hold
   uint64_t max_time_ticks() const;  // 2^62 ns in this tape's ticks
+  uint64_t max_ticks_ = 0;           // the same, once the header is read
+  bool next_record(StepRecord& r);
   bool fill();
   std::string path_;
   std::FILE* f_ = nullptr;
