@@ -99,7 +99,7 @@ bool FootTracker::anchor(double u, double w) {
   m_.p2 = 0.5 * c.d2;
   m_.p3 = (1.0 / 6.0) * c.d3;
   const double tol = 4.0 * std::numeric_limits<double>::epsilon() * (norm(c.p) + c_.rounding_scale());
-  const double h_min = 8.0 * w;
+  const double h_min = 4.0 * w;
   double h = std::max(2.0 * h_good_, 4.0 * h_min);
   if (!closed_) h = std::min({h, u - u0_, u1_ - u});
   if (closed_) h = std::min(h, 0.125 * (u1_ - u0_));

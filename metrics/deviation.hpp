@@ -51,7 +51,7 @@ struct StairPiece {
 // that holds no corner. A stretch is taken only when the polynomial agrees with the curve at s = +-2h to within
 // four units of rounding of a point of the curve (4 eps (|C| + its rounding scale)); its truncation error, of
 // order s^4, is then a sixteenth of that on the stretch, below the rounding of an evaluation of the curve. It
-// needs h to be at least eight search windows (on the thesis's grid the curve bends too much for that and the
+// needs h to be at least four search windows (on the thesis's grid the curve bends too much for that and the
 // curve is evaluated as before); each anchor costs three evaluations of the curve and serves the searches of
 // many steps. The same acceptance tests apply (the window inside the stretch, Newton settling inside the window,
 // the curvature bound).
