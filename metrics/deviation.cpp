@@ -166,14 +166,21 @@ bool FootTracker::model_track(Vec2 p, double guess, double reach, double& u_out)
     const Vec2 c1 = m_.p1 + s * (2.0 * m_.p2 + 3.0 * s * m_.p3), c2 = 2.0 * m_.p2 + s * c3;
     const double s2 = dot(c1, c1), g = dot(q, c1), dg = s2 + dot(q, c2);
     if (!(dg > 0.0)) return false;
+    const double idg = 1.0 / dg;
     const double g2 = 3.0 * dot(c1, c2) + dot(q, c3), g3 = 4.0 * dot(c1, c3) + 3.0 * dot(c2, c2);
-    const double den = dg - 0.5 * g * g2 / dg;  // Halley's denominator; Newton's where the correction is large
-    const double ds = -g / (den > 0.5 * dg ? den : dg), sn = s + ds;
+    const double den = dg - 0.5 * g * g2 * idg;  // Halley's denominator; Newton's where the correction is large
+    const bool halley = den > 0.5 * dg;
+    const double ds = -g / (halley ? den : dg), sn = s + ds;
     if (!(sn > lo && sn < hi)) return false;
     s = sn;
-    const double speed = std::sqrt(s2), tol = 1e-9 * std::sqrt(dot(q, q)) + 1e-15, ads = std::abs(ds);
-    const double left = 4.0 * std::abs(g2 * g2 / (4.0 * dg * dg) - g3 / (6.0 * dg)) * ads * ads * ads;
-    if (ads * speed <= tol || (den > 0.5 * dg && left * speed <= tol)) {
+    // the step's error: the step itself, or Halley's estimate of what is left after it
+    const double ads = std::abs(ds);
+    double e = ads;
+    if (halley) e = std::min(e, 4.0 * std::abs(0.25 * g2 * g2 * idg * idg - g3 * idg * (1.0 / 6.0)) * ads * ads * ads);
+    // e |C'| <= 1e-9 |q| + 1e-15: squared first (sufficient), then as written
+    const double qq = dot(q, q), es2 = e * e * s2;
+    if (es2 <= 1e-18 * qq || es2 <= 1e-30 || e * std::sqrt(s2) <= 1e-9 * std::sqrt(qq) + 1e-15) {
+      const double speed = std::sqrt(s2);
       const double kappa = std::abs(cross(c1, c2)) / (s2 * speed);
       const Vec2 qn = d0 + s * (m_.p1 + s * (m_.p2 + s * m_.p3));
       const double d = std::sqrt(dot(qn, qn));

@@ -69,6 +69,7 @@ int ErrorMeters::segment_of(double u) const {
 }
 
 void ErrorMeters::start_following(int64_t n0, int64_t m0) {
+  foot_ = std::numeric_limits<double>::quiet_NaN();
   dev_ = std::make_unique<DeviationMeter>(*path_);
   nr_.assign(static_cast<size_t>(segments_), 0);
   nt_.assign(static_cast<size_t>(segments_), 0);
@@ -104,11 +105,15 @@ void ErrorMeters::follow(int axis, int dir) {
   const DeviationMeter::Feet f = dev_->piece(piece, reach(mn));
   // the step counts in the segment of its middle's foot point; where the deviation did not need the middle, in
   // the segment of its ends' foot points when they share one
+  // (f.a is the previous step's f.b: its segment is remembered)
+  const int seg_a = f.a == foot_ ? foot_seg_ : segment_of(f.a), seg_b = segment_of(f.b);
+  foot_ = f.b;
+  foot_seg_ = seg_b;
   int seg;
   if (!std::isnan(f.m))
     seg = segment_of(f.m);
-  else if (segment_of(f.a) == segment_of(f.b))
-    seg = segment_of(f.a);
+  else if (seg_a == seg_b)
+    seg = seg_a;
   else
     seg = segment_of(dev_->middle_foot(piece, reach(mn)));
   (axis == kAxisRadial ? nr_ : nt_)[static_cast<size_t>(seg)] += 1;

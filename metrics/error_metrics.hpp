@@ -81,6 +81,8 @@ class ErrorMeters final : public StepSink {
   double block_cos_ = 1.0, block_sin_ = 0.0;
   double reach(double n) const;
   int segment_of(double u) const;
+  double foot_ = std::numeric_limits<double>::quiet_NaN();  // the last step's end's foot, and its segment
+  int foot_seg_ = 0;
   std::unique_ptr<DeviationMeter> dev_;
   std::vector<long long> nr_, nt_;
   double n_ = 0, m_ = 0;
@@ -90,8 +92,8 @@ class ErrorMeters final : public StepSink {
   Grid grid_;
   int segments_ = 1;
   std::vector<uint8_t> steps_;
-  PolarAreaMeter area_;
-  bool parallel_ = false;
+  alignas(64) PolarAreaMeter area_;  // written by the lane's thread: on cache lines of its own
+  alignas(64) bool parallel_ = false;
   std::unique_ptr<StepLane> lane_;  // streamed and parallel: the steps on their way to the area meter
 };
 
