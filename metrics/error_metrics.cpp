@@ -33,22 +33,41 @@ Vec2 ErrorMeters::at(double n, double m) const {
 
 void ErrorMeters::turn(int64_t m, double& c, double& s) {
   if (tab_cos_.empty()) {
+    // the step as a pair hi + lo: 2 pi / N to about 1e-32 relative where a turn is N whole steps
+    step_hi_ = grid_.dtheta;
+    step_lo_ = 0.0;
+    if (grid_.steps_per_rev > 0) {
+      constexpr double kTwoPiHi = 6.283185307179586, kTwoPiLo = 2.4492935982947064e-16;
+      const double N = static_cast<double>(grid_.steps_per_rev);
+      step_hi_ = kTwoPiHi / N;
+      step_lo_ = (std::fma(-step_hi_, N, kTwoPiHi) + kTwoPiLo) / N;
+    }
+    // a step of k: 1 - cos (as 2 sin^2 of the half angle, without cancellation) and sin
     tab_cos_.resize(kTurnBlock);
     tab_sin_.resize(kTurnBlock);
     for (int64_t k = 0; k < kTurnBlock; ++k) {
-      tab_cos_[k] = std::cos(static_cast<double>(k) * grid_.dtheta);
-      tab_sin_[k] = std::sin(static_cast<double>(k) * grid_.dtheta);
+      const double phi = static_cast<double>(k) * step_hi_ + static_cast<double>(k) * step_lo_, h = std::sin(0.5 * phi);
+      tab_cos_[k] = 2.0 * h * h;
+      tab_sin_[k] = std::sin(phi);
     }
   }
-  const int64_t k = ((m % kTurnBlock) + kTurnBlock) % kTurnBlock, b = m - k;
+  const int64_t k = ((m % kTurnBlock) + kTurnBlock) % kTurnBlock;
+  int64_t b = m - k;
   if (b != block_) {
     block_ = b;
-    const double phi = static_cast<double>(b) * grid_.dtheta;
-    block_cos_ = std::cos(phi);
-    block_sin_ = std::sin(phi);
+    if (grid_.steps_per_rev > 0) {  // whole turns are exact
+      const int64_t N = grid_.steps_per_rev;
+      b = ((b % N) + N) % N;
+    }
+    // b (hi + lo) as p + e (p = b hi rounded, e its rounding error plus b lo), and cos, sin of p + e to first order
+    const double bd = static_cast<double>(b), p = bd * step_hi_, e = std::fma(bd, step_hi_, -p) + bd * step_lo_;
+    const double cp = std::cos(p), sp = std::sin(p);
+    block_cos_ = cp - sp * e;
+    block_sin_ = sp + cp * e;
   }
-  c = block_cos_ * tab_cos_[k] - block_sin_ * tab_sin_[k];
-  s = block_sin_ * tab_cos_[k] + block_cos_ * tab_sin_[k];
+  // cos(B + K) = cos B - (cos B (1 - cos K) + sin B sin K): the bracket is small, so its rounding is too
+  c = block_cos_ - (block_cos_ * tab_cos_[k] + block_sin_ * tab_sin_[k]);
+  s = block_sin_ + (block_cos_ * tab_sin_[k] - block_sin_ * tab_cos_[k]);
 }
 
 Vec2 ErrorMeters::node(double n, double m) {

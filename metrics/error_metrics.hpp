@@ -72,11 +72,14 @@ class ErrorMeters final : public StepSink {
   Vec2 node(double n, double m);  // at(n, m), the cosine and sine of the last angle remembered
   double node_m_ = std::numeric_limits<double>::quiet_NaN(), node_cos_ = 0.0, node_sin_ = 0.0;
   // The cosine and sine of m DeltaTheta by the sum formulas, from those of the block of kTurnBlock angular steps
-  // that holds m (computed when the block changes) and a table of k DeltaTheta, k < kTurnBlock: within about one
-  // unit of rounding of the exact values, as the library's are, for four multiplications instead of a call.
+  // that holds m (computed when the block changes, its angle carried in two parts: exact but for the library's
+  // cosine and sine) and a table of k DeltaTheta, k < kTurnBlock: within about one unit of rounding of the exact
+  // node's, for four multiplications instead of a call. Where a turn is N whole steps the angle is the exact
+  // 2 pi (m mod N) / N, not m times the rounded step.
   static constexpr int64_t kTurnBlock = 256;
   void turn(int64_t m, double& c, double& s);
-  std::vector<double> tab_cos_, tab_sin_;
+  std::vector<double> tab_cos_, tab_sin_;  // 1 - cos and sin of k steps
+  double step_hi_ = 0.0, step_lo_ = 0.0;
   int64_t block_ = std::numeric_limits<int64_t>::min();
   double block_cos_ = 1.0, block_sin_ = 0.0;
   double reach(double n) const;
