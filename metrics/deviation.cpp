@@ -92,6 +92,7 @@ double FootTracker::offset(double u) const {
 
 bool FootTracker::anchor(double u, double w) {
   m_.ok = false;
+  last_u_ = std::numeric_limits<double>::quiet_NaN();  // its offset was from the old anchor
   const CurvePoint c = c_.eval(u, 3);
   m_.uc = u;
   m_.p0 = c.p;
@@ -134,22 +135,21 @@ bool FootTracker::model_track(Vec2 p, double guess, double reach, double& u_out)
     return false;
   }
   const double gw = wrap(guess);
-  double s = 0.0, w = 0.0;
+  const double r2 = reach * reach;
+  double s = 0.0;
   bool inside = false;
   if (m_.ok) {
-    s = offset(gw);
+    // the window |s' - s| < w = reach / |C'(s)| inside the stretch, w < h - |s|: squared, without a root or a
+    // quotient; the last foot's own s where the guess is that foot
+    s = gw == last_u_ ? last_s_ : offset(gw);
     const Vec2 c1 = m_.p1 + s * (2.0 * m_.p2 + 3.0 * s * m_.p3);
-    const double speed = std::sqrt(dot(c1, c1));
-    if (speed > 0.0) {
-      w = reach / speed;
-      inside = std::abs(s) + w < m_.h;
-    }
+    const double room = m_.h - std::abs(s);
+    inside = room > 0.0 && r2 < room * room * dot(c1, c1);
   }
   if (!inside) {
     const double speed = norm(eval2(gw).d1);
     if (!(speed > 0.0)) return false;
-    w = reach / speed;
-    if (!anchor(gw, w)) {
+    if (!anchor(gw, reach / speed)) {
       model_off_ = 256;
       return false;
     }
@@ -158,25 +158,27 @@ bool FootTracker::model_track(Vec2 p, double guess, double reach, double& u_out)
   // Halley's method on g(s) = (C(s) - p) . C'(s) = 0 (Newton's, as in track(), with the curvature of g) on the
   // polynomial; C - p first (nearby points: exact). It stops once a step is below the tolerance, or once the error
   // left after a step, |g''^2 / (4 g'^2) - g''' / (6 g')| |ds|^3 (Halley's cubic convergence), is below a quarter
-  // of it: from the previous foot that is one step.
-  const double lo = s - w, hi = s + w;
+  // of it: from the previous foot that is one step. One quotient a step: Halley's step as g g' / (g'^2 - g g'' / 2).
+  const double s0 = s;
   const Vec2 d0 = m_.p0 - p, c3 = 6.0 * m_.p3;
+  double s2_0 = 0.0;  // |C'|^2 at the window's centre
   for (int it = 0; it < 8; ++it) {
     const Vec2 q = d0 + s * (m_.p1 + s * (m_.p2 + s * m_.p3));
     const Vec2 c1 = m_.p1 + s * (2.0 * m_.p2 + 3.0 * s * m_.p3), c2 = 2.0 * m_.p2 + s * c3;
     const double s2 = dot(c1, c1), g = dot(q, c1), dg = s2 + dot(q, c2);
+    if (it == 0) s2_0 = s2;
     if (!(dg > 0.0)) return false;
-    const double idg = 1.0 / dg;
     const double g2 = 3.0 * dot(c1, c2) + dot(q, c3), g3 = 4.0 * dot(c1, c3) + 3.0 * dot(c2, c2);
-    const double den = dg - 0.5 * g * g2 * idg;  // Halley's denominator; Newton's where the correction is large
-    const bool halley = den > 0.5 * dg;
-    const double ds = -g / (halley ? den : dg), sn = s + ds;
-    if (!(sn > lo && sn < hi)) return false;
+    const double dg2 = dg * dg, den = dg2 - 0.5 * g * g2;
+    const bool halley = den > 0.5 * dg2;  // Newton's where Halley's correction is large
+    const double ds = halley ? -(g * dg) / den : -g / dg, sn = s + ds;
+    const double off = sn - s0;
+    if (!(off * off * s2_0 < r2)) return false;  // outside the window
     s = sn;
     // the step's error: the step itself, or Halley's estimate of what is left after it
     const double ads = std::abs(ds);
     double e = ads;
-    if (halley) e = std::min(e, 4.0 * std::abs(0.25 * g2 * g2 * idg * idg - g3 * idg * (1.0 / 6.0)) * ads * ads * ads);
+    if (halley) e = std::min(e, 4.0 * std::abs(0.25 * g2 * g2 - g3 * dg * (1.0 / 6.0)) / dg2 * ads * ads * ads);
     // e |C'| <= 1e-9 |q| + 1e-15: squared first (sufficient), then as written
     const double qq = dot(q, q), es2 = e * e * s2;
     if (es2 <= 1e-18 * qq || es2 <= 1e-30 || e * std::sqrt(s2) <= 1e-9 * std::sqrt(qq) + 1e-15) {
@@ -188,6 +190,8 @@ bool FootTracker::model_track(Vec2 p, double guess, double reach, double& u_out)
       dist_ = d;
       kappa_ = kappa;
       u_out = wrap(m_.uc + s);
+      last_u_ = u_out;
+      last_s_ = s;
       return true;
     }
   }

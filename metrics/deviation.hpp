@@ -87,6 +87,9 @@ class FootTracker {
     Vec2 p0, p1, p2, p3;       // C, C', C''/2, C'''/6 at the anchor
   };
   bool model_track(Vec2 p, double guess, double reach, double& u);
+  // the last foot the model returned, and its offset from the anchor (the next search's start, without the
+  // rounding of forming it again from the parameter)
+  double last_u_ = std::numeric_limits<double>::quiet_NaN(), last_s_ = 0.0;
   bool anchor(double u, double w);
   double offset(double u) const;  // u - the anchor, on the anchor's turn of a closed path
   const Curve& c_;
