@@ -88,6 +88,7 @@ void StairAreaMeter::reset(sweep::TrackView track, const StairGrid& grid) {
   order_.clear();
   done_.clear();
   done_lo_ = 1, done_hi_ = 0;
+  run_lo_ = 1, run_hi_ = 0;
   pinned_.clear();
   peak_slots_ = 0;
   walk_.done = true;
@@ -554,6 +555,7 @@ bool StairAreaMeter::pinned(uint32_t k) const {
 
 bool StairAreaMeter::finalized(uint32_t k) const {
   if (k < done_lo_ || k > done_hi_) return false;  // a sector not yet measured beside the last ones (the usual case)
+  if (run_lo_ <= k && k <= run_hi_) return true;
   auto it = done_.upper_bound(k);
   if (it == done_.begin()) return false;
   --it;
@@ -561,28 +563,36 @@ bool StairAreaMeter::finalized(uint32_t k) const {
 }
 
 void StairAreaMeter::mark_finalized(uint32_t k) {
-  if (done_.empty()) done_lo_ = done_hi_ = k;
+  if (done_lo_ > done_hi_) done_lo_ = done_hi_ = k;
   done_lo_ = std::min(done_lo_, k);
   done_hi_ = std::max(done_hi_, k);
-  auto next = done_.upper_bound(k);
-  if (next != done_.begin()) {
-    auto prev = std::prev(next);
-    if (prev->second + 1 == k) {  // extends the range before it
-      prev->second = k;
-      if (next != done_.end() && next->first == k + 1) {
-        prev->second = next->second;
-        done_.erase(next);
-      }
-      return;
-    }
-  }
-  if (next != done_.end() && next->first == k + 1) {
-    const uint32_t last = next->second;
-    done_.erase(next);
-    done_.emplace(k, last);
+  if (run_lo_ <= run_hi_ && k == run_hi_ + 1) {  // the usual case: the next key of the run
+    run_hi_ = k;
     return;
   }
-  done_.emplace(k, k);
+  flush_run();
+  run_lo_ = run_hi_ = k;
+}
+
+void StairAreaMeter::flush_run() {
+  if (run_lo_ > run_hi_) return;
+  uint32_t lo = run_lo_, hi = run_hi_;
+  run_lo_ = 1, run_hi_ = 0;
+  // merged with the ranges it touches or overlaps
+  auto next = done_.upper_bound(lo);
+  if (next != done_.begin()) {
+    auto prev = std::prev(next);
+    if (prev->second + 1 >= lo) {
+      lo = prev->first;
+      hi = std::max(hi, prev->second);
+      done_.erase(prev);
+    }
+  }
+  while (next != done_.end() && next->first <= hi + 1) {
+    hi = std::max(hi, next->second);
+    next = done_.erase(next);
+  }
+  done_.emplace(lo, hi);
 }
 
 StairAreaMeter::Slot* StairAreaMeter::slot(uint32_t k) {
@@ -608,7 +618,7 @@ StairAreaMeter::Slot* StairAreaMeter::slot(uint32_t k) {
   sl.extra.clear();
   sl.forced = false;
   slot_of_.insert(k, i);
-  order_.push_back(k);
+  order_.push_back(pinned(k) ? k | kPinned : k);  // the pins do not move: whether a key is pinned, once
   peak_slots_ = std::max(peak_slots_, slot_of_.size());
   return &sl;
 }
@@ -636,9 +646,9 @@ void StairAreaMeter::finalize(uint32_t i) {
 
 void StairAreaMeter::evict(bool all) {
   while (!order_.empty()) {
-    const uint32_t k = order_.front();
+    const uint32_t e = order_.front(), k = e & ~kPinned;
     if (!all) {
-      if (pinned(k)) {  // near the start or the end: the connectors may add to it
+      if (e & kPinned) {  // near the start or the end: the connectors may add to it
         pinned_.push_back(k);
         order_.pop_front();
         continue;

@@ -254,9 +254,12 @@ class StairAreaMeter {
   SlotIndex slot_of_;
   std::vector<Slot> slots_;
   std::vector<uint32_t> free_slots_;
-  std::deque<uint32_t> order_;  // keys in the order their slots were opened
-  std::map<uint32_t, uint32_t> done_;  // measured keys: disjoint ranges [first, last]
-  uint32_t done_lo_ = 1, done_hi_ = 0;  // the least and the largest of them (none: lo > hi)
+  std::deque<uint32_t> order_;  // keys in the order their slots were opened, with kPinned where pinned
+  std::map<uint32_t, uint32_t> done_;  // measured keys: disjoint ranges [first, last], but the run below
+  uint32_t done_lo_ = 1, done_hi_ = 0;  // the least and the largest measured key (none: lo > hi)
+  uint32_t run_lo_ = 1, run_hi_ = 0;    // the range being extended, key by key, not yet in done_ (none: lo > hi)
+  void flush_run();                     // the run into done_
+  static constexpr uint32_t kPinned = 0x80000000u;  // in order_: the key is pinned (keys are below 2^31)
   std::vector<uint32_t> pinned_;  // keys about the start and end (connectors): measured at finish()
   uint32_t pins_[3] = {0, 0, 0};
   uint32_t stair_key_ = 0, walk_key_ = 0;
