@@ -26,11 +26,6 @@ void ErrorMeters::reset(const Curve& path, const PolarTrack& track, const Grid& 
   area_.reset(track, grid);
 }
 
-Vec2 ErrorMeters::at(double n, double m) const {
-  const double rho = n * grid_.dr, phi = m * grid_.dtheta;
-  return Vec2{rho * std::cos(phi), rho * std::sin(phi)};
-}
-
 void ErrorMeters::turn(int64_t m, double& c, double& s) {
   if (tab_cos_.empty()) {
     // the step as a pair hi + lo: 2 pi / N to about 1e-32 relative where a turn is N whole steps
@@ -94,7 +89,7 @@ void ErrorMeters::start_following(int64_t n0, int64_t m0) {
   nt_.assign(static_cast<size_t>(segments_), 0);
   n_ = static_cast<double>(n0);
   m_ = static_cast<double>(m0);
-  dev_->start(at(n_, m_), reach(n_));
+  dev_->start(node(n_, m_), reach(n_));
 }
 
 void ErrorMeters::follow_all(const uint8_t* steps, size_t count) {

@@ -68,8 +68,7 @@ class ErrorMeters final : public StepSink {
   void start_following(int64_t n0, int64_t m0);
   void follow_all(const uint8_t* steps, size_t count);
   void area_all(const uint8_t* steps, size_t count);
-  Vec2 at(double n, double m) const;
-  Vec2 node(double n, double m);  // at(n, m), the cosine and sine of the last angle remembered
+  Vec2 node(double n, double m);  // node (n, m) in the machine frame, the cosine and sine of the last angle remembered
   double node_m_ = std::numeric_limits<double>::quiet_NaN(), node_cos_ = 0.0, node_sin_ = 0.0;
   // The cosine and sine of m DeltaTheta by the sum formulas, from those of the block of kTurnBlock angular steps
   // that holds m (computed when the block changes, its angle carried in two parts: exact but for the library's
