@@ -2,7 +2,6 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <sstream>
-#include <thread>
 
 #include "app/cli.hpp"
 #include "io/output.hpp"
@@ -12,6 +11,7 @@
 #include "cam/error.hpp"
 #include "digitizer/tape.hpp"
 #include "metrics/error_metrics.hpp"
+#include "optimize/placement.hpp"
 
 namespace polarcam::cli {
 namespace cmd_error {  // named, not anonymous: the command files are compiled together (unity build)
@@ -76,7 +76,7 @@ void register_error(CLI::App& app, Action& action) {
   c->add_option("--segments", o->segments, "segments for F_sum, F_dif, F1 (default: the job's [optimize] segments, 100)")
       ->check(CLI::Range(1, 100000));
   c->add_option("--threads", o->threads,
-                "threads (default: all cores; 2 or more measure the deviation beside the area error; the result does "
+                "threads (default: all cores; 2 or more measure the area error beside the deviation; the result does "
                 "not depend on it)")
       ->check(CLI::Range(1, 1024));
   c->callback([o, &action] {
@@ -90,7 +90,7 @@ void register_error(CLI::App& app, Action& action) {
       if (axes == TapeAxes::cartesian) return cartesian(*o, job);
       const PolarTapeMetrics pm = [&] {
         TerminalBar bar("error", o->quiet);  // erased before the output
-        const int threads = o->threads > 0 ? o->threads : static_cast<int>(std::thread::hardware_concurrency());
+        const int threads = o->threads > 0 ? o->threads : default_threads();
         return polar_tape_metrics(job, o->tape, o->segments, bar.callback(), threads);
       }();
       const ErrorMetrics& m = pm.m;

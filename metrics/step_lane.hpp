@@ -1,7 +1,7 @@
 #pragma once
 // A lane of steps to a thread of its own: the producer pushes one byte a step, the consumer (a function called with
 // blocks of bytes, in order, on the lane's thread) measures them. The producer waits only when the consumer is a
-// few blocks behind, so memory stays constant. Used to run the deviation beside the area meter
+// few blocks behind, so memory stays constant. Used to run the area meter beside the deviation
 // (error_metrics.hpp): each measure sees every step in order, so the results are those of one thread.
 #include <condition_variable>
 #include <cstdint>

@@ -19,7 +19,7 @@ struct PolarTapeMetrics {
   TapeRule rule = TapeRule::nearest;
 };
 // `segments`: F_sum, F_dif, F1 segments (0: the job's [optimize] segments). `progress`: the share of the tape's
-// records read. `threads`: 2 or more measures the deviation on a thread of its own beside the area meter (the same
+// records read. `threads`: 2 or more runs the area meter on a thread of its own beside the deviation (the same
 // results).
 PolarTapeMetrics polar_tape_metrics(const Job& job, const std::string& tape, int segments,
                                     const Progress& progress = {}, int threads = 1);
