@@ -20,32 +20,28 @@ void ErrorMeters::reset(const Curve& path, const PolarTrack& track, const Grid& 
   dev_.reset();
   parallel_ = false;
   node_m_ = std::numeric_limits<double>::quiet_NaN();  // the grid may be another
-  tab_cos_.clear();
-  tab_sin_.clear();
+  // the step as a pair hi + lo: 2 pi / N to about 1e-32 relative where a turn is N whole steps
+  step_hi_ = grid_.dtheta;
+  step_lo_ = 0.0;
+  if (grid_.steps_per_rev > 0) {
+    constexpr double kTwoPiHi = 6.283185307179586, kTwoPiLo = 2.4492935982947064e-16;
+    const double N = static_cast<double>(grid_.steps_per_rev);
+    step_hi_ = kTwoPiHi / N;
+    step_lo_ = (std::fma(-step_hi_, N, kTwoPiHi) + kTwoPiLo) / N;
+  }
+  // a step of k: 1 - cos (as 2 sin^2 of the half angle, without cancellation) and sin
+  tab_cos_.resize(kTurnBlock);
+  tab_sin_.resize(kTurnBlock);
+  for (int64_t k = 0; k < kTurnBlock; ++k) {
+    const double phi = static_cast<double>(k) * step_hi_ + static_cast<double>(k) * step_lo_, h = std::sin(0.5 * phi);
+    tab_cos_[k] = 2.0 * h * h;
+    tab_sin_[k] = std::sin(phi);
+  }
   block_ = std::numeric_limits<int64_t>::min();
   area_.reset(track, grid);
 }
 
 void ErrorMeters::turn(int64_t m, double& c, double& s) {
-  if (tab_cos_.empty()) {
-    // the step as a pair hi + lo: 2 pi / N to about 1e-32 relative where a turn is N whole steps
-    step_hi_ = grid_.dtheta;
-    step_lo_ = 0.0;
-    if (grid_.steps_per_rev > 0) {
-      constexpr double kTwoPiHi = 6.283185307179586, kTwoPiLo = 2.4492935982947064e-16;
-      const double N = static_cast<double>(grid_.steps_per_rev);
-      step_hi_ = kTwoPiHi / N;
-      step_lo_ = (std::fma(-step_hi_, N, kTwoPiHi) + kTwoPiLo) / N;
-    }
-    // a step of k: 1 - cos (as 2 sin^2 of the half angle, without cancellation) and sin
-    tab_cos_.resize(kTurnBlock);
-    tab_sin_.resize(kTurnBlock);
-    for (int64_t k = 0; k < kTurnBlock; ++k) {
-      const double phi = static_cast<double>(k) * step_hi_ + static_cast<double>(k) * step_lo_, h = std::sin(0.5 * phi);
-      tab_cos_[k] = 2.0 * h * h;
-      tab_sin_[k] = std::sin(phi);
-    }
-  }
   const int64_t k = ((m % kTurnBlock) + kTurnBlock) % kTurnBlock;
   int64_t b = m - k;
   if (b != block_) {

@@ -9,8 +9,8 @@
 //    segment where the foot point of its middle lies, and from the chords (Eq. 4.15).
 // Steps are recorded (one byte each) and measured by finish(); or, after begin() with the start node, measured as
 // they come in a window of constant size (area_error.hpp: the streamed mode; the deviation and the step counts
-// are running values), with the same results. With set_parallel(true), the deviation and the step counts run on
-// a thread of their own beside the area meter (step_lane.hpp), with the same results again.
+// are running values), with the same results. With set_parallel(true), the area meter runs on a second thread
+// beside the deviation and the step counts (step_lane.hpp), with the same results again.
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -38,7 +38,7 @@ class ErrorMeters final : public StepSink {
  public:
   // path: the tool-centre path in the machine frame, track: its polar track (both must outlive finish()).
   void reset(const Curve& path, const PolarTrack& track, const Grid& grid, int segments);
-  // Measure the deviation on a second thread (call after reset(), before stream_from() and the first step).
+  // Run the area meter on a second thread (call after reset(), before stream_from() and the first step).
   void set_parallel(bool on) { parallel_ = on; }
   // Streams from here on: the staircase starts on node (n0, m0) (call after reset(), before the first step).
   // Not StepSink::begin, which the digitizer calls on every sink: the meters stream only when asked.
@@ -77,7 +77,7 @@ class ErrorMeters final : public StepSink {
   // 2 pi (m mod N) / N, not m times the rounded step.
   static constexpr int64_t kTurnBlock = 256;
   void turn(int64_t m, double& c, double& s);
-  std::vector<double> tab_cos_, tab_sin_;  // 1 - cos and sin of k steps
+  std::vector<double> tab_cos_, tab_sin_;  // 1 - cos and sin of k steps (made by reset())
   double step_hi_ = 0.0, step_lo_ = 0.0;
   int64_t block_ = std::numeric_limits<int64_t>::min();
   double block_cos_ = 1.0, block_sin_ = 0.0;
