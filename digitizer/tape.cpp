@@ -473,16 +473,9 @@ bool TapeReader::next_record(StepRecord& r) {
       continue;
     }
     if (n_ == h_.record_count) fail("record " + std::to_string(n_ + 1) + " is one more than the header's " + std::to_string(h_.record_count));
-    r.interval = v >> 2;
-    r.axis = static_cast<int>((v >> 1) & 1);
-    r.dir = (v & 1) ? 1 : -1;
-    ++n_;
-    (r.dir > 0 ? plus_ : minus_)[r.axis] += 1;
-    if (r.interval > max_ticks_ - cum_)
-      fail("record " + std::to_string(n_) + " takes the tape's time beyond 2^62 ns (about 146 years)");
-    cum_ += r.interval;
-    r.interval += pending_;
-    pending_ = 0;
+    if ((v >> 2) > max_ticks_ - cum_)
+      fail("record " + std::to_string(n_ + 1) + " takes the tape's time beyond 2^62 ns (about 146 years)");
+    accept(r, v);
     return true;
   }
 }

@@ -127,16 +127,9 @@ class TapeReader {
       uint64_t v = p[0] & 0x7f;
       size_t k = 1;
       for (; (p[k - 1] & 0x80) && k < 9; ++k) v |= static_cast<uint64_t>(p[k] & 0x7f) << (7 * k);
-      const uint64_t interval = v >> 2;
-      if (!(p[k - 1] & 0x80) && (k == 1 || p[k - 1] != 0) && interval <= max_ticks_ - cum_) {
+      if (!(p[k - 1] & 0x80) && (k == 1 || p[k - 1] != 0) && (v >> 2) <= max_ticks_ - cum_) {
         pos_ += k;
-        r.interval = interval + pending_;
-        r.axis = static_cast<int>((v >> 1) & 1);
-        r.dir = (v & 1) ? 1 : -1;
-        ++n_;
-        (r.dir > 0 ? plus_ : minus_)[r.axis] += 1;
-        cum_ += interval;
-        pending_ = 0;
+        accept(r, v);
         return true;
       }
     }
@@ -153,6 +146,17 @@ class TapeReader {
   uint64_t max_time_ticks() const;  // 2^62 ns in this tape's ticks
   uint64_t max_ticks_ = 0;           // the same, once the header is read
   bool next_record(StepRecord& r);
+  // A step record's value v (interval << 2 | axis << 1 | plus), its interval checked: into r and the totals.
+  void accept(StepRecord& r, uint64_t v) {
+    const uint64_t interval = v >> 2;
+    r.interval = interval + pending_;
+    r.axis = static_cast<int>((v >> 1) & 1);
+    r.dir = (v & 1) ? 1 : -1;
+    ++n_;
+    (r.dir > 0 ? plus_ : minus_)[r.axis] += 1;
+    cum_ += interval;
+    pending_ = 0;
+  }
   bool fill();
   std::string path_;
   std::FILE* f_ = nullptr;
