@@ -136,7 +136,7 @@ bool FootTracker::model_track(Vec2 p, double guess, double reach, double& u_out)
   }
   const double gw = wrap(guess);
   const double r2 = reach * reach;
-  double s = 0.0;
+  double s = 0.0, s2_0 = 0.0;  // the window's centre, |C'|^2 there
   bool inside = false;
   if (m_.ok) {
     // the window |s' - s| < w = reach / |C'(s)| inside the stretch, w < h - |s|: squared, without a root or a
@@ -144,7 +144,8 @@ bool FootTracker::model_track(Vec2 p, double guess, double reach, double& u_out)
     s = gw == last_u_ ? last_s_ : offset(gw);
     const Vec2 c1 = m_.p1 + s * (2.0 * m_.p2 + 3.0 * s * m_.p3);
     const double room = m_.h - std::abs(s);
-    inside = room > 0.0 && r2 < room * room * dot(c1, c1);
+    s2_0 = dot(c1, c1);
+    inside = room > 0.0 && r2 < room * room * s2_0;
   }
   if (!inside) {
     const double speed = norm(eval2(gw).d1);
@@ -154,6 +155,7 @@ bool FootTracker::model_track(Vec2 p, double guess, double reach, double& u_out)
       return false;
     }
     s = 0.0;
+    s2_0 = dot(m_.p1, m_.p1);
   }
   // Halley's method on g(s) = (C(s) - p) . C'(s) = 0 (Newton's, as in track(), with the curvature of g) on the
   // polynomial; C - p first (nearby points: exact). It stops once a step is below the tolerance, or once the error
@@ -161,12 +163,10 @@ bool FootTracker::model_track(Vec2 p, double guess, double reach, double& u_out)
   // of it: from the previous foot that is one step. One quotient a step: Halley's step as g g' / (g'^2 - g g'' / 2).
   const double s0 = s;
   const Vec2 d0 = m_.p0 - p, c3 = 6.0 * m_.p3;
-  double s2_0 = 0.0;  // |C'|^2 at the window's centre
   for (int it = 0; it < 8; ++it) {
     const Vec2 q = d0 + s * (m_.p1 + s * (m_.p2 + s * m_.p3));
     const Vec2 c1 = m_.p1 + s * (2.0 * m_.p2 + 3.0 * s * m_.p3), c2 = 2.0 * m_.p2 + s * c3;
     const double s2 = dot(c1, c1), g = dot(q, c1), dg = s2 + dot(q, c2);
-    if (it == 0) s2_0 = s2;
     if (!(dg > 0.0)) return false;
     const double g2 = 3.0 * dot(c1, c2) + dot(q, c3), g3 = 4.0 * dot(c1, c3) + 3.0 * dot(c2, c2);
     const double dg2 = dg * dg, den = dg2 - 0.5 * g * g2;
