@@ -120,6 +120,16 @@ bool FootTracker::anchor(double u, double w) {
     if (ok) {
       m_.h = h;
       m_.ok = true;
+      // the curvature's bound on the stretch: |C' x C''| / |C'|^3 <= |C''| / |C'|^2, with |C''| and |C'| bounded
+      // over |s| <= h from the polynomial's coefficients
+      const double c2max = 2.0 * norm(m_.p2) + 6.0 * norm(m_.p3) * h;
+      const double c1min = norm(m_.p1) - 2.0 * norm(m_.p2) * h - 3.0 * norm(m_.p3) * h * h;
+      m_.kappa_max = c1min > 0.0 ? c2max / (c1min * c1min) : std::numeric_limits<double>::infinity();
+      m_.exact.clear();
+      for (double e : exact_near_) {
+        const double s = offset(e);
+        if (std::abs(s) <= 2.0 * h) m_.exact.push_back(s);
+      }
       h_good_ = h;
       ++anchors_;
       return true;
@@ -192,10 +202,44 @@ bool FootTracker::model_track(Vec2 p, double guess, double reach, double& u_out)
       u_out = wrap(m_.uc + s);
       last_u_ = u_out;
       last_s_ = s;
+      bound_inv_ = 0.0;
       return true;
     }
   }
   return false;
+}
+
+bool FootTracker::bound_within(Vec2 p, double guess, double reach, double limit, double& u_out) {
+  if (!tracking_ || full_ || !model_on_ || !m_.ok || model_off_ > 0) return false;
+  const double gw = wrap(guess);
+  const bool from_last = gw == last_u_;
+  const double s = from_last ? last_s_ : offset(gw);
+  if (!(std::abs(s) < m_.h)) return false;
+  // one Newton step on g(s) = (C(s) - p) . C'(s) = 0 from the last foot, on the polynomial (C - p first: nearby
+  // points). From an estimate of the last node it takes 1 / g' there (the chord method: g' moves by about kappa
+  // times a step from one node to the next), which keeps the division off the chain from node to node.
+  const Vec2 d0 = m_.p0 - p;
+  const Vec2 q = d0 + s * (m_.p1 + s * (m_.p2 + s * m_.p3));
+  const Vec2 c1 = m_.p1 + s * (2.0 * m_.p2 + 3.0 * s * m_.p3), c2 = 2.0 * m_.p2 + (6.0 * s) * m_.p3;
+  const double dg = dot(c1, c1) + dot(q, c2);
+  if (!(dg > 0.0)) return false;
+  const double inv = from_last && bound_inv_ > 0.0 ? bound_inv_ : 1.0 / dg;
+  const double ds = -dot(q, c1) * inv, sn = s + ds;
+  if (!(std::abs(sn) < m_.h)) return false;  // the model holds to rounding on the stretch only
+  const Vec2 qn = d0 + sn * (m_.p1 + sn * (m_.p2 + sn * m_.p3));
+  const double b2 = dot(qn, qn);
+  if (!(b2 <= limit * limit)) return false;
+  // near a parameter where the exact foot matters, the estimate (off by far less than its step) might not do
+  const double margin = 4.0 * std::abs(ds) + 64.0 * std::numeric_limits<double>::epsilon() * (std::abs(u0_) + std::abs(u1_));
+  for (double e : m_.exact)
+    if (std::abs(sn - e) <= margin) return false;
+  dist_ = std::sqrt(b2);
+  kappa_ = m_.kappa_max * (dist_ + reach) <= 0.5 ? m_.kappa_max : std::numeric_limits<double>::quiet_NaN();
+  bound_inv_ = 1.0 / dg;
+  u_out = wrap(m_.uc + sn);
+  last_u_ = u_out;
+  last_s_ = sn;
+  return true;
 }
 
 double FootTracker::find(Vec2 p, double guess, double reach) {
@@ -293,6 +337,9 @@ void DeviationMeter::start(Vec2 node, double reach) {
   u_ = ft_.find(node, c_.u_begin(), reach);
   d_node_ = ft_.distance();
   k_node_ = ft_.curvature();
+  node_exact_ = true;
+  node_ = node;
+  bounded_ = 0;
   consider(d_node_, node);
 }
 
@@ -304,28 +351,71 @@ bool DeviationMeter::breaks_between(double ua, double ub) const {
 }
 
 DeviationMeter::Feet DeviationMeter::piece(const StairPiece& p, double reach) {
-  const double u_a = u_, d_a = d_node_;
+  double u_a = u_, d_a = d_node_, k_a = k_node_;
+  const bool exact_a = node_exact_;
   const Vec2 pb = p.b;
-  const double u_b = ft_.find(pb, u_a, reach);
-  const double d_b = ft_.distance();
-  consider(d_b, pb);
-  u_ = u_b;
-  d_node_ = d_b;
-  const double k_a = k_node_, k_b = ft_.curvature();
-  k_node_ = k_b;
+  // The end node: where an upper bound of its distance cannot beat the largest distance so far, that bound (the
+  // node cannot be where the largest is; the bounds below hold with it); otherwise its foot.
+  double u_b, d_b;
+  bool exact_b = false;
+  if (bounds_on_ && ft_.bound_within(pb, u_a, reach, max_, u_b)) {
+    d_b = ft_.distance();
+    ++bounded_;
+  } else {
+    u_b = ft_.find(pb, u_a, reach);
+    d_b = ft_.distance();
+    consider(d_b, pb);
+    exact_b = true;
+  }
+  double k_b = ft_.curvature();
   const double len = p.length();
   // nothing inside the piece can beat (d_a + d_b + len) / 2 (the distance is 1-Lipschitz); nor, where both ends'
   // feet were tracked in the convex regime with no corner of the path between them, max(d_a, d_b) + len^2 / 8 times
   // the bound on the distance's second derivative along the piece: kappa / (1 - kappa d) <= 2 kappa from the path's
-  // curvature (taken as twice the larger of the feet's), plus 1 / rho for an arc
+  // curvature (taken as twice the larger of the feet's, or the bound over a model's stretch), plus 1 / rho for an arc
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  if (!every_middle_) {
-    if (!(0.5 * (d_a + d_b + len) > max_)) return {u_a, nan, u_b};
+  auto done = [&] {
+    if (every_middle_) return false;
+    if (!(0.5 * (d_a + d_b + len) > max_)) return true;
     if (std::isfinite(k_a) && std::isfinite(k_b) && !breaks_between(u_a, u_b)) {
       const double curv = 4.0 * std::max(k_a, k_b) + (p.arc ? 1.0 / p.rho : 0.0);
-      if (std::max(d_a, d_b) + 0.125 * len * len * curv <= max_) return {u_a, nan, u_b};
+      if (std::max(d_a, d_b) + 0.125 * len * len * curv <= max_) return true;
+    }
+    return false;
+  };
+  auto keep_b = [&] {
+    u_ = u_b;
+    d_node_ = d_b;
+    k_node_ = k_b;
+    node_exact_ = exact_b;
+    node_ = pb;
+  };
+  if (done()) {
+    keep_b();
+    return {u_a, nan, u_b};
+  }
+  // The middle and the search below judge by the ends' distances themselves: the ends' feet, where bounded, are
+  // found, and the tests made again.
+  if (!exact_a || !exact_b) {
+    if (!exact_a) {
+      u_a = ft_.find(node_, u_a, reach);
+      d_a = ft_.distance();
+      k_a = ft_.curvature();
+      consider(d_a, node_);
+    }
+    if (!exact_b) {
+      u_b = ft_.find(pb, u_b, reach);
+      d_b = ft_.distance();
+      k_b = ft_.curvature();
+      consider(d_b, pb);
+      exact_b = true;
+    }
+    if (done()) {
+      keep_b();
+      return {u_a, nan, u_b};
     }
   }
+  keep_b();
   ++middles_;
 
   const Vec2 pm = p.at(0.5);

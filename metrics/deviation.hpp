@@ -13,8 +13,17 @@
 // the piece, or when the nearest points of its ends and middle lie on different smooth stretches of the path (a
 // corner of the path between them, where the distance may have a kink), unless even the Lipschitz bound cannot
 // beat the largest value found so far.
+//
+// Where the foot tracker runs on its local model (below), a node is not searched for its foot when a point of the
+// model near it (one Newton step from the last foot, with the last node's 1 / g') is no farther from it than the
+// largest distance so far: any point of the path bounds the distance from above, so the node cannot be where the
+// largest is, and the bound serves the tests of its pieces. Where a piece's middle must be sampled, its ends' feet
+// are found first and the tests made again, so the middle and the search inside the piece judge by the distances
+// themselves. A caller that assigns steps by their feet names the parameters where that assignment changes
+// (set_exact_near); near them the foot is always found.
 #include <cstdint>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "cam/curve.hpp"
@@ -64,6 +73,16 @@ class FootTracker {
   // The path's curvature at the foot find() returned when it tracked (Newton's method from the guess, accepted in
   // the convex regime |kappa| (d + reach) <= 1/2); NaN after a window search.
   double curvature() const { return kappa_; }
+  // An upper bound of p's distance to the curve, where the local model is tracking and the bound is at most
+  // `limit`: the distance from p to the model's point one Newton step from the last foot (any point of the curve
+  // bounds the distance from above). True, with u that point's parameter and distance() the bound, curvature() a
+  // bound of the curvature over the model's whole stretch (NaN where it does not keep the convex regime); false,
+  // with nothing changed, where the model is not tracking, the point leaves the stretch, the bound exceeds the
+  // limit, or the point lies near a parameter where the exact foot matters (set_exact_near).
+  bool bound_within(Vec2 p, double guess, double reach, double limit, double& u);
+  // Parameters near which bound_within() declines (the bounds of a caller's segments of the path, where an
+  // estimated foot might fall on the wrong side).
+  void set_exact_near(std::vector<double> us) { exact_near_ = std::move(us); }
   // Testing: always the window search.
   void set_full_search(bool on) { full_ = on; }
   // Testing: never the local model (track on the curve itself); stretches of the model taken so far.
@@ -85,11 +104,14 @@ class FootTracker {
     bool ok = false;
     double uc = 0.0, h = 0.0;  // anchor (wrapped) and half-width of the stretch
     Vec2 p0, p1, p2, p3;       // C, C', C''/2, C'''/6 at the anchor
+    double kappa_max = 0.0;    // a bound of the curvature on the stretch, |C''|max / |C'|min^2 (infinity: none)
+    std::vector<double> exact; // offsets from the anchor of the parameters of set_exact_near() near the stretch
   };
   bool model_track(Vec2 p, double guess, double reach, double& u);
   // the last foot the model returned, and its offset from the anchor (the next search's start, without the
   // rounding of forming it again from the parameter)
   double last_u_ = std::numeric_limits<double>::quiet_NaN(), last_s_ = 0.0;
+  double bound_inv_ = 0.0;  // 1 / g' at the last estimate of bound_within() (0: none; the last foot was found)
   bool anchor(double u, double w);
   double offset(double u) const;  // u - the anchor, on the anchor's turn of a closed path
   const Curve& c_;
@@ -102,6 +124,7 @@ class FootTracker {
   double u0_, u1_;
   bool closed_;
   std::vector<double> breaks_;
+  std::vector<double> exact_near_;
   bool tracking_ = false, full_ = false, model_on_ = true;
   double dist_ = 0.0, kappa_ = std::numeric_limits<double>::quiet_NaN();
 };
@@ -129,6 +152,11 @@ class DeviationMeter {
   // Testing: sample every piece's middle (no bound skips it); middles sampled so far.
   void set_every_middle(bool on) { every_middle_ = on; }
   uint64_t middles() const { return middles_; }
+  // Testing: never bound a node's distance from above (every node's foot found); nodes bounded so far.
+  void set_bounds(bool on) { bounds_on_ = on; }
+  uint64_t bounded() const { return bounded_; }
+  // Parameters near which a node's foot is always found, not estimated (FootTracker::set_exact_near).
+  void set_exact_near(std::vector<double> us) { ft_.set_exact_near(std::move(us)); }
 
  private:
   void consider(double d, Vec2 p);
@@ -138,8 +166,13 @@ class DeviationMeter {
   std::vector<double> breaks_;
   double span_;
   bool closed_;
+  // the last node: its foot, its distance (an upper bound of it where node_exact_ is false), the curvature there
   double u_ = 0.0, d_node_ = 0.0, k_node_ = std::numeric_limits<double>::quiet_NaN();
+  bool node_exact_ = true;
+  Vec2 node_;
   double max_ = 0.0;
+  uint64_t bounded_ = 0;
+  bool bounds_on_ = true;
   Vec2 at_;
   uint64_t refined_ = 0, middles_ = 0;
   bool every_middle_ = false;

@@ -81,6 +81,13 @@ int ErrorMeters::segment_of(double u) const {
 void ErrorMeters::start_following(int64_t n0, int64_t m0) {
   foot_ = std::numeric_limits<double>::quiet_NaN();
   dev_ = std::make_unique<DeviationMeter>(*path_);
+  dev_->set_bounds(dev_bounds_);
+  if (segments_ > 1) {  // a step's segment is its foot's: near a segment's bounds the foot is found, not estimated
+    const double u0 = path_->u_begin(), u1 = path_->u_end();
+    std::vector<double> bounds;
+    for (int i = 0; i <= segments_; ++i) bounds.push_back(u0 + (u1 - u0) * i / segments_);
+    dev_->set_exact_near(std::move(bounds));
+  }
   nr_.assign(static_cast<size_t>(segments_), 0);
   nt_.assign(static_cast<size_t>(segments_), 0);
   n_ = static_cast<double>(n0);

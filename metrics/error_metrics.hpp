@@ -40,6 +40,8 @@ class ErrorMeters final : public StepSink {
   void reset(const Curve& path, const PolarTrack& track, const Grid& grid, int segments);
   // Run the area meter on a second thread (call after reset(), before stream_from() and the first step).
   void set_parallel(bool on) { parallel_ = on; }
+  // Testing: the deviation finds every node's foot (DeviationMeter::set_bounds(false)); call before the first step.
+  void set_deviation_bounds(bool on) { dev_bounds_ = on; }
   // Streams from here on: the staircase starts on node (n0, m0) (call after reset(), before the first step).
   // Not StepSink::begin, which the digitizer calls on every sink: the meters stream only when asked.
   void stream_from(int64_t n0, int64_t m0);
@@ -93,6 +95,7 @@ class ErrorMeters final : public StepSink {
   const PolarTrack* track_ = nullptr;
   Grid grid_;
   int segments_ = 1;
+  bool dev_bounds_ = true;
   std::vector<uint8_t> steps_;
   alignas(64) PolarAreaMeter area_;  // written by the lane's thread: on cache lines of its own
   alignas(64) bool parallel_ = false;

@@ -193,3 +193,82 @@ TEST(F1, DeviationSkipsOnlyMiddlesThatCannotBeTheLargest) {
 }
 
 }  // namespace tu_metrics_test_f1
+
+namespace tu_metrics_test_f1 {
+
+// Where the grid is fine enough for the deviation's local model, a node whose distance is bounded from above by a
+// point of the model near it, by no more than the largest distance so far, is not searched for its foot: the
+// largest distance and its place are those of searching every node (to the rounding of the path's coordinates, or
+// at the mirror image of the place on these symmetric contours), and most nodes are bounded. The step counts of
+// F1's segments (each step in the segment of its foot) are the same too.
+TEST(F1, DeviationBoundsSkipOnlyNodesThatCannotBeTheLargest) {
+  auto placed = [](CurvePtr c, double C, double beta) {
+    return make_tool_path(std::move(c), Placement{C, beta}, ToolSpec{}, TravelSpec{});
+  };
+  struct Case {
+    const char* name;
+    ToolPathPtr path;
+    Grid grid;
+  };
+  std::vector<Case> cases = {
+      {"limacon, a grid 20 times finer", placed(make_limacon(0.0508, 0.0762), 0.0127, 0.0),
+       coarse_grid(0.00127e-3, 320000)},
+      {"witch's middle, a grid 50 times finer", placed(make_witch(0.2159, -0.05, 0.05), 0.1546, 1.236),
+       coarse_grid(0.000508e-3, 800000)},
+  };
+  for (const auto& c : cases) {
+    const Grid& g = c.grid;
+    AreaRun r = area_run(*c.path, g, StepRule::nearest);
+    ErrorMetrics m[2];
+    for (int bounds = 0; bounds < 2; ++bounds) {
+      ErrorMeters em;
+      em.reset(*c.path, r.track, g, 40);
+      em.set_deviation_bounds(bounds == 1);
+      for (const auto& s : r.steps) em.record(s.axis, s.dir);
+      m[bounds] = em.finish(r.dig.start_n, r.dig.start_m);
+    }
+    EXPECT_GT(m[0].deviation_max_m, 0.25 * g.dr) << c.name;
+    EXPECT_NEAR(m[1].deviation_max_m, m[0].deviation_max_m, 1e-9 * m[0].deviation_max_m) << c.name;
+    const Vec2 a = m[0].deviation_at, b = m[1].deviation_at;
+    const bool same = std::abs(a.x - b.x) < 1e-12 && std::abs(a.y - b.y) < 1e-12;
+    const bool mirror = std::abs(std::abs(a.x) - std::abs(b.x)) < 1e-3 * g.dr && std::abs(std::abs(a.y) - std::abs(b.y)) < 1e-3 * g.dr;
+    EXPECT_TRUE(same || mirror) << c.name << ": (" << a.x << ", " << a.y << ") and (" << b.x << ", " << b.y << ")";
+    EXPECT_EQ(m[1].f_counts.F_sum, m[0].f_counts.F_sum) << c.name;
+    EXPECT_EQ(m[1].f_counts.F_dif, m[0].f_counts.F_dif) << c.name;
+    EXPECT_EQ(m[1].f_counts.F1, m[0].f_counts.F1) << c.name;
+  }
+  // the bounds are taken: most nodes of the finer witch are bounded, none with the bounds off
+  const Grid& g = cases[1].grid;
+  AreaRun r = area_run(*cases[1].path, g, StepRule::nearest);
+  auto node = [&](double n, double m) {
+    return Vec2{n * g.dr * std::cos(m * g.dtheta), n * g.dr * std::sin(m * g.dtheta)};
+  };
+  auto reach = [&](double n) { return 3.0 * std::max(g.dr, n * g.dr * g.dtheta) + 1e-12; };
+  uint64_t bounded[2];
+  for (int bounds = 0; bounds < 2; ++bounds) {
+    DeviationMeter dm(*cases[1].path);
+    dm.set_bounds(bounds == 1);
+    double n = static_cast<double>(r.dig.start_n), m = static_cast<double>(r.dig.start_m);
+    dm.start(node(n, m), reach(n));
+    for (const auto& s : r.steps) {
+      StairPiece p;
+      if (s.axis == kAxisRadial) {
+        p.a = node(n, m);
+        p.b = node(n + s.dir, m);
+      } else {
+        p.arc = true;
+        p.rho = n * g.dr;
+        p.phi0 = m * g.dtheta;
+        p.phi1 = (m + s.dir) * g.dtheta;
+        p.b = node(n, m + s.dir);
+      }
+      dm.piece(p, reach(s.axis == kAxisRadial ? n + 0.5 * s.dir : n));
+      (s.axis == kAxisRadial ? n : m) += s.dir;
+    }
+    bounded[bounds] = dm.bounded();
+  }
+  EXPECT_EQ(bounded[0], 0u);
+  EXPECT_GT(bounded[1] * 2, r.steps.size()) << bounded[1] << " of " << r.steps.size();
+}
+
+}  // namespace tu_metrics_test_f1
