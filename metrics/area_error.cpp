@@ -31,11 +31,20 @@ void StairAreaMeter::Neumaier::add(double x) {
 }
 
 void StairAreaMeter::SlotIndex::clear() {
+  dkeys_.fill(kNone);
+  dsize_ = 0;
   std::fill(keys_.begin(), keys_.end(), kNone);
   size_ = 0;
 }
 
-void StairAreaMeter::SlotIndex::insert(uint32_t k, uint32_t slot) {
+void StairAreaMeter::KeyRing::grow() {
+  std::vector<uint32_t> b(std::max<size_t>(256, 2 * buf_.size()));
+  for (size_t i = 0; i < n_; ++i) b[i] = buf_[(head_ + i) & (buf_.size() - 1)];
+  buf_ = std::move(b);
+  head_ = 0;
+}
+
+void StairAreaMeter::SlotIndex::probe_insert(uint32_t k, uint32_t slot) {
   if (2 * (size_ + 1) > keys_.size()) {  // grow: at most half full
     std::vector<uint32_t> ok = std::move(keys_), ov = std::move(vals_);
     const size_t n = std::max<size_t>(256, 2 * ok.size());
@@ -45,7 +54,7 @@ void StairAreaMeter::SlotIndex::insert(uint32_t k, uint32_t slot) {
     shift_bits_ = 32 - std::countr_zero(n);
     size_ = 0;
     for (size_t i = 0; i < ok.size(); ++i)
-      if (ok[i] != kNone) insert(ok[i], ov[i]);
+      if (ok[i] != kNone) probe_insert(ok[i], ov[i]);
   }
   size_t i = home(k);
   while (keys_[i] != kNone) i = (i + 1) & mask_;
@@ -54,7 +63,7 @@ void StairAreaMeter::SlotIndex::insert(uint32_t k, uint32_t slot) {
   ++size_;
 }
 
-void StairAreaMeter::SlotIndex::erase(uint32_t k) {
+void StairAreaMeter::SlotIndex::probe_erase(uint32_t k) {
   size_t i = home(k);
   while (keys_[i] != k) i = (i + 1) & mask_;
   // backward shift: move up each later key of the run whose home is not between the hole and it

@@ -19,8 +19,8 @@
 // The work is done by StairAreaMeter, which measures any staircase of steps of a height axis (radial, y) and an
 // abscissa axis (angular, x) against a track seen through sweep::TrackView; the Cartesian meter
 // (cartesian_error.hpp) is the same machine on strips of x instead of sectors of theta.
+#include <array>
 #include <cstdint>
-#include <deque>
 #include <map>
 #include <memory>
 #include <string>
@@ -137,26 +137,73 @@ class StairAreaMeter {
   };
   // The open sectors' slots by key: open addressing with linear probing on a power-of-two table at most half full,
   // Fibonacci hashing (the keys held at once are runs of consecutive sectors, which it scatters); deletion by
-  // backward shift keeps every probe run unbroken.
+  // backward shift keeps every probe run unbroken. In front of it a direct-mapped table by the key's low bits
+  // holds every key whose cell is free when it comes, which in the common case (a window of consecutive sectors
+  // narrower than the table) is every key: one load a lookup.
   class SlotIndex {
    public:
     static constexpr uint32_t kNone = 0xffffffffu;  // no key (keys are below 2^31)
+    static constexpr uint32_t kDirect = 1024;       // cells of the direct-mapped table
+    SlotIndex() { dkeys_.fill(kNone); }
     void clear();
-    size_t size() const { return size_; }
+    size_t size() const { return dsize_ + size_; }
     uint32_t find(uint32_t k) const {  // the slot of k, or kNone
+      const uint32_t d = k & (kDirect - 1);
+      if (dkeys_[d] == k) return dvals_[d];
       if (size_ == 0) return kNone;
       for (size_t i = home(k);; i = (i + 1) & mask_) {
         if (keys_[i] == k) return vals_[i];
         if (keys_[i] == kNone) return kNone;
       }
     }
-    void insert(uint32_t k, uint32_t slot);  // k not present
-    void erase(uint32_t k);                  // k present
+    void insert(uint32_t k, uint32_t slot) {  // k not present
+      const uint32_t d = k & (kDirect - 1);
+      if (dkeys_[d] == kNone) {
+        dkeys_[d] = k;
+        dvals_[d] = slot;
+        ++dsize_;
+        return;
+      }
+      probe_insert(k, slot);
+    }
+    void erase(uint32_t k) {  // k present
+      const uint32_t d = k & (kDirect - 1);
+      if (dkeys_[d] == k) {
+        dkeys_[d] = kNone;
+        --dsize_;
+        return;
+      }
+      probe_erase(k);
+    }
    private:
     size_t home(uint32_t k) const { return (k * 0x9E3779B1u) >> shift_bits_; }
+    void probe_insert(uint32_t k, uint32_t slot);
+    void probe_erase(uint32_t k);
+    std::array<uint32_t, kDirect> dkeys_, dvals_;
+    size_t dsize_ = 0;
     std::vector<uint32_t> keys_, vals_;
     size_t mask_ = 0, size_ = 0;
     int shift_bits_ = 32;
+  };
+  // Keys in the order they came: a ring that grows by doubling (a queue without a deque's blocks).
+  class KeyRing {
+   public:
+    bool empty() const { return n_ == 0; }
+    uint32_t front() const { return buf_[head_]; }
+    void pop_front() {
+      head_ = (head_ + 1) & (buf_.size() - 1);
+      --n_;
+    }
+    void push_back(uint32_t k) {
+      if (n_ == buf_.size()) grow();
+      buf_[(head_ + n_) & (buf_.size() - 1)] = k;
+      ++n_;
+    }
+    void clear() { head_ = n_ = 0; }
+   private:
+    void grow();
+    std::vector<uint32_t> buf_;
+    size_t head_ = 0, n_ = 0;
   };
   // The walk of the contour sector by sector, resumable (the streamed mode walks it alongside the steps).
   struct WalkPt {
@@ -254,7 +301,7 @@ class StairAreaMeter {
   SlotIndex slot_of_;
   std::vector<Slot> slots_;
   std::vector<uint32_t> free_slots_;
-  std::deque<uint32_t> order_;  // keys in the order their slots were opened, with kPinned where pinned
+  KeyRing order_;  // keys in the order their slots were opened, with kPinned where pinned
   std::map<uint32_t, uint32_t> done_;  // measured keys: disjoint ranges [first, last], but the run below
   uint32_t done_lo_ = 1, done_hi_ = 0;  // the least and the largest measured key (none: lo > hi)
   uint32_t run_lo_ = 1, run_hi_ = 0;    // the range being extended, key by key, not yet in done_ (none: lo > hi)
