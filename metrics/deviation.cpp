@@ -93,6 +93,7 @@ double FootTracker::offset(double u) const {
 bool FootTracker::anchor(double u, double w) {
   m_.ok = false;
   last_u_ = std::numeric_limits<double>::quiet_NaN();  // its offset was from the old anchor
+  pred_left_ = 0;
   const CurvePoint c = c_.eval(u, 3);
   m_.uc = u;
   m_.p0 = c.p;
@@ -202,7 +203,7 @@ bool FootTracker::model_track(Vec2 p, double guess, double reach, double& u_out)
       u_out = wrap(m_.uc + s);
       last_u_ = u_out;
       last_s_ = s;
-      bound_inv_ = 0.0;
+      pred_left_ = 0;
       return true;
     }
   }
@@ -213,32 +214,50 @@ bool FootTracker::bound_within(Vec2 p, double guess, double reach, double limit,
   if (!tracking_ || full_ || !model_on_ || !m_.ok || model_off_ > 0) return false;
   const double gw = wrap(guess);
   const bool from_last = gw == last_u_;
-  const double s = from_last ? last_s_ : offset(gw);
-  if (!(std::abs(s) < m_.h)) return false;
-  // one Newton step on g(s) = (C(s) - p) . C'(s) = 0 from the last foot, on the polynomial (C - p first: nearby
-  // points). From an estimate of the last node it takes 1 / g' there (the chord method: g' moves by about kappa
-  // times a step from one node to the next), which keeps the division off the chain from node to node.
   const Vec2 d0 = m_.p0 - p;
-  const Vec2 q = d0 + s * (m_.p1 + s * (m_.p2 + s * m_.p3));
-  const Vec2 c1 = m_.p1 + s * (2.0 * m_.p2 + 3.0 * s * m_.p3), c2 = 2.0 * m_.p2 + (6.0 * s) * m_.p3;
-  const double dg = dot(c1, c1) + dot(q, c2);
-  if (!(dg > 0.0)) return false;
-  const double inv = from_last && bound_inv_ > 0.0 ? bound_inv_ : 1.0 / dg;
-  const double ds = -dot(q, c1) * inv, sn = s + ds;
-  if (!(std::abs(sn) < m_.h)) return false;  // the model holds to rounding on the stretch only
+  double sn, ds;
+  if (from_last && pred_left_ > 0) {
+    // the point's parameter predicted from the last estimate along the tangent there: s + (p - p_last) . C' / |C'|^2
+    // (no evaluation on the chain from node to node; its error, of order the curvature times the steps since the
+    // last Newton step, only loosens the bound)
+    ds = dot(p - pred_p_, pred_w_);
+    sn = last_s_ + ds;
+    --pred_left_;
+  } else {
+    // one Newton step on g(s) = (C(s) - p) . C'(s) = 0 from the last foot, on the polynomial (C - p first: nearby
+    // points)
+    const double s = from_last ? last_s_ : offset(gw);
+    if (!(std::abs(s) < m_.h)) return false;
+    const Vec2 q = d0 + s * (m_.p1 + s * (m_.p2 + s * m_.p3));
+    const Vec2 c1 = m_.p1 + s * (2.0 * m_.p2 + 3.0 * s * m_.p3), c2 = 2.0 * m_.p2 + (6.0 * s) * m_.p3;
+    const double dg = dot(c1, c1) + dot(q, c2);
+    if (!(dg > 0.0)) return false;
+    ds = -dot(q, c1) / dg;
+    sn = s + ds;
+    const Vec2 w = m_.p1 + sn * (2.0 * m_.p2 + 3.0 * sn * m_.p3);  // C' at the estimate: the predictor's tangent
+    pred_w_ = (1.0 / dot(w, w)) * w;
+    pred_left_ = kPredictSteps;
+  }
+  if (!(std::abs(sn) < m_.h)) {  // the model holds to rounding on the stretch only
+    pred_left_ = 0;
+    return false;
+  }
   const Vec2 qn = d0 + sn * (m_.p1 + sn * (m_.p2 + sn * m_.p3));
   const double b2 = dot(qn, qn);
-  if (!(b2 <= limit * limit)) return false;
   // near a parameter where the exact foot matters, the estimate (off by far less than its step) might not do
   const double margin = 4.0 * std::abs(ds) + 64.0 * std::numeric_limits<double>::epsilon() * (std::abs(u0_) + std::abs(u1_));
-  for (double e : m_.exact)
-    if (std::abs(sn - e) <= margin) return false;
+  bool near = false;
+  for (double e : m_.exact) near = near || std::abs(sn - e) <= margin;
+  if (!(b2 <= limit * limit) || near) {
+    pred_left_ = 0;
+    return false;
+  }
   dist_ = std::sqrt(b2);
   kappa_ = m_.kappa_max * (dist_ + reach) <= 0.5 ? m_.kappa_max : std::numeric_limits<double>::quiet_NaN();
-  bound_inv_ = 1.0 / dg;
   u_out = wrap(m_.uc + sn);
   last_u_ = u_out;
   last_s_ = sn;
+  pred_p_ = p;
   return true;
 }
 

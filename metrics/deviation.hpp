@@ -41,7 +41,10 @@ struct StairPiece {
     const double p = phi0 + tau * (phi1 - phi0);
     return {rho * std::cos(p), rho * std::sin(p)};
   }
-  double length() const { return arc ? rho * std::abs(phi1 - phi0) : norm(b - a); }
+  double length() const {  // (a bound's length: the root of the square, not the library's slower hypot)
+    const Vec2 d = b - a;
+    return arc ? rho * std::abs(phi1 - phi0) : std::sqrt(dot(d, d));
+  }
 };
 
 // Foot points of a moving point on a curve: the parameter of the nearest point of the curve, searched near the
@@ -111,7 +114,11 @@ class FootTracker {
   // the last foot the model returned, and its offset from the anchor (the next search's start, without the
   // rounding of forming it again from the parameter)
   double last_u_ = std::numeric_limits<double>::quiet_NaN(), last_s_ = 0.0;
-  double bound_inv_ = 0.0;  // 1 / g' at the last estimate of bound_within() (0: none; the last foot was found)
+  // bound_within()'s predictor: the last estimate's node, C' / |C'|^2 at the last Newton step's estimate, and the
+  // estimates left before the next Newton step (0: a Newton step next)
+  static constexpr int kPredictSteps = 32;
+  Vec2 pred_p_, pred_w_;
+  int pred_left_ = 0;
   bool anchor(double u, double w);
   double offset(double u) const;  // u - the anchor, on the anchor's turn of a closed path
   const Curve& c_;
