@@ -35,6 +35,32 @@ long double inv_r_quadrature(Vec2 a, Vec2 b) {
   return std::fabs(sum);
 }
 
+// The polar staircase of a run fed to a deviation meter, step by step (nodes from their indices; the reach of the
+// foot search three cells).
+void feed_polar_staircase(DeviationMeter& dm, const AreaRun& r, const Grid& g) {
+  auto node = [&](double n, double m) {
+    return Vec2{n * g.dr * std::cos(m * g.dtheta), n * g.dr * std::sin(m * g.dtheta)};
+  };
+  auto reach = [&](double n) { return 3.0 * std::max(g.dr, n * g.dr * g.dtheta) + 1e-12; };
+  double n = static_cast<double>(r.dig.start_n), m = static_cast<double>(r.dig.start_m);
+  dm.start(node(n, m), reach(n));
+  for (const auto& s : r.steps) {
+    StairPiece p;
+    if (s.axis == kAxisRadial) {
+      p.a = node(n, m);
+      p.b = node(n + s.dir, m);
+    } else {
+      p.arc = true;
+      p.rho = n * g.dr;
+      p.phi0 = m * g.dtheta;
+      p.phi1 = (m + s.dir) * g.dtheta;
+      p.b = node(n, m + s.dir);
+    }
+    dm.piece(p, reach(s.axis == kAxisRadial ? n + 0.5 * s.dir : n));
+    (s.axis == kAxisRadial ? n : m) += s.dir;
+  }
+}
+
 }  // namespace
 
 TEST(F1, ChordIntegralMatchesQuadrature) {
@@ -151,33 +177,13 @@ TEST(F1, DeviationSkipsOnlyMiddlesThatCannotBeTheLargest) {
   for (const auto& c : cases) {
     const Grid& g = c.grid;
     AreaRun r = area_run(*c.path, g, StepRule::nearest);
-    auto node = [&](double n, double m) {
-      return Vec2{n * g.dr * std::cos(m * g.dtheta), n * g.dr * std::sin(m * g.dtheta)};
-    };
-    auto reach = [&](double n) { return 3.0 * std::max(g.dr, n * g.dr * g.dtheta) + 1e-12; };
     double dev[2];
     Vec2 at[2];
     uint64_t middles[2];
     for (int every = 0; every < 2; ++every) {
       DeviationMeter dm(*c.path);
       dm.set_every_middle(every == 1);
-      double n = static_cast<double>(r.dig.start_n), m = static_cast<double>(r.dig.start_m);
-      dm.start(node(n, m), reach(n));
-      for (const auto& s : r.steps) {
-        StairPiece p;
-        if (s.axis == kAxisRadial) {
-          p.a = node(n, m);
-          p.b = node(n + s.dir, m);
-        } else {
-          p.arc = true;
-          p.rho = n * g.dr;
-          p.phi0 = m * g.dtheta;
-          p.phi1 = (m + s.dir) * g.dtheta;
-          p.b = node(n, m + s.dir);
-        }
-        dm.piece(p, reach(s.axis == kAxisRadial ? n + 0.5 * s.dir : n));
-        (s.axis == kAxisRadial ? n : m) += s.dir;
-      }
+      feed_polar_staircase(dm, r, g);
       dev[every] = dm.max();
       at[every] = dm.at();
       middles[every] = dm.middles();
@@ -240,31 +246,11 @@ TEST(F1, DeviationBoundsSkipOnlyNodesThatCannotBeTheLargest) {
   // the bounds are taken: most nodes of the finer witch are bounded, none with the bounds off
   const Grid& g = cases[1].grid;
   AreaRun r = area_run(*cases[1].path, g, StepRule::nearest);
-  auto node = [&](double n, double m) {
-    return Vec2{n * g.dr * std::cos(m * g.dtheta), n * g.dr * std::sin(m * g.dtheta)};
-  };
-  auto reach = [&](double n) { return 3.0 * std::max(g.dr, n * g.dr * g.dtheta) + 1e-12; };
   uint64_t bounded[2];
   for (int bounds = 0; bounds < 2; ++bounds) {
     DeviationMeter dm(*cases[1].path);
     dm.set_bounds(bounds == 1);
-    double n = static_cast<double>(r.dig.start_n), m = static_cast<double>(r.dig.start_m);
-    dm.start(node(n, m), reach(n));
-    for (const auto& s : r.steps) {
-      StairPiece p;
-      if (s.axis == kAxisRadial) {
-        p.a = node(n, m);
-        p.b = node(n + s.dir, m);
-      } else {
-        p.arc = true;
-        p.rho = n * g.dr;
-        p.phi0 = m * g.dtheta;
-        p.phi1 = (m + s.dir) * g.dtheta;
-        p.b = node(n, m + s.dir);
-      }
-      dm.piece(p, reach(s.axis == kAxisRadial ? n + 0.5 * s.dir : n));
-      (s.axis == kAxisRadial ? n : m) += s.dir;
-    }
+    feed_polar_staircase(dm, r, g);
     bounded[bounds] = dm.bounded();
   }
   EXPECT_EQ(bounded[0], 0u);
