@@ -5,8 +5,8 @@
 # Builds nothing: it runs ./build/polarcam and the benchmark programs there (build them first:
 # cmake --build build --target polarcam polarcam_bench_digitize polarcam_bench_area_error).
 # Rates are per CPU-second and times are CPU seconds (user + system), so a loaded machine disturbs them less than
-# wall time (but the figure named *_wall_*, of two threads: wall seconds); each figure is the best of five runs (the error: three; the report, the front and the map: one), the run
-# least disturbed by other work. On a shared machine figures of unchanged code have moved by up to a third: re-run
+# wall time (but the figure named *_wall_*, of two threads: wall seconds); each figure is the best of five runs
+# (the error: three; the report, the front and the map: one), the run least disturbed by other work. On a shared machine figures of unchanged code have moved by up to a third: re-run
 # before concluding.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -49,20 +49,24 @@ gbench() {  # name program filter counter-column
   add "$name" M/s "$v"
 }
 
-# CPU seconds (user + system) of a command, the least of $runs runs (bash's `times`: millisecond resolution); exit
-# status 0 or 1 (a NO-GO verdict) accepted.
+# Runs a command, its output dropped: exit status 0 or 1 (a NO-GO verdict) accepted, anything else ends the run.
+run_ok() {
+  local rc=0
+  "$@" >/dev/null 2>"$tmp/err" || rc=$?
+  if [ "$rc" -gt 1 ]; then
+    echo "bench.sh: '$*' failed (exit $rc):" >&2
+    cat "$tmp/err" >&2
+    exit 1
+  fi
+}
+
+# CPU seconds (user + system) of a command, the least of $runs runs (bash's `times`: millisecond resolution).
 cpu() {  # name runs command...
   local name=$1 runs=$2
   shift 2
   for _ in $(seq "$runs"); do
     (
-      rc=0
-      "$@" >/dev/null 2>"$tmp/err" || rc=$?
-      if [ "$rc" -gt 1 ]; then
-        echo "bench.sh: '$*' failed (exit $rc):" >&2
-        cat "$tmp/err" >&2
-        exit 1
-      fi
+      run_ok "$@"
       times
     ) >"$tmp/times" || exit 1
     # second line: the children's user and system time, as 0m0.123s 0m0.004s
@@ -78,15 +82,10 @@ wall() {  # name runs command...
   local name=$1 runs=$2
   shift 2
   for _ in $(seq "$runs"); do
-    local t0 t1 rc=0
+    local t0 t1
     t0=$(date +%s%N)
-    "$@" >/dev/null 2>"$tmp/err" || rc=$?
+    run_ok "$@"
     t1=$(date +%s%N)
-    if [ "$rc" -gt 1 ]; then
-      echo "bench.sh: '$*' failed (exit $rc):" >&2
-      cat "$tmp/err" >&2
-      exit 1
-    fi
     awk -v a="$t0" -v b="$t1" 'BEGIN {printf "%.3f\n", (b - a) / 1e9}'
   done | least >"$tmp/v"
   add "$name" s "$(cat "$tmp/v")"
