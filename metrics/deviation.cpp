@@ -112,7 +112,7 @@ bool FootTracker::anchor(double u, double w) {
     for (double sg : {-1.0, 1.0}) {
       const double s = 2.0 * sg * h, su = u + s;
       if (!closed_ && (su < u0_ || su > u1_)) continue;
-      const Vec2 m = m_.p0 + s * (m_.p1 + s * (m_.p2 + s * m_.p3));
+      const Vec2 m = m_.at(m_.p0, s);
       if (!(norm(m - c_.eval(wrap(su), 0).p) <= tol)) {
         ok = false;
         break;
@@ -153,7 +153,7 @@ bool FootTracker::model_track(Vec2 p, double guess, double reach, double& u_out)
     // the window |s' - s| < w = reach / |C'(s)| inside the stretch, w < h - |s|: squared, without a root or a
     // quotient; the last foot's own s where the guess is that foot
     s = gw == last_u_ ? last_s_ : offset(gw);
-    const Vec2 c1 = m_.p1 + s * (2.0 * m_.p2 + 3.0 * s * m_.p3);
+    const Vec2 c1 = m_.d1(s);
     const double room = m_.h - std::abs(s);
     s2_0 = dot(c1, c1);
     inside = room > 0.0 && r2 < room * room * s2_0;
@@ -175,8 +175,8 @@ bool FootTracker::model_track(Vec2 p, double guess, double reach, double& u_out)
   const double s0 = s;
   const Vec2 d0 = m_.p0 - p, c3 = 6.0 * m_.p3;
   for (int it = 0; it < 8; ++it) {
-    const Vec2 q = d0 + s * (m_.p1 + s * (m_.p2 + s * m_.p3));
-    const Vec2 c1 = m_.p1 + s * (2.0 * m_.p2 + 3.0 * s * m_.p3), c2 = 2.0 * m_.p2 + s * c3;
+    const Vec2 q = m_.at(d0, s);
+    const Vec2 c1 = m_.d1(s), c2 = 2.0 * m_.p2 + s * c3;
     const double s2 = dot(c1, c1), g = dot(q, c1), dg = s2 + dot(q, c2);
     if (!(dg > 0.0)) return false;
     const double g2 = 3.0 * dot(c1, c2) + dot(q, c3), g3 = 4.0 * dot(c1, c3) + 3.0 * dot(c2, c2);
@@ -195,7 +195,7 @@ bool FootTracker::model_track(Vec2 p, double guess, double reach, double& u_out)
     if (es2 <= 1e-18 * qq || es2 <= 1e-30 || e * std::sqrt(s2) <= 1e-9 * std::sqrt(qq) + 1e-15) {
       const double speed = std::sqrt(s2);
       const double kappa = std::abs(cross(c1, c2)) / (s2 * speed);
-      const Vec2 qn = d0 + s * (m_.p1 + s * (m_.p2 + s * m_.p3));
+      const Vec2 qn = m_.at(d0, s);
       const double d = std::sqrt(dot(qn, qn));
       if (!(kappa * (d + reach) <= 0.5)) return false;
       dist_ = d;
@@ -228,13 +228,13 @@ bool FootTracker::bound_within(Vec2 p, double guess, double reach, double limit,
     // points)
     const double s = from_last ? last_s_ : offset(gw);
     if (!(std::abs(s) < m_.h)) return false;
-    const Vec2 q = d0 + s * (m_.p1 + s * (m_.p2 + s * m_.p3));
-    const Vec2 c1 = m_.p1 + s * (2.0 * m_.p2 + 3.0 * s * m_.p3), c2 = 2.0 * m_.p2 + (6.0 * s) * m_.p3;
+    const Vec2 q = m_.at(d0, s);
+    const Vec2 c1 = m_.d1(s), c2 = 2.0 * m_.p2 + (6.0 * s) * m_.p3;
     const double dg = dot(c1, c1) + dot(q, c2);
     if (!(dg > 0.0)) return false;
     ds = -dot(q, c1) / dg;
     sn = s + ds;
-    const Vec2 w = m_.p1 + sn * (2.0 * m_.p2 + 3.0 * sn * m_.p3);  // C' at the estimate: the predictor's tangent
+    const Vec2 w = m_.d1(sn);  // C' at the estimate: the predictor's tangent
     pred_w_ = (1.0 / dot(w, w)) * w;
     pred_left_ = kPredictSteps;
   }
@@ -242,12 +242,14 @@ bool FootTracker::bound_within(Vec2 p, double guess, double reach, double limit,
     pred_left_ = 0;
     return false;
   }
-  const Vec2 qn = d0 + sn * (m_.p1 + sn * (m_.p2 + sn * m_.p3));
+  const Vec2 qn = m_.at(d0, sn);
   const double b2 = dot(qn, qn);
   // near a parameter where the exact foot matters, the estimate (off by far less than its step) might not do
-  const double margin = 4.0 * std::abs(ds) + 64.0 * std::numeric_limits<double>::epsilon() * (std::abs(u0_) + std::abs(u1_));
   bool near = false;
-  for (double e : m_.exact) near = near || std::abs(sn - e) <= margin;
+  if (!m_.exact.empty()) {
+    const double margin = 4.0 * std::abs(ds) + 64.0 * std::numeric_limits<double>::epsilon() * (std::abs(u0_) + std::abs(u1_));
+    for (double e : m_.exact) near = near || std::abs(sn - e) <= margin;
+  }
   if (!(b2 <= limit * limit) || near) {
     pred_left_ = 0;
     return false;
@@ -375,18 +377,23 @@ DeviationMeter::Feet DeviationMeter::piece(const StairPiece& p, double reach) {
   const Vec2 pb = p.b;
   // The end node: where an upper bound of its distance cannot beat the largest distance so far, that bound (the
   // node cannot be where the largest is; the bounds below hold with it); otherwise its foot.
-  double u_b, d_b;
+  // the foot of q found from `guess` (its parameter, distance and the curvature there), q considered for the largest
+  auto found = [&](Vec2 q, double guess, double& u, double& d, double& k) {
+    u = ft_.find(q, guess, reach);
+    d = ft_.distance();
+    k = ft_.curvature();
+    consider(d, q);
+  };
+  double u_b, d_b, k_b;
   bool exact_b = false;
   if (bounds_on_ && ft_.bound_within(pb, u_a, reach, max_, u_b)) {
     d_b = ft_.distance();
+    k_b = ft_.curvature();
     ++bounded_;
   } else {
-    u_b = ft_.find(pb, u_a, reach);
-    d_b = ft_.distance();
-    consider(d_b, pb);
+    found(pb, u_a, u_b, d_b, k_b);
     exact_b = true;
   }
-  double k_b = ft_.curvature();
   const double len = p.length();
   // nothing inside the piece can beat (d_a + d_b + len) / 2 (the distance is 1-Lipschitz); nor, where both ends'
   // feet were tracked in the convex regime with no corner of the path between them, max(d_a, d_b) + len^2 / 8 times
@@ -416,17 +423,9 @@ DeviationMeter::Feet DeviationMeter::piece(const StairPiece& p, double reach) {
   // The middle and the search below judge by the ends' distances themselves: the ends' feet, where bounded, are
   // found, and the tests made again.
   if (!exact_a || !exact_b) {
-    if (!exact_a) {
-      u_a = ft_.find(node_, u_a, reach);
-      d_a = ft_.distance();
-      k_a = ft_.curvature();
-      consider(d_a, node_);
-    }
+    if (!exact_a) found(node_, u_a, u_a, d_a, k_a);
     if (!exact_b) {
-      u_b = ft_.find(pb, u_b, reach);
-      d_b = ft_.distance();
-      k_b = ft_.curvature();
-      consider(d_b, pb);
+      found(pb, u_b, u_b, d_b, k_b);
       exact_b = true;
     }
     if (done()) {

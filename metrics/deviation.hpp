@@ -15,8 +15,8 @@
 // beat the largest value found so far.
 //
 // Where the foot tracker runs on its local model (below), a node is not searched for its foot when a point of the
-// model near it (one Newton step from the last foot, with the last node's 1 / g') is no farther from it than the
-// largest distance so far: any point of the path bounds the distance from above, so the node cannot be where the
+// model near it (predicted along the tangent from the last node's, with a Newton step every few nodes) is no
+// farther from it than the largest distance so far: any point of the path bounds the distance from above, so the node cannot be where the
 // largest is, and the bound serves the tests of its pieces. Where a piece's middle must be sampled, its ends' feet
 // are found first and the tests made again, so the middle and the search inside the piece judge by the distances
 // themselves. A caller that assigns steps by their feet names the parameters where that assignment changes
@@ -77,8 +77,8 @@ class FootTracker {
   // the convex regime |kappa| (d + reach) <= 1/2); NaN after a window search.
   double curvature() const { return kappa_; }
   // An upper bound of p's distance to the curve, where the local model is tracking and the bound is at most
-  // `limit`: the distance from p to the model's point one Newton step from the last foot (any point of the curve
-  // bounds the distance from above). True, with u that point's parameter and distance() the bound, curvature() a
+  // `limit`: the distance from p to the model's point predicted along the tangent from the last one, or one Newton
+  // step from it every kPredictSteps calls (any point of the curve bounds the distance from above). True, with u that point's parameter and distance() the bound, curvature() a
   // bound of the curvature over the model's whole stretch (NaN where it does not keep the convex regime); false,
   // with nothing changed, where the model is not tracking, the point leaves the stretch, the bound exceeds the
   // limit, or the point lies near a parameter where the exact foot matters (set_exact_near).
@@ -109,6 +109,9 @@ class FootTracker {
     Vec2 p0, p1, p2, p3;       // C, C', C''/2, C'''/6 at the anchor
     double kappa_max = 0.0;    // a bound of the curvature on the stretch, |C''|max / |C'|min^2 (infinity: none)
     std::vector<double> exact; // offsets from the anchor of the parameters of set_exact_near() near the stretch
+    // d0 + C(s) - C (d0 = C - p: the point's offset from p, nearby points formed first) and C'(s)
+    Vec2 at(Vec2 d0, double s) const { return d0 + s * (p1 + s * (p2 + s * p3)); }
+    Vec2 d1(double s) const { return p1 + s * (2.0 * p2 + 3.0 * s * p3); }
   };
   bool model_track(Vec2 p, double guess, double reach, double& u);
   // the last foot the model returned, and its offset from the anchor (the next search's start, without the
