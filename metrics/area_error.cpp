@@ -437,8 +437,7 @@ double StairAreaMeter::fast_visit(const Visit& v, double rho, const std::vector<
       const double t = radius_crossing(*p.H, rho - ha, b.t0, b.t1, b.h0 - ha, b.h1 - ha);
       double g, a;
       eval_gA(*p.G, areas_[b.piece], t, g, a);
-      const double l = (p.g_a + g + shift_) / grid_.width - static_cast<double>(v.j);
-      s += std::abs(a - b.A0 + k * (l - b.l0)) + std::abs(b.A1 - a + k * (b.l1 - l));
+      s += crossed_part(b, rho, static_cast<double>(v.j), g, a);
     } else {
       s += std::abs(b.A1 - b.A0 + k * (b.l1 - b.l0));
     }
@@ -446,9 +445,65 @@ double StairAreaMeter::fast_visit(const Visit& v, double rho, const std::vector<
   return s;
 }
 
+double StairAreaMeter::crossed_part(const Sub& b, double rho, double jd, double g, double a) const {
+  const sweep::PieceView& p = track_.pieces[b.piece];
+  const double ha = p.h_a;
+  const double k = (grid_.geo == sweep::Geometry::polar ? 0.5 * (ha - rho) * (ha + rho) : ha - rho) * grid_.width;
+  const double l = (p.g_a + g + shift_) / grid_.width - jd;
+  return std::abs(a - b.A0 + k * (l - b.l0)) + std::abs(b.A1 - a + k * (b.l1 - l));
+}
+
+void StairAreaMeter::add_total(double x) {
+  if (pending_.empty())
+    total_.add(x);
+  else
+    pending_.push_back({x, -1});
+}
+
+void StairAreaMeter::add_visit(const Visit& v, double rho, const std::vector<Sub>& subs) {
+  if (v.count == 1) {
+    const Sub& b = subs[v.first];
+    if ((b.h0 - rho) * (b.h1 - rho) < 0.0) {
+      pending_.push_back({0.0, static_cast<int32_t>(crossings_.size())});
+      crossings_.push_back({b, rho, static_cast<double>(v.j)});
+      if (crossings_.size() == 2) flush_pending();
+      return;
+    }
+  }
+  add_total(fast_visit(v, rho, subs));
+}
+
+void StairAreaMeter::flush_pending() {
+  const auto& P = track_.pieces;
+  double part[2] = {0.0, 0.0};
+  if (crossings_.size() == 2) {
+    const Crossing &x0 = crossings_[0], &x1 = crossings_[1];
+    const sweep::PieceView &p0 = P[x0.b.piece], &p1 = P[x1.b.piece];
+    RadiusCrossing c0, c1;
+    c0.start(x0.rho - p0.h_a, x0.b.t0, x0.b.t1, x0.b.h0 - p0.h_a, x0.b.h1 - p0.h_a);
+    c1.start(x1.rho - p1.h_a, x1.b.t0, x1.b.t1, x1.b.h0 - p1.h_a, x1.b.h1 - p1.h_a);
+    radius_crossing2(*p0.H, *p1.H, c0, c1);
+    Lane2 g, a;
+    eval_rA2(*p0.G, areas_[x0.b.piece], *p1.G, areas_[x1.b.piece], Lane2{c0.t, c1.t}, g, a);
+    part[0] = crossed_part(x0.b, x0.rho, x0.jd, g[0], a[0]);
+    part[1] = crossed_part(x1.b, x1.rho, x1.jd, g[1], a[1]);
+  } else if (crossings_.size() == 1) {
+    const Crossing& x = crossings_[0];
+    const sweep::PieceView& p = P[x.b.piece];
+    const double ha = p.h_a;
+    const double t = radius_crossing(*p.H, x.rho - ha, x.b.t0, x.b.t1, x.b.h0 - ha, x.b.h1 - ha);
+    double g, a;
+    eval_gA(*p.G, areas_[x.b.piece], t, g, a);
+    part[0] = crossed_part(x.b, x.rho, x.jd, g, a);
+  }
+  for (const Pending& e : pending_) total_.add(e.crossing >= 0 ? part[e.crossing] : e.value);
+  pending_.clear();
+  crossings_.clear();
+}
+
 bool StairAreaMeter::one_pass(const Visit& v, const ArcRec& a, const std::vector<Sub>& subs) {
   if (force_general_ || !v.full || v.sigma != a.dir) return false;
-  total_.add(fast_visit(v, static_cast<double>(a.n) * grid_.height, subs));
+  add_visit(v, static_cast<double>(a.n) * grid_.height, subs);
   return true;
 }
 
@@ -476,7 +531,7 @@ void StairAreaMeter::add_sector(SectorIn& in, StairAreaResult& res) {
   }
   for (size_t i = 0; fast && i < vs.size(); ++i) fast = vs[i]->sigma == as[i]->dir;
   if (fast) {
-    for (size_t i = 0; i < vs.size(); ++i) total_.add(fast_visit(*vs[i], static_cast<double>(as[i]->n) * dr, subs));
+    for (size_t i = 0; i < vs.size(); ++i) add_visit(*vs[i], static_cast<double>(as[i]->n) * dr, subs);
     return;
   }
   ++res.general_sectors;
@@ -510,7 +565,7 @@ void StairAreaMeter::add_sector(SectorIn& in, StairAreaResult& res) {
     strands.push_back(s);
   }
   for (const sweep::Strand* e : in.extra) strands.push_back(*e);
-  total_.add(solver_->area(strands));
+  add_total(solver_->area(strands));
 }
 
 void StairAreaMeter::set_shift(int64_t g0) {
@@ -694,6 +749,8 @@ void StairAreaMeter::begin(int64_t h0, int64_t g0) {
   g0_ = g0;
   solver_ = std::make_unique<sweep::SectorSolver>(track_, areas_, frame_);
   total_ = Neumaier{};
+  pending_.clear();
+  crossings_.clear();
   sres_ = StairAreaResult{};
   const double dth = grid_.width;
   auto key_near = [&](double g) {
@@ -799,6 +856,7 @@ StairAreaResult StairAreaMeter::finish(int64_t n0, int64_t m0) {
     if (failed_) return res;  // streamed() is false: the caller replays the steps into a recording meter
     res.sectors = sres_.sectors;
     res.general_sectors = sres_.general_sectors;
+    flush_pending();
     res.area_m2 = total_.value();
     if (!std::isfinite(res.area_m2)) throw std::logic_error("internal error: the area error is not finite");
     return res;
@@ -838,6 +896,8 @@ StairAreaResult StairAreaMeter::finish(int64_t n0, int64_t m0) {
 
   solver_ = std::make_unique<sweep::SectorSolver>(tr, areas_, frame_);
   total_ = Neumaier{};
+  pending_.clear();
+  crossings_.clear();
   SectorIn& in = sector_in_;
   in.subs = &subs_;
   for (size_t k = 0; k < nk; ++k) {
@@ -851,6 +911,7 @@ StairAreaResult StairAreaMeter::finish(int64_t n0, int64_t m0) {
     in.forced = forced_[k] != 0;
     add_sector(in, res);
   }
+  flush_pending();
   res.area_m2 = total_.value();
   if (!std::isfinite(res.area_m2)) throw std::logic_error("internal error: the area error is not finite");
   // the recorded steps are now absolute; the meter must be reset before it is used again

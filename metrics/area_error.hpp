@@ -250,6 +250,14 @@ class StairAreaMeter {
   void close_visit();
   void add_connector(Vec2 a, double ga, Vec2 b, double gb);
   double fast_visit(const Visit& v, double rho, const std::vector<Sub>& subs) const;
+  // A visit's part of the area, in the order of the sectors: a visit of one sub that crosses its level waits for a
+  // second, and the two crossings are found side by side (radius_crossing2); the values wait with them, so the sum
+  // takes them in the same order (the same bytes as fast_visit one by one).
+  void add_visit(const Visit& v, double rho, const std::vector<Sub>& subs);
+  void add_total(double x);
+  void flush_pending();
+  // the part of a sub crossing its level rho where the path's abscissa and area are g and a
+  double crossed_part(const Sub& b, double rho, double jd, double g, double a) const;
   // The common case of a sector: one pass of the contour, monotone from one side to the other in the direction of
   // the one level strand (fast_visit); false, with nothing added, where the sector needs more.
   bool one_pass(const Visit& v, const ArcRec& a, const std::vector<Sub>& subs);
@@ -291,6 +299,16 @@ class StairAreaMeter {
   std::unique_ptr<sweep::SectorSolver> solver_;
   sweep::Frame frame_{};
   Neumaier total_;
+  struct Crossing {
+    Sub b;
+    double rho, jd;
+  };
+  struct Pending {
+    double value;
+    int32_t crossing;  // >= 0: the value is that crossing's part
+  };
+  std::vector<Pending> pending_;
+  std::vector<Crossing> crossings_;
   StairAreaResult sres_;  // streamed: sectors measured so far
 
   // streamed mode

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "digitizer/chebyshev.hpp"
+#include "digitizer/level_crossing.hpp"
 #include "metrics/track_area.hpp"
 
 namespace polarcam::area_roots {
@@ -48,35 +49,117 @@ inline void eval_rA(const Cheb& R, const LongCheb& A, double t, double& r, doubl
 // G(t) and Astar(t) in one pass.
 inline void eval_gA(const Cheb& G, const LongCheb& A, double t, double& g, double& a) { eval_rA(G, A, t, g, a); }
 
+// f, f', f'' of two series at two points, on the two lanes of a vector: lane a performs exactly the operations of
+// eval3(c_a, t[a]) in the same order (no fused multiply-add: the build targets the baseline instruction set; the
+// products by 2 and 4 are exact additions), with the coefficients up to the larger degree and zeros above (a
+// leading zero coefficient leaves the recurrences at exact zeros), so each lane's values are bit for bit those of
+// eval3. Two independent chains of dependent multiplies and adds take little more time than one.
+inline void eval3_2(const Cheb& c0, const Cheb& c1, Lane2 t, Lane2& f, Lane2& d1, Lane2& d2) {
+  Lane2 b1 = {0, 0}, b2 = b1, e1 = b1, e2 = b1, h1 = b1, h2 = b1;
+  const Lane2 tt = t + t;
+  for (int k = std::max(c0.deg, c1.deg); k >= 1; --k) {
+    const Lane2 ck = {k <= c0.deg ? c0.c[k] : 0.0, k <= c1.deg ? c1.c[k] : 0.0};
+    const Lane2 b0 = (ck - b2) + tt * b1, e0 = ((b1 + b1) - e2) + tt * e1, h0 = (((e1 + e1) + (e1 + e1)) - h2) + tt * h1;
+    b2 = b1, b1 = b0, e2 = e1, e1 = e0, h2 = h1, h1 = h0;
+  }
+  const Lane2 c00 = {c0.c[0], c1.c[0]};
+  f = (c00 - b2) + t * b1;
+  d1 = (b1 - e2) + t * e1;
+  d2 = ((e1 + e1) - h2) + t * h1;
+}
+
+// eval_rA of two pairs of series at two points, on the two lanes of a vector: each lane bit for bit eval_rA's
+// values (the same operations in the same order; the loop runs from the larger top, whose leading zero
+// coefficients leave the recurrences at exact zeros, as eval_rA's own top does).
+inline void eval_rA2(const Cheb& R0, const LongCheb& A0, const Cheb& R1, const LongCheb& A1, Lane2 t, Lane2& r,
+                     Lane2& a) {
+  const Lane2 two = {2.0, 2.0}, one = {1.0, 1.0};
+  const Lane2 y = two * t * t - one, yy = two * y;
+  Lane2 re1 = {0, 0}, re2 = re1, ro1 = re1, ro2 = re1, ae1 = re1, ae2 = re1, ao1 = re1, ao2 = re1;
+  const int top = std::max({A0.deg, R0.deg, A1.deg, R1.deg}) / 2 + 1;
+  auto rc = [](const Cheb& R, int k) { return k <= R.deg ? R.c[k] : 0.0; };
+  auto ac = [](const LongCheb& A, int k) { return k <= A.deg ? A.c[k] : 0.0; };
+  for (int m = top; m >= 1; --m) {
+    const int ke = 2 * m, ko = 2 * m + 1;
+    const Lane2 rce = {rc(R0, ke), rc(R1, ke)}, rco = {rc(R0, ko), rc(R1, ko)};
+    const Lane2 ace = {ac(A0, ke), ac(A1, ke)}, aco = {ac(A0, ko), ac(A1, ko)};
+    const Lane2 re0 = (rce - re2) + yy * re1, ro0 = (rco - ro2) + yy * ro1;
+    const Lane2 ae0 = (ace - ae2) + yy * ae1, ao0 = (aco - ao2) + yy * ao1;
+    re2 = re1, re1 = re0, ro2 = ro1, ro1 = ro0, ae2 = ae1, ae1 = ae0, ao2 = ao1, ao1 = ao0;
+  }
+  const Lane2 rc0 = {R0.c[0], R1.c[0]}, rc1 = {rc(R0, 1), rc(R1, 1)};
+  const Lane2 ac0 = {A0.c[0], A1.c[0]}, ac1 = {ac(A0, 1), ac(A1, 1)};
+  const Lane2 r_even = (rc0 - re2) + y * re1, r_odd = t * ((rc1 - ro2) + (yy - one) * ro1);
+  const Lane2 a_even = (ac0 - ae2) + y * ae1, a_odd = t * ((ac1 - ao2) + (yy - one) * ao1);
+  r = r_even + r_odd;
+  a = a_even + a_odd;
+}
+
 // Where h(t) = y on a part of a piece where h is monotone and y lies strictly between h(ta) - h_a and h(tb) - h_a
 // (ya, yb). The area split there is in error by h |dh/dg| dg^2 for a crossing misplaced by dg, so the crossing
 // need not be found to rounding: Newton from the interpolated guess stops once the error left after its step,
-// |R''/(2 R')| dt^2, is below 1e-12 (t on [-1, 1]; far inside the rounding of the area).
-inline double radius_crossing(const Cheb& R, double y, double ta, double tb, double ya, double yb) {
-  double lo = std::min(ta, tb), hi = std::max(ta, tb);
-  const double chord = (yb - ya) / (tb - ta);
-  double t = ta + (y - ya) / chord;
-  if (!(t > lo && t < hi)) t = 0.5 * (lo + hi);
-  const bool up = chord > 0;  // R - y increases with t
-  for (int it = 0; it < 100; ++it) {
-    double v, d, d2;
-    eval3(R, t, v, d, d2);
+// |R''/(2 R')| dt^2, is below 1e-12 (t on [-1, 1]; far inside the rounding of the area). The search's state, one
+// step at a time: radius_crossing runs it on one series, radius_crossing2 on two side by side.
+struct RadiusCrossing {
+  double lo = 0, hi = 0, t = 0, y = 0;
+  bool up = false;
+  int it = 0;
+  void start(double y_, double ta, double tb, double ya, double yb) {
+    y = y_;
+    lo = std::min(ta, tb), hi = std::max(ta, tb);
+    const double chord = (yb - ya) / (tb - ta);
+    t = ta + (y - ya) / chord;
+    if (!(t > lo && t < hi)) t = 0.5 * (lo + hi);
+    up = chord > 0;  // R - y increases with t
+  }
+  // One step from t, given R, R', R'' there: true when t is the crossing (or the search has run 100 steps).
+  bool next(double v, double d, double d2) {
     v -= y;
-    if (v == 0.0) return t;
+    if (v == 0.0) return true;
     if ((v > 0) == up)
       hi = t;
     else
       lo = t;
-    double tn = d != 0.0 ? t - v / d : 0.5 * (lo + hi);
+    const double tn = d != 0.0 ? t - v / d : 0.5 * (lo + hi);
     if (!(tn > lo && tn < hi)) {
       t = 0.5 * (lo + hi);
-      continue;
+      return ++it >= 100;
     }
     const double dt = tn - t;
-    if (std::abs(d2) * dt * dt <= 2e-12 * std::abs(d) || hi - lo <= 1e-15) return tn;
     t = tn;
+    if (std::abs(d2) * dt * dt <= 2e-12 * std::abs(d) || hi - lo <= 1e-15) return true;
+    return ++it >= 100;
   }
-  return t;
+};
+
+inline double radius_crossing(const Cheb& R, double y, double ta, double tb, double ya, double yb) {
+  RadiusCrossing c;
+  c.start(y, ta, tb, ya, yb);
+  for (;;) {
+    double v, d, d2;
+    eval3(R, c.t, v, d, d2);
+    if (c.next(v, d, d2)) return c.t;
+  }
+}
+
+// Two crossings side by side (each as radius_crossing's, bit for bit); the one left when the other is done goes on
+// alone.
+inline void radius_crossing2(const Cheb& R0, const Cheb& R1, RadiusCrossing& c0, RadiusCrossing& c1) {
+  bool done0 = false, done1 = false;
+  while (!done0 && !done1) {
+    Lane2 v, d, d2;
+    eval3_2(R0, R1, Lane2{c0.t, c1.t}, v, d, d2);
+    done0 = c0.next(v[0], d[0], d2[0]);
+    done1 = c1.next(v[1], d[1], d2[1]);
+  }
+  RadiusCrossing& c = done0 ? c1 : c0;
+  const Cheb& R = done0 ? R1 : R0;
+  if (done0 && done1) return;
+  for (;;) {
+    double v, d, d2;
+    eval3(R, c.t, v, d, d2);
+    if (c.next(v, d, d2)) return;
+  }
 }
 
 // Root of f(t) = y in [lo, hi] where f - y changes sign (flo = f(lo) - y), Newton from `guess` safeguarded by

@@ -1,12 +1,15 @@
 // The exact area error against closed forms, and its fast path against its general sweep.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 
 #include "tests/area_helpers.hpp"
 #include "cam/curves.hpp"
 #include "cam/error.hpp"
+#include "metrics/area_roots.hpp"
 
 namespace tu_metrics_test_area_error {  // the test files of a program compile together (unity build)
 
@@ -100,6 +103,82 @@ TEST(AreaError, FastPathAgreesWithGeneralSweep) {
       EXPECT_EQ(gen.area.general_sectors, gen.area.sectors);
     }
   }
+}
+
+}  // namespace tu_metrics_test_area_error
+
+namespace tu_metrics_test_area_error {
+
+// The crossings found two at a time (and the radius and area evaluated two at a time) are bit for bit those found
+// one at a time, whatever the two series' degrees: the sum of the area takes them in the same order, so the area
+// error is the same bytes.
+TEST(AreaError, PairedCrossingsAreBitForBitTheSingleOnes) {
+  using namespace polarcam::area_roots;
+  uint64_t state = 12345;
+  auto uniform = [&] {  // a fixed linear congruential sequence in [-1, 1)
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(state >> 11) * 0x1.0p-52 - 1.0;
+  };
+  auto series = [&](int deg, double lead) {
+    Cheb c;
+    c.deg = deg;
+    for (int k = 0; k <= deg; ++k) c.c[static_cast<size_t>(k)] = uniform() * std::pow(0.3, k);
+    c.c[1] = lead;  // monotone enough on the stretch below to hold one crossing
+    for (int k = deg + 1; k <= kChebMaxDegree; ++k) c.c[static_cast<size_t>(k)] = 7.0;  // junk past the degree
+    return c;
+  };
+  auto long_series = [&](int deg) {
+    LongCheb a;
+    a.deg = deg;
+    for (int k = 0; k <= deg; ++k) a.c[static_cast<size_t>(k)] = uniform() * std::pow(0.7, k);
+    for (int k = deg + 1; k <= kLongChebMaxDegree; ++k) a.c[static_cast<size_t>(k)] = -3.0;
+    return a;
+  };
+  int crossings = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const int d0 = 1 + trial % 16, d1 = 1 + (trial * 7) % 16;
+    const Cheb R0 = series(d0, 2.0), R1 = series(d1, -1.5), G0 = series(d1, 1.0), G1 = series(d0, 0.5);
+    const LongCheb A0 = long_series((trial * 5) % 60), A1 = long_series((trial * 11) % 60 + 1);
+    const double t0 = 0.5 * uniform(), t1 = 0.5 * uniform();
+    // eval3 and eval_rA on two lanes
+    Lane2 f, d, dd, r, a;
+    eval3_2(R0, R1, Lane2{t0, t1}, f, d, dd);
+    eval_rA2(G0, A0, G1, A1, Lane2{t0, t1}, r, a);
+    for (int lane = 0; lane < 2; ++lane) {
+      double fs, ds, dds, rs, as;
+      eval3(lane ? R1 : R0, lane ? t1 : t0, fs, ds, dds);
+      eval_rA(lane ? G1 : G0, lane ? A1 : A0, lane ? t1 : t0, rs, as);
+      EXPECT_EQ(std::bit_cast<uint64_t>(fs), std::bit_cast<uint64_t>(f[lane])) << trial;
+      EXPECT_EQ(std::bit_cast<uint64_t>(ds), std::bit_cast<uint64_t>(d[lane])) << trial;
+      EXPECT_EQ(std::bit_cast<uint64_t>(dds), std::bit_cast<uint64_t>(dd[lane])) << trial;
+      EXPECT_EQ(std::bit_cast<uint64_t>(rs), std::bit_cast<uint64_t>(r[lane])) << trial;
+      EXPECT_EQ(std::bit_cast<uint64_t>(as), std::bit_cast<uint64_t>(a[lane])) << trial;
+    }
+    // a crossing of each series on a stretch where it changes sign about its value at the middle
+    const double ta = -0.2, tb = 0.2;
+    double ya0, ya1, yb0, yb1, x;
+    eval3(R0, ta, ya0, x, x);
+    eval3(R0, tb, yb0, x, x);
+    eval3(R1, ta, ya1, x, x);
+    eval3(R1, tb, yb1, x, x);
+    const double y0 = ya0 + (0.2 + 0.6 * (0.5 + 0.5 * uniform())) * (yb0 - ya0);
+    const double y1 = ya1 + (0.2 + 0.6 * (0.5 + 0.5 * uniform())) * (yb1 - ya1);
+    RadiusCrossing c0, c1;
+    c0.start(y0, ta, tb, ya0, yb0);
+    c1.start(y1, tb, ta, yb1, ya1);  // the second in the other direction of travel
+    radius_crossing2(R0, R1, c0, c1);
+    const double s0 = radius_crossing(R0, y0, ta, tb, ya0, yb0), s1 = radius_crossing(R1, y1, tb, ta, yb1, ya1);
+    EXPECT_EQ(std::bit_cast<uint64_t>(s0), std::bit_cast<uint64_t>(c0.t)) << trial;
+    EXPECT_EQ(std::bit_cast<uint64_t>(s1), std::bit_cast<uint64_t>(c1.t)) << trial;
+    // and each is a crossing
+    double v0, v1;
+    eval3(R0, s0, v0, x, x);
+    eval3(R1, s1, v1, x, x);
+    EXPECT_NEAR(v0, y0, 1e-9 * (std::abs(yb0 - ya0) + 1.0)) << trial;
+    EXPECT_NEAR(v1, y1, 1e-9 * (std::abs(yb1 - ya1) + 1.0)) << trial;
+    crossings += 2;
+  }
+  EXPECT_EQ(crossings, 600);
 }
 
 }  // namespace tu_metrics_test_area_error
