@@ -9,9 +9,7 @@ namespace {
 constexpr double kGolden = 0.6180339887498949;
 }  // namespace
 
-double FootTracker::wrap(double u) const {
-  if (!closed_) return std::clamp(u, u0_, u1_);
-  if (u0_ == 0.0 && u > 0.0 && u < u1_) return u;  // what the remainder below gives, without the division
+double FootTracker::wrap_turn(double u) const {
   const double span = u1_ - u0_;
   double v = std::fmod(u - u0_, span);
   if (v < 0) v += span;
@@ -210,59 +208,6 @@ bool FootTracker::model_track(Vec2 p, double guess, double reach, double& u_out)
   return false;
 }
 
-bool FootTracker::bound_within(Vec2 p, double guess, double reach, double limit, double& u_out) {
-  if (!tracking_ || full_ || !model_on_ || !m_.ok || model_off_ > 0) return false;
-  const double gw = wrap(guess);
-  const bool from_last = gw == last_u_;
-  const Vec2 d0 = m_.p0 - p;
-  double sn, ds;
-  if (from_last && pred_left_ > 0) {
-    // the point's parameter predicted from the last estimate along the tangent there: s + (p - p_last) . C' / |C'|^2
-    // (no evaluation on the chain from node to node; its error, of order the curvature times the steps since the
-    // last Newton step, only loosens the bound)
-    ds = dot(p - pred_p_, pred_w_);
-    sn = last_s_ + ds;
-    --pred_left_;
-  } else {
-    // one Newton step on g(s) = (C(s) - p) . C'(s) = 0 from the last foot, on the polynomial (C - p first: nearby
-    // points)
-    const double s = from_last ? last_s_ : offset(gw);
-    if (!(std::abs(s) < m_.h)) return false;
-    const Vec2 q = m_.at(d0, s);
-    const Vec2 c1 = m_.d1(s), c2 = 2.0 * m_.p2 + (6.0 * s) * m_.p3;
-    const double dg = dot(c1, c1) + dot(q, c2);
-    if (!(dg > 0.0)) return false;
-    ds = -dot(q, c1) / dg;
-    sn = s + ds;
-    const Vec2 w = m_.d1(sn);  // C' at the estimate: the predictor's tangent
-    pred_w_ = (1.0 / dot(w, w)) * w;
-    pred_left_ = kPredictSteps;
-  }
-  if (!(std::abs(sn) < m_.h)) {  // the model holds to rounding on the stretch only
-    pred_left_ = 0;
-    return false;
-  }
-  const Vec2 qn = m_.at(d0, sn);
-  const double b2 = dot(qn, qn);
-  // near a parameter where the exact foot matters, the estimate (off by far less than its step) might not do
-  bool near = false;
-  if (!m_.exact.empty()) {
-    const double margin = 4.0 * std::abs(ds) + 64.0 * std::numeric_limits<double>::epsilon() * (std::abs(u0_) + std::abs(u1_));
-    for (double e : m_.exact) near = near || std::abs(sn - e) <= margin;
-  }
-  if (!(b2 <= limit * limit) || near) {
-    pred_left_ = 0;
-    return false;
-  }
-  dist_ = std::sqrt(b2);
-  kappa_ = m_.kappa_max * (dist_ + reach) <= 0.5 ? m_.kappa_max : std::numeric_limits<double>::quiet_NaN();
-  u_out = wrap(m_.uc + sn);
-  last_u_ = u_out;
-  last_s_ = sn;
-  pred_p_ = p;
-  return true;
-}
-
 double FootTracker::find(Vec2 p, double guess, double reach) {
   if (tracking_ && !full_) {
     double u;
@@ -371,70 +316,32 @@ bool DeviationMeter::breaks_between(double ua, double ub) const {
   return it != breaks_.end() && *it < ub;
 }
 
-DeviationMeter::Feet DeviationMeter::piece(const StairPiece& p, double reach) {
-  double u_a = u_, d_a = d_node_, k_a = k_node_;
-  const bool exact_a = node_exact_;
+void DeviationMeter::find_end(Vec2 q, double guess, double reach, double& u, double& d, double& k) {
+  u = ft_.find(q, guess, reach);
+  d = ft_.distance();
+  k = ft_.curvature();
+  consider(d, q);
+}
+
+DeviationMeter::Feet DeviationMeter::piece_rest(const StairPiece& p, double reach, Ends& e, double len) {
   const Vec2 pb = p.b;
-  // The end node: where an upper bound of its distance cannot beat the largest distance so far, that bound (the
-  // node cannot be where the largest is; the bounds below hold with it); otherwise its foot.
-  // the foot of q found from `guess` (its parameter, distance and the curvature there), q considered for the largest
-  auto found = [&](Vec2 q, double guess, double& u, double& d, double& k) {
-    u = ft_.find(q, guess, reach);
-    d = ft_.distance();
-    k = ft_.curvature();
-    consider(d, q);
-  };
-  double u_b, d_b, k_b;
-  bool exact_b = false;
-  if (bounds_on_ && ft_.bound_within(pb, u_a, reach, max_, u_b)) {
-    d_b = ft_.distance();
-    k_b = ft_.curvature();
-    ++bounded_;
-  } else {
-    found(pb, u_a, u_b, d_b, k_b);
-    exact_b = true;
-  }
-  const double len = p.length();
-  // nothing inside the piece can beat (d_a + d_b + len) / 2 (the distance is 1-Lipschitz); nor, where both ends'
-  // feet were tracked in the convex regime with no corner of the path between them, max(d_a, d_b) + len^2 / 8 times
-  // the bound on the distance's second derivative along the piece: kappa / (1 - kappa d) <= 2 kappa from the path's
-  // curvature (taken as twice the larger of the feet's, or the bound over a model's stretch), plus 1 / rho for an arc
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  auto done = [&] {
-    if (every_middle_) return false;
-    if (!(0.5 * (d_a + d_b + len) > max_)) return true;
-    if (std::isfinite(k_a) && std::isfinite(k_b) && !breaks_between(u_a, u_b)) {
-      const double curv = 4.0 * std::max(k_a, k_b) + (p.arc ? 1.0 / p.rho : 0.0);
-      if (std::max(d_a, d_b) + 0.125 * len * len * curv <= max_) return true;
-    }
-    return false;
-  };
-  auto keep_b = [&] {
-    u_ = u_b;
-    d_node_ = d_b;
-    k_node_ = k_b;
-    node_exact_ = exact_b;
-    node_ = pb;
-  };
-  if (done()) {
-    keep_b();
-    return {u_a, nan, u_b};
-  }
   // The middle and the search below judge by the ends' distances themselves: the ends' feet, where bounded, are
   // found, and the tests made again.
-  if (!exact_a || !exact_b) {
-    if (!exact_a) found(node_, u_a, u_a, d_a, k_a);
-    if (!exact_b) {
-      found(pb, u_b, u_b, d_b, k_b);
-      exact_b = true;
+  if (!e.exact_a || !e.exact_b) {
+    if (!e.exact_a) find_end(node_, e.u_a, reach, e.u_a, e.d_a, e.k_a);
+    if (!e.exact_b) {
+      find_end(pb, e.u_b, reach, e.u_b, e.d_b, e.k_b);
+      e.exact_b = true;
     }
-    if (done()) {
-      keep_b();
-      return {u_a, nan, u_b};
+    if (ends_done(p, e, len)) {
+      keep_end(e, pb);
+      return {e.u_a, nan, e.u_b};
     }
   }
-  keep_b();
+  keep_end(e, pb);
   ++middles_;
+  const double u_a = e.u_a, d_a = e.d_a, u_b = e.u_b, d_b = e.d_b;
 
   const Vec2 pm = p.at(0.5);
   const double u_m = ft_.find(pm, u_b, reach);

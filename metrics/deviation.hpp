@@ -21,6 +21,8 @@
 // are found first and the tests made again, so the middle and the search inside the piece judge by the distances
 // themselves. A caller that assigns steps by their feet names the parameters where that assignment changes
 // (set_exact_near); near them the foot is always found.
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <utility>
@@ -94,7 +96,12 @@ class FootTracker {
 
  private:
   FootTracker(const Curve& c, bool);
-  double wrap(double u) const;
+  double wrap(double u) const {
+    if (!closed_) return std::clamp(u, u0_, u1_);
+    if (u0_ == 0.0 && u > 0.0 && u < u1_) return u;  // what the remainder gives, without the division
+    return wrap_turn(u);
+  }
+  double wrap_turn(double u) const;  // u on the turn [u0, u1) of a closed path
   double d2(double u, Vec2 p) const;
   bool newton(Vec2 p, double lo, double hi, double& u, double& d2) const;
   bool track(Vec2 p, double guess, double reach, double& u);
@@ -149,7 +156,7 @@ class DeviationMeter {
   struct Feet {
     double a, m, b;
   };
-  Feet piece(const StairPiece& p, double reach);
+  Feet piece(const StairPiece& p, double reach);  // (inline below: the usual piece is a few dozen operations)
   // The foot parameter of the middle of the piece just fed (for a piece whose middle piece() did not sample).
   double middle_foot(const StairPiece& p, double reach);
 
@@ -171,6 +178,37 @@ class DeviationMeter {
  private:
   void consider(double d, Vec2 p);
   bool breaks_between(double ua, double ub) const;
+  // A piece's ends: their feet, distances (upper bounds where not exact) and the curvature there.
+  struct Ends {
+    double u_a, d_a, k_a;
+    bool exact_a;
+    double u_b = 0, d_b = 0, k_b = 0;
+    bool exact_b = false;
+  };
+  // nothing inside the piece can beat (d_a + d_b + len) / 2 (the distance is 1-Lipschitz); nor, where both ends'
+  // feet were tracked in the convex regime with no corner of the path between them, max(d_a, d_b) + len^2 / 8 times
+  // the bound on the distance's second derivative along the piece: kappa / (1 - kappa d) <= 2 kappa from the path's
+  // curvature (taken as twice the larger of the feet's, or the bound over a model's stretch), plus 1 / rho for an arc
+  bool ends_done(const StairPiece& p, const Ends& e, double len) const {
+    if (every_middle_) return false;
+    if (!(0.5 * (e.d_a + e.d_b + len) > max_)) return true;
+    if (std::isfinite(e.k_a) && std::isfinite(e.k_b) && !breaks_between(e.u_a, e.u_b)) {
+      const double curv = 4.0 * std::max(e.k_a, e.k_b) + (p.arc ? 1.0 / p.rho : 0.0);
+      if (std::max(e.d_a, e.d_b) + 0.125 * len * len * curv <= max_) return true;
+    }
+    return false;
+  }
+  void keep_end(const Ends& e, Vec2 pb) {
+    u_ = e.u_b;
+    d_node_ = e.d_b;
+    k_node_ = e.k_b;
+    node_exact_ = e.exact_b;
+    node_ = pb;
+  }
+  // the foot of q found from `guess` (its parameter, distance and the curvature there), q considered for the largest
+  void find_end(Vec2 q, double guess, double reach, double& u, double& d, double& k);
+  // piece() where the ends' tests do not settle it: the ends' feet, the middle, the search inside
+  Feet piece_rest(const StairPiece& p, double reach, Ends& e, double len);
   const Curve& c_;
   FootTracker ft_;
   std::vector<double> breaks_;
@@ -187,5 +225,78 @@ class DeviationMeter {
   uint64_t refined_ = 0, middles_ = 0;
   bool every_middle_ = false;
 };
+
+inline bool FootTracker::bound_within(Vec2 p, double guess, double reach, double limit, double& u_out) {
+  if (!tracking_ || full_ || !model_on_ || !m_.ok || model_off_ > 0) return false;
+  const double gw = wrap(guess);
+  const bool from_last = gw == last_u_;
+  const Vec2 d0 = m_.p0 - p;
+  double sn, ds;
+  if (from_last && pred_left_ > 0) {
+    // the point's parameter predicted from the last estimate along the tangent there: s + (p - p_last) . C' / |C'|^2
+    // (no evaluation on the chain from node to node; its error, of order the curvature times the steps since the
+    // last Newton step, only loosens the bound)
+    ds = dot(p - pred_p_, pred_w_);
+    sn = last_s_ + ds;
+    --pred_left_;
+  } else {
+    // one Newton step on g(s) = (C(s) - p) . C'(s) = 0 from the last foot, on the polynomial (C - p first: nearby
+    // points)
+    const double s = from_last ? last_s_ : offset(gw);
+    if (!(std::abs(s) < m_.h)) return false;
+    const Vec2 q = m_.at(d0, s);
+    const Vec2 c1 = m_.d1(s), c2 = 2.0 * m_.p2 + (6.0 * s) * m_.p3;
+    const double dg = dot(c1, c1) + dot(q, c2);
+    if (!(dg > 0.0)) return false;
+    ds = -dot(q, c1) / dg;
+    sn = s + ds;
+    const Vec2 w = m_.d1(sn);  // C' at the estimate: the predictor's tangent
+    pred_w_ = (1.0 / dot(w, w)) * w;
+    pred_left_ = kPredictSteps;
+  }
+  if (!(std::abs(sn) < m_.h)) {  // the model holds to rounding on the stretch only
+    pred_left_ = 0;
+    return false;
+  }
+  const Vec2 qn = m_.at(d0, sn);
+  const double b2 = dot(qn, qn);
+  // near a parameter where the exact foot matters, the estimate (off by far less than its step) might not do
+  bool near = false;
+  if (!m_.exact.empty()) {
+    const double margin = 4.0 * std::abs(ds) + 64.0 * std::numeric_limits<double>::epsilon() * (std::abs(u0_) + std::abs(u1_));
+    for (double e : m_.exact) near = near || std::abs(sn - e) <= margin;
+  }
+  if (!(b2 <= limit * limit) || near) {
+    pred_left_ = 0;
+    return false;
+  }
+  dist_ = std::sqrt(b2);
+  kappa_ = m_.kappa_max * (dist_ + reach) <= 0.5 ? m_.kappa_max : std::numeric_limits<double>::quiet_NaN();
+  u_out = wrap(m_.uc + sn);
+  last_u_ = u_out;
+  last_s_ = sn;
+  pred_p_ = p;
+  return true;
+}
+
+inline DeviationMeter::Feet DeviationMeter::piece(const StairPiece& p, double reach) {
+  Ends e{u_, d_node_, k_node_, node_exact_};
+  // The end node: where an upper bound of its distance cannot beat the largest distance so far, that bound (the
+  // node cannot be where the largest is; the bounds below hold with it); otherwise its foot.
+  if (bounds_on_ && ft_.bound_within(p.b, e.u_a, reach, max_, e.u_b)) {
+    e.d_b = ft_.distance();
+    e.k_b = ft_.curvature();
+    ++bounded_;
+  } else {
+    find_end(p.b, e.u_a, reach, e.u_b, e.d_b, e.k_b);
+    e.exact_b = true;
+  }
+  const double len = p.length();
+  if (ends_done(p, e, len)) {
+    keep_end(e, p.b);
+    return {e.u_a, std::numeric_limits<double>::quiet_NaN(), e.u_b};
+  }
+  return piece_rest(p, reach, e, len);
+}
 
 }  // namespace polarcam
