@@ -469,6 +469,11 @@ void StairAreaMeter::add_visit(const Visit& v, double rho, const std::vector<Sub
       if (crossings_.size() == 2) flush_pending();
       return;
     }
+    // fast_visit's sum of one part without a crossing (0 + x is x)
+    const double ha = track_.pieces[b.piece].h_a;
+    const double k = (grid_.geo == sweep::Geometry::polar ? 0.5 * (ha - rho) * (ha + rho) : ha - rho) * grid_.width;
+    add_total(std::abs(b.A1 - b.A0 + k * (b.l1 - b.l0)));
+    return;
   }
   add_total(fast_visit(v, rho, subs));
 }
