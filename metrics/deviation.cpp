@@ -309,13 +309,6 @@ void DeviationMeter::start(Vec2 node, double reach) {
   consider(d_node_, node);
 }
 
-bool DeviationMeter::breaks_between(double ua, double ub) const {
-  if (ua > ub) std::swap(ua, ub);
-  if (closed_ && ub - ua > 0.5 * span_) return true;  // across the seam of a closed path (a corner, perhaps)
-  const auto it = std::upper_bound(breaks_.begin(), breaks_.end(), ua);
-  return it != breaks_.end() && *it < ub;
-}
-
 void DeviationMeter::find_end(Vec2 q, double guess, double reach, double& u, double& d, double& k) {
   u = ft_.find(q, guess, reach);
   d = ft_.distance();

@@ -177,7 +177,13 @@ class DeviationMeter {
 
  private:
   void consider(double d, Vec2 p);
-  bool breaks_between(double ua, double ub) const;
+  bool breaks_between(double ua, double ub) const {
+    if (ua > ub) std::swap(ua, ub);
+    if (closed_ && ub - ua > 0.5 * span_) return true;  // across the seam of a closed path (a corner, perhaps)
+    if (breaks_.empty()) return false;
+    const auto it = std::upper_bound(breaks_.begin(), breaks_.end(), ua);
+    return it != breaks_.end() && *it < ub;
+  }
   // A piece's ends: their feet, distances (upper bounds where not exact) and the curvature there.
   struct Ends {
     double u_a, d_a, k_a;

@@ -1,6 +1,7 @@
 #include "metrics/error_metrics.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <exception>
 #include <stdexcept>
@@ -15,6 +16,8 @@ void ErrorMeters::reset(const Curve& path, const PolarTrack& track, const Grid& 
   track_ = &track;
   grid_ = grid;
   segments_ = std::max(1, segments);
+  seg_first_.clear();
+  seg_lo_ = seg_hi_ = 0.0;  // no segment known yet
   steps_.clear();
   lane_.reset();
   dev_.reset();
@@ -61,21 +64,49 @@ void ErrorMeters::turn(int64_t m, double& c, double& s) {
   s = block_sin_ + (block_cos_ * tab_sin_[k] - block_sin_ * tab_cos_[k]);
 }
 
-Vec2 ErrorMeters::node(double n, double m) {
-  if (!(m == node_m_)) {  // a radial step keeps the angle: its two nodes share one cosine and sine
-    node_m_ = m;
-    turn(static_cast<int64_t>(m), node_cos_, node_sin_);
-  }
-  const double rho = n * grid_.dr;
-  return Vec2{rho * node_cos_, rho * node_sin_};
-}
-
 double ErrorMeters::reach(double n) const { return 3.0 * std::max(grid_.dr, n * grid_.dr * grid_.dtheta) + 1e-12; }
 
-int ErrorMeters::segment_of(double u) const {
+int ErrorMeters::segment_formula(double u) const {
   const double u0 = path_->u_begin(), u1 = path_->u_end();
   const int i = static_cast<int>(std::floor((u - u0) / (u1 - u0) * segments_));
   return std::clamp(i, 0, segments_ - 1);
+}
+
+namespace {
+// doubles in the order of their values as integers (-0 and +0 both 0), and back
+int64_t ordered(double x) {
+  const auto i = std::bit_cast<int64_t>(x);
+  return i >= 0 ? i : std::numeric_limits<int64_t>::min() - i;
+}
+double unordered(int64_t o) {
+  return std::bit_cast<double>(o >= 0 ? o : std::numeric_limits<int64_t>::min() - o);
+}
+}  // namespace
+
+int ErrorMeters::segment_lookup(double u) {
+  if (!(u == u)) return segment_formula(u);
+  if (seg_first_.empty() && segments_ > 1) {
+    // the least double of each segment i >= 1: bisection for the first x with segment_formula(x) >= i, between
+    // the path's ends (the formula is 0 at u0, and at u1 the last segment)
+    const int64_t first = ordered(path_->u_begin()), last = ordered(path_->u_end());
+    for (int i = 1; i < segments_; ++i) {
+      int64_t lo = first, hi = last;  // formula(lo) < i <= formula(hi)
+      while (hi - lo > 1) {
+        const int64_t mid = lo + (hi - lo) / 2;
+        if (segment_formula(unordered(mid)) >= i)
+          hi = mid;
+        else
+          lo = mid;
+      }
+      seg_first_.push_back(unordered(hi));
+    }
+  }
+  // the segment: the number of first parameters at or below u
+  const int s = static_cast<int>(std::upper_bound(seg_first_.begin(), seg_first_.end(), u) - seg_first_.begin());
+  seg_ = s;
+  seg_lo_ = s == 0 ? -std::numeric_limits<double>::infinity() : seg_first_[static_cast<size_t>(s - 1)];
+  seg_hi_ = s + 1 < segments_ ? seg_first_[static_cast<size_t>(s)] : std::numeric_limits<double>::infinity();
+  return s;
 }
 
 void ErrorMeters::start_following(int64_t n0, int64_t m0) {

@@ -70,7 +70,15 @@ class ErrorMeters final : public StepSink {
   void start_following(int64_t n0, int64_t m0);
   void follow_all(const uint8_t* steps, size_t count);
   void area_all(const uint8_t* steps, size_t count);
-  Vec2 node(double n, double m);  // node (n, m) in the machine frame, the cosine and sine of the last angle remembered
+  // node (n, m) in the machine frame, the cosine and sine of the last angle remembered
+  Vec2 node(double n, double m) {
+    if (!(m == node_m_)) {  // a radial step keeps the angle: its two nodes share one cosine and sine
+      node_m_ = m;
+      turn(static_cast<int64_t>(m), node_cos_, node_sin_);
+    }
+    const double rho = n * grid_.dr;
+    return Vec2{rho * node_cos_, rho * node_sin_};
+  }
   double node_m_ = std::numeric_limits<double>::quiet_NaN(), node_cos_ = 0.0, node_sin_ = 0.0;
   // The cosine and sine of m DeltaTheta by the sum formulas, from those of the block of kTurnBlock angular steps
   // that holds m (computed when the block changes, its angle carried in two parts: exact but for the library's
@@ -84,7 +92,18 @@ class ErrorMeters final : public StepSink {
   int64_t block_ = std::numeric_limits<int64_t>::min();
   double block_cos_ = 1.0, block_sin_ = 0.0;
   double reach(double n) const;
-  int segment_of(double u) const;
+  // The segment of a foot parameter: floor((u - u0) / (u1 - u0) * segments), clamped. That is monotone in u, so
+  // the least parameter of each segment (found once by bisection on the doubles) tells it exactly; the last
+  // segment's bounds are kept, and a foot within them (the usual case) costs two comparisons.
+  int segment_formula(double u) const;
+  int segment_of(double u) {
+    if (u >= seg_lo_ && u < seg_hi_) return seg_;
+    return segment_lookup(u);
+  }
+  int segment_lookup(double u);
+  std::vector<double> seg_first_;  // the least parameter of segments 1 .. segments - 1
+  double seg_lo_ = 0.0, seg_hi_ = 0.0;  // the bounds of segment seg_ (empty: none yet)
+  int seg_ = 0;
   double foot_ = std::numeric_limits<double>::quiet_NaN();  // the last step's end's foot, and its segment
   int foot_seg_ = 0;
   std::unique_ptr<DeviationMeter> dev_;
