@@ -84,6 +84,7 @@ void StairAreaMeter::reset(sweep::TrackView track, const StairGrid& grid) {
   bound_ = true;
   grid_ = grid;
   sector_area_series(track_, areas_);
+  pair_[0] = pair_[1] = kNoPiece;  // the pieces' series are new
   arcs_.clear();
   n_ = m_ = 0;
   nr_ = 0;
@@ -487,9 +488,13 @@ void StairAreaMeter::flush_pending() {
     RadiusCrossing c0, c1;
     c0.start(x0.rho - p0.h_a, x0.b.t0, x0.b.t1, x0.b.h0 - p0.h_a, x0.b.h1 - p0.h_a);
     c1.start(x1.rho - p1.h_a, x1.b.t0, x1.b.t1, x1.b.h0 - p1.h_a, x1.b.h1 - p1.h_a);
-    radius_crossing2(*p0.H, *p1.H, c0, c1);
+    if (x0.b.piece != pair_[0] || x1.b.piece != pair_[1]) {
+      prepare_pair(pair_series_, *p0.H, *p1.H, *p0.G, areas_[x0.b.piece], *p1.G, areas_[x1.b.piece]);
+      pair_[0] = x0.b.piece, pair_[1] = x1.b.piece;
+    }
+    radius_crossing2(pair_series_, *p0.H, *p1.H, c0, c1);
     Lane2 g, a;
-    eval_rA2(*p0.G, areas_[x0.b.piece], *p1.G, areas_[x1.b.piece], Lane2{c0.t, c1.t}, g, a);
+    eval_rA2(pair_series_, Lane2{c0.t, c1.t}, g, a);
     part[0] = crossed_part(x0.b, x0.rho, x0.jd, g[0], a[0]);
     part[1] = crossed_part(x1.b, x1.rho, x1.jd, g[1], a[1]);
   } else if (crossings_.size() == 1) {

@@ -29,6 +29,7 @@
 #include "digitizer/digitize.hpp"
 #include "digitizer/grid.hpp"
 #include "digitizer/polar_track.hpp"
+#include "metrics/area_roots.hpp"
 #include "metrics/sector_sweep.hpp"
 #include "metrics/track_area.hpp"
 #include "metrics/track_view.hpp"
@@ -308,6 +309,10 @@ class StairAreaMeter {
     int32_t crossing;  // >= 0: the value is that crossing's part
   };
   std::vector<Pending> pending_;
+  // the pair of pieces whose series pair_series_ holds
+  static constexpr uint32_t kNoPiece = 0xffffffffu;
+  uint32_t pair_[2] = {kNoPiece, kNoPiece};
+  area_roots::PairSeries pair_series_;
   std::vector<Crossing> crossings_;
   StairAreaResult sres_;  // streamed: sectors measured so far
 

@@ -49,48 +49,63 @@ inline void eval_rA(const Cheb& R, const LongCheb& A, double t, double& r, doubl
 // G(t) and Astar(t) in one pass.
 inline void eval_gA(const Cheb& G, const LongCheb& A, double t, double& g, double& a) { eval_rA(G, A, t, g, a); }
 
-// f, f', f'' of two series at two points, on the two lanes of a vector: lane a performs exactly the operations of
-// eval3(c_a, t[a]) in the same order (no fused multiply-add: the build targets the baseline instruction set; the
-// products by 2 and 4 are exact additions), with the coefficients up to the larger degree and zeros above (a
-// leading zero coefficient leaves the recurrences at exact zeros), so each lane's values are bit for bit those of
-// eval3. Two independent chains of dependent multiplies and adds take little more time than one.
-inline void eval3_2(const Cheb& c0, const Cheb& c1, Lane2 t, Lane2& f, Lane2& d1, Lane2& d2) {
+// The series of two pieces side by side, for the two lanes of a vector: H (the radius less its base), and G (the
+// abscissa) and Astar split into their even and odd parts as eval_rA splits them, each lane's coefficients up to
+// the larger degree and zeros above. Prepared once for a pair of pieces (consecutive sectors mostly share theirs),
+// it spares the evaluations below a test and a selection per coefficient.
+struct PairSeries {
+  int n = 0;  // H: the larger degree
+  Lane2 h[kChebMaxDegree + 1];
+  int top = 0;  // G and Astar: eval_rA's top of the two
+  Lane2 ge[kLongChebMaxDegree / 2 + 3], go[kLongChebMaxDegree / 2 + 3], ae[kLongChebMaxDegree / 2 + 3],
+      ao[kLongChebMaxDegree / 2 + 3];
+};
+inline void prepare_pair(PairSeries& s, const Cheb& H0, const Cheb& H1, const Cheb& G0, const LongCheb& A0,
+                         const Cheb& G1, const LongCheb& A1) {
+  auto c = [](const Cheb& f, int k) { return k <= f.deg ? f.c[static_cast<size_t>(k)] : 0.0; };
+  auto l = [](const LongCheb& f, int k) { return k <= f.deg ? f.c[static_cast<size_t>(k)] : 0.0; };
+  s.n = std::max(H0.deg, H1.deg);
+  for (int k = 0; k <= s.n; ++k) s.h[k] = Lane2{c(H0, k), c(H1, k)};
+  s.top = std::max({A0.deg, G0.deg, A1.deg, G1.deg}) / 2 + 1;
+  for (int m = 0; m <= s.top; ++m) {
+    const int ke = 2 * m, ko = 2 * m + 1;
+    s.ge[m] = Lane2{c(G0, ke), c(G1, ke)}, s.go[m] = Lane2{c(G0, ko), c(G1, ko)};
+    s.ae[m] = Lane2{l(A0, ke), l(A1, ke)}, s.ao[m] = Lane2{l(A0, ko), l(A1, ko)};
+  }
+}
+
+// f, f', f'' of the pair's H at two points: lane a performs exactly the operations of eval3(H_a, t[a]) in the same
+// order (no fused multiply-add: the build targets the baseline instruction set; the products by 2 and 4 are exact
+// additions), from the larger degree (a leading zero coefficient leaves the recurrences at exact zeros), so each
+// lane's values are bit for bit those of eval3. Two independent chains of dependent multiplies and adds take little
+// more time than one.
+inline void eval3_2(const PairSeries& s, Lane2 t, Lane2& f, Lane2& d1, Lane2& d2) {
   Lane2 b1 = {0, 0}, b2 = b1, e1 = b1, e2 = b1, h1 = b1, h2 = b1;
   const Lane2 tt = t + t;
-  for (int k = std::max(c0.deg, c1.deg); k >= 1; --k) {
-    const Lane2 ck = {k <= c0.deg ? c0.c[k] : 0.0, k <= c1.deg ? c1.c[k] : 0.0};
-    const Lane2 b0 = (ck - b2) + tt * b1, e0 = ((b1 + b1) - e2) + tt * e1, h0 = (((e1 + e1) + (e1 + e1)) - h2) + tt * h1;
+  for (int k = s.n; k >= 1; --k) {
+    const Lane2 b0 = (s.h[k] - b2) + tt * b1, e0 = ((b1 + b1) - e2) + tt * e1, h0 = (((e1 + e1) + (e1 + e1)) - h2) + tt * h1;
     b2 = b1, b1 = b0, e2 = e1, e1 = e0, h2 = h1, h1 = h0;
   }
-  const Lane2 c00 = {c0.c[0], c1.c[0]};
-  f = (c00 - b2) + t * b1;
+  f = (s.h[0] - b2) + t * b1;
   d1 = (b1 - e2) + t * e1;
   d2 = ((e1 + e1) - h2) + t * h1;
 }
 
-// eval_rA of two pairs of series at two points, on the two lanes of a vector: each lane bit for bit eval_rA's
-// values (the same operations in the same order; the loop runs from the larger top, whose leading zero
-// coefficients leave the recurrences at exact zeros, as eval_rA's own top does).
-inline void eval_rA2(const Cheb& R0, const LongCheb& A0, const Cheb& R1, const LongCheb& A1, Lane2 t, Lane2& r,
-                     Lane2& a) {
+// eval_rA of the pair's G and Astar at two points: each lane bit for bit eval_rA's values (the same operations in
+// the same order; the loop runs from the larger top, whose leading zero coefficients leave the recurrences at
+// exact zeros, as eval_rA's own top does).
+inline void eval_rA2(const PairSeries& s, Lane2 t, Lane2& r, Lane2& a) {
   const Lane2 two = {2.0, 2.0}, one = {1.0, 1.0};
   const Lane2 y = two * t * t - one, yy = two * y;
   Lane2 re1 = {0, 0}, re2 = re1, ro1 = re1, ro2 = re1, ae1 = re1, ae2 = re1, ao1 = re1, ao2 = re1;
-  const int top = std::max({A0.deg, R0.deg, A1.deg, R1.deg}) / 2 + 1;
-  auto rc = [](const Cheb& R, int k) { return k <= R.deg ? R.c[k] : 0.0; };
-  auto ac = [](const LongCheb& A, int k) { return k <= A.deg ? A.c[k] : 0.0; };
-  for (int m = top; m >= 1; --m) {
-    const int ke = 2 * m, ko = 2 * m + 1;
-    const Lane2 rce = {rc(R0, ke), rc(R1, ke)}, rco = {rc(R0, ko), rc(R1, ko)};
-    const Lane2 ace = {ac(A0, ke), ac(A1, ke)}, aco = {ac(A0, ko), ac(A1, ko)};
-    const Lane2 re0 = (rce - re2) + yy * re1, ro0 = (rco - ro2) + yy * ro1;
-    const Lane2 ae0 = (ace - ae2) + yy * ae1, ao0 = (aco - ao2) + yy * ao1;
+  for (int m = s.top; m >= 1; --m) {
+    const Lane2 re0 = (s.ge[m] - re2) + yy * re1, ro0 = (s.go[m] - ro2) + yy * ro1;
+    const Lane2 ae0 = (s.ae[m] - ae2) + yy * ae1, ao0 = (s.ao[m] - ao2) + yy * ao1;
     re2 = re1, re1 = re0, ro2 = ro1, ro1 = ro0, ae2 = ae1, ae1 = ae0, ao2 = ao1, ao1 = ao0;
   }
-  const Lane2 rc0 = {R0.c[0], R1.c[0]}, rc1 = {rc(R0, 1), rc(R1, 1)};
-  const Lane2 ac0 = {A0.c[0], A1.c[0]}, ac1 = {ac(A0, 1), ac(A1, 1)};
-  const Lane2 r_even = (rc0 - re2) + y * re1, r_odd = t * ((rc1 - ro2) + (yy - one) * ro1);
-  const Lane2 a_even = (ac0 - ae2) + y * ae1, a_odd = t * ((ac1 - ao2) + (yy - one) * ao1);
+  // even: c_0 + y b_1 - b_2; odd: t (b_0 - b_1) with b_0 = c_1 + 2y b_1 - b_2
+  const Lane2 r_even = (s.ge[0] - re2) + y * re1, r_odd = t * ((s.go[0] - ro2) + (yy - one) * ro1);
+  const Lane2 a_even = (s.ae[0] - ae2) + y * ae1, a_odd = t * ((s.ao[0] - ao2) + (yy - one) * ao1);
   r = r_even + r_odd;
   a = a_even + a_odd;
 }
@@ -142,13 +157,14 @@ inline double radius_crossing(const Cheb& R, double y, double ta, double tb, dou
   }
 }
 
-// Two crossings side by side (each as radius_crossing's, bit for bit); the one left when the other is done goes on
-// alone.
-inline void radius_crossing2(const Cheb& R0, const Cheb& R1, RadiusCrossing& c0, RadiusCrossing& c1) {
+// Two crossings side by side (each as radius_crossing's, bit for bit), of the pair's H (R0 and R1); the one left
+// when the other is done goes on alone.
+inline void radius_crossing2(const PairSeries& s, const Cheb& R0, const Cheb& R1, RadiusCrossing& c0,
+                             RadiusCrossing& c1) {
   bool done0 = false, done1 = false;
   while (!done0 && !done1) {
     Lane2 v, d, d2;
-    eval3_2(R0, R1, Lane2{c0.t, c1.t}, v, d, d2);
+    eval3_2(s, Lane2{c0.t, c1.t}, v, d, d2);
     done0 = c0.next(v[0], d[0], d2[0]);
     done1 = c1.next(v[1], d[1], d2[1]);
   }

@@ -142,8 +142,10 @@ TEST(AreaError, PairedCrossingsAreBitForBitTheSingleOnes) {
     const double t0 = 0.5 * uniform(), t1 = 0.5 * uniform();
     // eval3 and eval_rA on two lanes
     Lane2 f, d, dd, r, a;
-    eval3_2(R0, R1, Lane2{t0, t1}, f, d, dd);
-    eval_rA2(G0, A0, G1, A1, Lane2{t0, t1}, r, a);
+    PairSeries pair;
+    prepare_pair(pair, R0, R1, G0, A0, G1, A1);
+    eval3_2(pair, Lane2{t0, t1}, f, d, dd);
+    eval_rA2(pair, Lane2{t0, t1}, r, a);
     for (int lane = 0; lane < 2; ++lane) {
       double fs, ds, dds, rs, as;
       eval3(lane ? R1 : R0, lane ? t1 : t0, fs, ds, dds);
@@ -166,7 +168,7 @@ TEST(AreaError, PairedCrossingsAreBitForBitTheSingleOnes) {
     RadiusCrossing c0, c1;
     c0.start(y0, ta, tb, ya0, yb0);
     c1.start(y1, tb, ta, yb1, ya1);  // the second in the other direction of travel
-    radius_crossing2(R0, R1, c0, c1);
+    radius_crossing2(pair, R0, R1, c0, c1);
     const double s0 = radius_crossing(R0, y0, ta, tb, ya0, yb0), s1 = radius_crossing(R1, y1, tb, ta, yb1, ya1);
     EXPECT_EQ(std::bit_cast<uint64_t>(s0), std::bit_cast<uint64_t>(c0.t)) << trial;
     EXPECT_EQ(std::bit_cast<uint64_t>(s1), std::bit_cast<uint64_t>(c1.t)) << trial;
