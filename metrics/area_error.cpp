@@ -150,9 +150,7 @@ void StairAreaMeter::close_visit() {
   open_ = -1;
 }
 
-void StairAreaMeter::add_sub(const Sub& s, int64_t j) {
-  const int8_t sg = s.l1 > s.l0 ? 1 : -1;
-  const double lo = s.h0 < s.h1 ? s.h0 : s.h1, hi = s.h0 < s.h1 ? s.h1 : s.h0;
+void StairAreaMeter::add_sub(const Sub& s, int64_t j, int8_t sg, double lo, double hi) {
   ++subs_out_;
   if (stream_) {
     if (failed_) return;
@@ -211,9 +209,10 @@ void StairAreaMeter::walk_emit(const WalkPt& a, const WalkPt& b) {
   if (a.g == b.g) return;  // no extent in the abscissa (radial, or vertical)
   const int64_t j = static_cast<int64_t>(std::floor(std::min(a.g, b.g)));
   const double jd = static_cast<double>(j);
-  Sub s{static_cast<uint32_t>(walk_.piece), a.t, b.t, std::clamp(a.g - jd, 0.0, 1.0), std::clamp(b.g - jd, 0.0, 1.0),
-        a.h, b.h, a.A, b.A};
-  add_sub(s, j);
+  const double l0 = std::clamp(a.g - jd, 0.0, 1.0), l1 = std::clamp(b.g - jd, 0.0, 1.0);
+  const Sub s{static_cast<uint32_t>(walk_.piece), a.t, b.t, l0, l1, a.h, b.h, a.A, b.A};
+  // the direction and the radial range from the points themselves, not read back from the sub just stored
+  add_sub(s, j, l1 > l0 ? 1 : -1, a.h < b.h ? a.h : b.h, a.h < b.h ? b.h : a.h);
 }
 
 void StairAreaMeter::walk_solve(const Span& s) {

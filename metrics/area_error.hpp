@@ -247,7 +247,7 @@ class StairAreaMeter {
   bool walk_fit(const Span& s);
   void walk_solve(const Span& s);
   void walk_emit(const WalkPt& a, const WalkPt& b);
-  void add_sub(const Sub& s, int64_t j);
+  void add_sub(const Sub& s, int64_t j, int8_t sigma, double hmin, double hmax);  // its direction, radial range
   void close_visit();
   void add_connector(Vec2 a, double ga, Vec2 b, double gb);
   double fast_visit(const Visit& v, double rho, const std::vector<Sub>& subs) const;
