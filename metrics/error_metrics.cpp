@@ -16,8 +16,7 @@ void ErrorMeters::reset(const Curve& path, const PolarTrack& track, const Grid& 
   track_ = &track;
   grid_ = grid;
   segments_ = std::max(1, segments);
-  seg_first_.clear();
-  seg_lo_ = seg_hi_ = 0.0;  // no segment known yet
+  segment_.reset(path.u_begin(), path.u_end(), segments_);
   steps_.clear();
   lane_.reset();
   dev_.reset();
@@ -66,10 +65,18 @@ void ErrorMeters::turn(int64_t m, double& c, double& s) {
 
 double ErrorMeters::reach(double n) const { return 3.0 * std::max(grid_.dr, n * grid_.dr * grid_.dtheta) + 1e-12; }
 
-int ErrorMeters::segment_formula(double u) const {
-  const double u0 = path_->u_begin(), u1 = path_->u_end();
-  const int i = static_cast<int>(std::floor((u - u0) / (u1 - u0) * segments_));
-  return std::clamp(i, 0, segments_ - 1);
+void SegmentIndex::reset(double u0, double u1, int segments) {
+  u0_ = u0;
+  u1_ = u1;
+  n_ = std::max(1, segments);
+  first_.assign(static_cast<size_t>(n_), std::numeric_limits<double>::quiet_NaN());
+  lo_ = hi_ = 0.0;
+}
+
+int SegmentIndex::formula(double u) const {
+  const double x = std::floor((u - u0_) / (u1_ - u0_) * n_);
+  if (!(x > 0.0)) return 0;  // (NaN too)
+  return x >= n_ - 1 ? n_ - 1 : static_cast<int>(x);
 }
 
 namespace {
@@ -78,34 +85,31 @@ int64_t ordered(double x) {
   const auto i = std::bit_cast<int64_t>(x);
   return i >= 0 ? i : std::numeric_limits<int64_t>::min() - i;
 }
-double unordered(int64_t o) {
-  return std::bit_cast<double>(o >= 0 ? o : std::numeric_limits<int64_t>::min() - o);
-}
+double unordered(int64_t o) { return std::bit_cast<double>(o >= 0 ? o : std::numeric_limits<int64_t>::min() - o); }
 }  // namespace
 
-int ErrorMeters::segment_lookup(double u) {
-  if (!(u == u)) return segment_formula(u);
-  if (seg_first_.empty() && segments_ > 1) {
-    // the least double of each segment i >= 1: bisection for the first x with segment_formula(x) >= i, between
-    // the path's ends (the formula is 0 at u0, and at u1 the last segment)
-    const int64_t first = ordered(path_->u_begin()), last = ordered(path_->u_end());
-    for (int i = 1; i < segments_; ++i) {
-      int64_t lo = first, hi = last;  // formula(lo) < i <= formula(hi)
-      while (hi - lo > 1) {
-        const int64_t mid = lo + (hi - lo) / 2;
-        if (segment_formula(unordered(mid)) >= i)
-          hi = mid;
-        else
-          lo = mid;
-      }
-      seg_first_.push_back(unordered(hi));
-    }
+double SegmentIndex::first(int i) {
+  double& f = first_[static_cast<size_t>(i)];
+  if (f == f) return f;
+  // between the path's ends: the formula is 0 at u0 and the last segment at u1
+  int64_t lo = ordered(u0_), hi = ordered(u1_);  // formula(lo) < i <= formula(hi)
+  while (hi - lo > 1) {
+    const int64_t mid = lo + (hi - lo) / 2;
+    if (formula(unordered(mid)) >= i)
+      hi = mid;
+    else
+      lo = mid;
   }
-  // the segment: the number of first parameters at or below u
-  const int s = static_cast<int>(std::upper_bound(seg_first_.begin(), seg_first_.end(), u) - seg_first_.begin());
+  f = unordered(hi);
+  return f;
+}
+
+int SegmentIndex::lookup(double u) {
+  const int s = formula(u);
+  if (!(u == u)) return s;  // (not kept)
   seg_ = s;
-  seg_lo_ = s == 0 ? -std::numeric_limits<double>::infinity() : seg_first_[static_cast<size_t>(s - 1)];
-  seg_hi_ = s + 1 < segments_ ? seg_first_[static_cast<size_t>(s)] : std::numeric_limits<double>::infinity();
+  lo_ = s == 0 ? -std::numeric_limits<double>::infinity() : first(s);
+  hi_ = s + 1 < n_ ? first(s + 1) : std::numeric_limits<double>::infinity();
   return s;
 }
 

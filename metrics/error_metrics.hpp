@@ -34,6 +34,30 @@ struct ErrorMetrics {
   F1Value f_chords;                  // Eq. 4.15 on the same segments
 };
 
+// The segment of a parameter u of a path [u0, u1] cut into n equal segments: floor((u - u0) / (u1 - u0) n),
+// clamped to 0 .. n - 1 (formula()). The formula is monotone in u, so a segment is the interval between the least
+// parameters of it and of the next, found by bisection on the doubles the first time the segment is met. of()
+// keeps the last segment's interval: a parameter within it (the usual case, a foot next to the last one) costs two
+// comparisons instead of a division, and of(u) is formula(u) for every u.
+class SegmentIndex {
+ public:
+  void reset(double u0, double u1, int segments);
+  int formula(double u) const;
+  int of(double u) {
+    if (u >= lo_ && u < hi_) return seg_;
+    return lookup(u);
+  }
+
+ private:
+  int lookup(double u);
+  double first(int i);  // the least double u with formula(u) >= i, 1 <= i < n
+  double u0_ = 0.0, u1_ = 1.0;
+  int n_ = 1;
+  std::vector<double> first_;  // by segment; NaN where not found yet
+  double lo_ = 0.0, hi_ = 0.0;  // the interval of segment seg_ (empty: none yet)
+  int seg_ = 0;
+};
+
 class ErrorMeters final : public StepSink {
  public:
   // path: the tool-centre path in the machine frame, track: its polar track (both must outlive finish()).
@@ -92,18 +116,8 @@ class ErrorMeters final : public StepSink {
   int64_t block_ = std::numeric_limits<int64_t>::min();
   double block_cos_ = 1.0, block_sin_ = 0.0;
   double reach(double n) const;
-  // The segment of a foot parameter: floor((u - u0) / (u1 - u0) * segments), clamped. That is monotone in u, so
-  // the least parameter of each segment (found once by bisection on the doubles) tells it exactly; the last
-  // segment's bounds are kept, and a foot within them (the usual case) costs two comparisons.
-  int segment_formula(double u) const;
-  int segment_of(double u) {
-    if (u >= seg_lo_ && u < seg_hi_) return seg_;
-    return segment_lookup(u);
-  }
-  int segment_lookup(double u);
-  std::vector<double> seg_first_;  // the least parameter of segments 1 .. segments - 1
-  double seg_lo_ = 0.0, seg_hi_ = 0.0;  // the bounds of segment seg_ (empty: none yet)
-  int seg_ = 0;
+  SegmentIndex segment_;  // a foot's segment of F1
+  int segment_of(double u) { return segment_.of(u); }
   double foot_ = std::numeric_limits<double>::quiet_NaN();  // the last step's end's foot, and its segment
   int foot_seg_ = 0;
   std::unique_ptr<DeviationMeter> dev_;

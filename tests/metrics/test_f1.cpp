@@ -3,7 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <numbers>
+#include <utility>
+#include <vector>
 
 #include "tests/area_helpers.hpp"
 #include "cam/curves.hpp"
@@ -255,6 +258,54 @@ TEST(F1, DeviationBoundsSkipOnlyNodesThatCannotBeTheLargest) {
   }
   EXPECT_EQ(bounded[0], 0u);
   EXPECT_GT(bounded[1] * 2, r.steps.size()) << bounded[1] << " of " << r.steps.size();
+}
+
+}  // namespace tu_metrics_test_f1
+
+namespace tu_metrics_test_f1 {
+
+// A foot's segment read from the segments' least parameters and the last segment's interval is the formula's,
+// floor((u - u0) / (u1 - u0) n) clamped, for every parameter: at each boundary, one double either side of it, and
+// at random parameters in a random order (the kept interval moving back and forth), on spans that straddle zero.
+TEST(F1, SegmentOfAFootIsTheFormulasEverywhere) {
+  uint64_t state = 99;
+  auto uniform = [&] {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(state >> 11) * 0x1.0p-53;  // [0, 1)
+  };
+  struct Span {
+    double u0, u1;
+    int n;
+  };
+  for (const Span& sp : {Span{0.0, 2.0 * std::numbers::pi, 100}, Span{-0.2032, 0.2032, 7}, Span{-3.0, -1.0, 1},
+                         Span{0.1, 0.7, 1000}, Span{-1e-3, 5.0, 33}}) {
+    SegmentIndex idx;
+    idx.reset(sp.u0, sp.u1, sp.n);
+    auto expected = [&](double u) {  // the formula, written out here
+      const double x = std::floor((u - sp.u0) / (sp.u1 - sp.u0) * sp.n);
+      return x <= 0.0 ? 0 : (x >= sp.n - 1 ? sp.n - 1 : static_cast<int>(x));
+    };
+    std::vector<double> us = {sp.u0, sp.u1, sp.u0 - 1.0, sp.u1 + 1.0, 0.0, -0.0};
+    for (int i = 1; i < sp.n; ++i) {  // about each nominal boundary, and one double either side of its exact one
+      const double b = sp.u0 + (sp.u1 - sp.u0) * i / sp.n;
+      double lo = std::nextafter(b, -INFINITY), hi = b;
+      for (int k = 0; k < 8; ++k) lo = std::nextafter(lo, -INFINITY), hi = std::nextafter(hi, INFINITY);
+      for (double u = lo; u <= hi; u = std::nextafter(u, INFINITY)) us.push_back(u);
+    }
+    for (int k = 0; k < 2000; ++k) us.push_back(sp.u0 + (sp.u1 - sp.u0) * (1.2 * uniform() - 0.1));
+    for (size_t k = us.size(); k > 1; --k) std::swap(us[k - 1], us[static_cast<size_t>(uniform() * k)]);
+    int changes = 0, last = -1;
+    for (double u : us) {
+      const int got = idx.of(u);
+      EXPECT_EQ(got, expected(u)) << "u = " << u << " on [" << sp.u0 << ", " << sp.u1 << "] / " << sp.n;
+      EXPECT_EQ(got, idx.formula(u));
+      changes += got != last;
+      last = got;
+    }
+    if (sp.n > 1) {
+      EXPECT_GT(changes, 100);  // the kept interval was left and found again many times
+    }
+  }
 }
 
 }  // namespace tu_metrics_test_f1
