@@ -423,32 +423,36 @@ void StairAreaMeter::add_connector(Vec2 a, double ga, Vec2 b, double gb) {
   }
 }
 
+double StairAreaMeter::level_factor(double ha, double rho) const {
+  return (grid_.geo == sweep::Geometry::polar ? 0.5 * (ha - rho) * (ha + rho) : ha - rho) * grid_.width;
+}
+
+void StairAreaMeter::start_crossing(const Sub& b, double rho, RadiusCrossing& c) const {
+  const double ha = track_.pieces[b.piece].h_a;
+  c.start(rho - ha, b.t0, b.t1, b.h0 - ha, b.h1 - ha);
+}
+
+double StairAreaMeter::sub_part(const Sub& b, double rho, double jd) const {
+  if (!((b.h0 - rho) * (b.h1 - rho) < 0.0))
+    return std::abs(b.A1 - b.A0 + level_factor(track_.pieces[b.piece].h_a, rho) * (b.l1 - b.l0));
+  const sweep::PieceView& p = track_.pieces[b.piece];
+  RadiusCrossing c;
+  start_crossing(b, rho, c);
+  run_crossing(*p.H, c);
+  double g, a;
+  eval_gA(*p.G, areas_[b.piece], c.t, g, a);
+  return crossed_part(b, rho, jd, g, a);
+}
+
 double StairAreaMeter::fast_visit(const Visit& v, double rho, const std::vector<Sub>& subs) const {
   double s = 0.0;
-  const auto& P = track_.pieces;
-  const bool polar = grid_.geo == sweep::Geometry::polar;
-  for (uint32_t i = v.first; i < v.first + v.count; ++i) {
-    const Sub& b = subs[i];
-    const sweep::PieceView& p = P[b.piece];
-    const double ha = p.h_a;
-    // the integral of the staircase's level minus the piece's base, per unit of lambda
-    const double k = (polar ? 0.5 * (ha - rho) * (ha + rho) : ha - rho) * grid_.width;
-    if ((b.h0 - rho) * (b.h1 - rho) < 0.0) {
-      const double t = radius_crossing(*p.H, rho - ha, b.t0, b.t1, b.h0 - ha, b.h1 - ha);
-      double g, a;
-      eval_gA(*p.G, areas_[b.piece], t, g, a);
-      s += crossed_part(b, rho, static_cast<double>(v.j), g, a);
-    } else {
-      s += std::abs(b.A1 - b.A0 + k * (b.l1 - b.l0));
-    }
-  }
+  for (uint32_t i = v.first; i < v.first + v.count; ++i) s += sub_part(subs[i], rho, static_cast<double>(v.j));
   return s;
 }
 
 double StairAreaMeter::crossed_part(const Sub& b, double rho, double jd, double g, double a) const {
   const sweep::PieceView& p = track_.pieces[b.piece];
-  const double ha = p.h_a;
-  const double k = (grid_.geo == sweep::Geometry::polar ? 0.5 * (ha - rho) * (ha + rho) : ha - rho) * grid_.width;
+  const double k = level_factor(p.h_a, rho);
   const double l = (p.g_a + g + shift_) / grid_.width - jd;
   return std::abs(a - b.A0 + k * (l - b.l0)) + std::abs(b.A1 - a + k * (b.l1 - l));
 }
@@ -469,10 +473,7 @@ void StairAreaMeter::add_visit(const Visit& v, double rho, const std::vector<Sub
       if (crossings_.size() == 2) flush_pending();
       return;
     }
-    // fast_visit's sum of one part without a crossing (0 + x is x)
-    const double ha = track_.pieces[b.piece].h_a;
-    const double k = (grid_.geo == sweep::Geometry::polar ? 0.5 * (ha - rho) * (ha + rho) : ha - rho) * grid_.width;
-    add_total(std::abs(b.A1 - b.A0 + k * (b.l1 - b.l0)));
+    add_total(sub_part(b, rho, static_cast<double>(v.j)));  // (fast_visit's 0 + the one part: the part itself)
     return;
   }
   add_total(fast_visit(v, rho, subs));
@@ -485,8 +486,8 @@ void StairAreaMeter::flush_pending() {
     const Crossing &x0 = crossings_[0], &x1 = crossings_[1];
     const sweep::PieceView &p0 = P[x0.b.piece], &p1 = P[x1.b.piece];
     RadiusCrossing c0, c1;
-    c0.start(x0.rho - p0.h_a, x0.b.t0, x0.b.t1, x0.b.h0 - p0.h_a, x0.b.h1 - p0.h_a);
-    c1.start(x1.rho - p1.h_a, x1.b.t0, x1.b.t1, x1.b.h0 - p1.h_a, x1.b.h1 - p1.h_a);
+    start_crossing(x0.b, x0.rho, c0);
+    start_crossing(x1.b, x1.rho, c1);
     if (x0.b.piece != pair_[0] || x1.b.piece != pair_[1]) {
       prepare_pair(pair_series_, *p0.H, *p1.H, *p0.G, areas_[x0.b.piece], *p1.G, areas_[x1.b.piece]);
       pair_[0] = x0.b.piece, pair_[1] = x1.b.piece;
@@ -497,13 +498,7 @@ void StairAreaMeter::flush_pending() {
     part[0] = crossed_part(x0.b, x0.rho, x0.jd, g[0], a[0]);
     part[1] = crossed_part(x1.b, x1.rho, x1.jd, g[1], a[1]);
   } else if (crossings_.size() == 1) {
-    const Crossing& x = crossings_[0];
-    const sweep::PieceView& p = P[x.b.piece];
-    const double ha = p.h_a;
-    const double t = radius_crossing(*p.H, x.rho - ha, x.b.t0, x.b.t1, x.b.h0 - ha, x.b.h1 - ha);
-    double g, a;
-    eval_gA(*p.G, areas_[x.b.piece], t, g, a);
-    part[0] = crossed_part(x.b, x.rho, x.jd, g, a);
+    part[0] = sub_part(crossings_[0].b, crossings_[0].rho, crossings_[0].jd);
   }
   for (const Pending& e : pending_) total_.add(e.crossing >= 0 ? part[e.crossing] : e.value);
   pending_.clear();

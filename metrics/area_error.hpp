@@ -251,6 +251,11 @@ class StairAreaMeter {
   void close_visit();
   void add_connector(Vec2 a, double ga, Vec2 b, double gb);
   double fast_visit(const Visit& v, double rho, const std::vector<Sub>& subs) const;
+  // the integral of the staircase's level rho minus a piece's base ha, per unit of lambda
+  double level_factor(double ha, double rho) const;
+  // a sub's part against the level rho (split where the path crosses it), and the start of the crossing's search
+  double sub_part(const Sub& b, double rho, double jd) const;
+  void start_crossing(const Sub& b, double rho, area_roots::RadiusCrossing& c) const;
   // A visit's part of the area, in the order of the sectors: a visit of one sub that crosses its level waits for a
   // second, and the two crossings are found side by side (radius_crossing2); the values wait with them, so the sum
   // takes them in the same order (the same bytes as fast_visit one by one).
@@ -309,11 +314,11 @@ class StairAreaMeter {
     int32_t crossing;  // >= 0: the value is that crossing's part
   };
   std::vector<Pending> pending_;
+  std::vector<Crossing> crossings_;
   // the pair of pieces whose series pair_series_ holds
   static constexpr uint32_t kNoPiece = 0xffffffffu;
   uint32_t pair_[2] = {kNoPiece, kNoPiece};
   area_roots::PairSeries pair_series_;
-  std::vector<Crossing> crossings_;
   StairAreaResult sres_;  // streamed: sectors measured so far
 
   // streamed mode

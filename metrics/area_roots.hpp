@@ -147,14 +147,20 @@ struct RadiusCrossing {
   }
 };
 
-inline double radius_crossing(const Cheb& R, double y, double ta, double tb, double ya, double yb) {
-  RadiusCrossing c;
-  c.start(y, ta, tb, ya, yb);
+// The search from its state to its end, on one series (c.t is then the crossing).
+inline void run_crossing(const Cheb& R, RadiusCrossing& c) {
   for (;;) {
     double v, d, d2;
     eval3(R, c.t, v, d, d2);
-    if (c.next(v, d, d2)) return c.t;
+    if (c.next(v, d, d2)) return;
   }
+}
+
+inline double radius_crossing(const Cheb& R, double y, double ta, double tb, double ya, double yb) {
+  RadiusCrossing c;
+  c.start(y, ta, tb, ya, yb);
+  run_crossing(R, c);
+  return c.t;
 }
 
 // Two crossings side by side (each as radius_crossing's, bit for bit), of the pair's H (R0 and R1); the one left
@@ -168,14 +174,8 @@ inline void radius_crossing2(const PairSeries& s, const Cheb& R0, const Cheb& R1
     done0 = c0.next(v[0], d[0], d2[0]);
     done1 = c1.next(v[1], d[1], d2[1]);
   }
-  RadiusCrossing& c = done0 ? c1 : c0;
-  const Cheb& R = done0 ? R1 : R0;
-  if (done0 && done1) return;
-  for (;;) {
-    double v, d, d2;
-    eval3(R, c.t, v, d, d2);
-    if (c.next(v, d, d2)) return;
-  }
+  if (!done0) run_crossing(R0, c0);
+  if (!done1) run_crossing(R1, c1);
 }
 
 // Root of f(t) = y in [lo, hi] where f - y changes sign (flo = f(lo) - y), Newton from `guess` safeguarded by
