@@ -83,7 +83,8 @@ inline void eval3_2(const PairSeries& s, Lane2 t, Lane2& f, Lane2& d1, Lane2& d2
   Lane2 b1 = {0, 0}, b2 = b1, e1 = b1, e2 = b1, h1 = b1, h2 = b1;
   const Lane2 tt = t + t;
   for (int k = s.n; k >= 1; --k) {
-    const Lane2 b0 = (s.h[k] - b2) + tt * b1, e0 = ((b1 + b1) - e2) + tt * e1, h0 = (((e1 + e1) + (e1 + e1)) - h2) + tt * h1;
+    const Lane2 b0 = (s.h[k] - b2) + tt * b1, e0 = ((b1 + b1) - e2) + tt * e1;
+    const Lane2 h0 = (((e1 + e1) + (e1 + e1)) - h2) + tt * h1;
     b2 = b1, b1 = b0, e2 = e1, e1 = e0, h2 = h1, h1 = h0;
   }
   f = (s.h[0] - b2) + t * b1;

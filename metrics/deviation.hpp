@@ -16,11 +16,11 @@
 //
 // Where the foot tracker runs on its local model (below), a node is not searched for its foot when a point of the
 // model near it (predicted along the tangent from the last node's, with a Newton step every few nodes) is no
-// farther from it than the largest distance so far: any point of the path bounds the distance from above, so the node cannot be where the
-// largest is, and the bound serves the tests of its pieces. Where a piece's middle must be sampled, its ends' feet
-// are found first and the tests made again, so the middle and the search inside the piece judge by the distances
-// themselves. A caller that assigns steps by their feet names the parameters where that assignment changes
-// (set_exact_near); near them the foot is always found.
+// farther from it than the largest distance so far: any point of the path bounds the distance from above, so the
+// node cannot be where the largest is, and the bound serves the tests of its pieces. Where a piece's middle must be
+// sampled, its ends' feet are found first and the tests made again, so the middle and the search inside the piece
+// judge by the distances themselves. A caller that assigns steps by their feet names the parameters where that
+// assignment changes (set_exact_near); near them the foot is always found.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -80,10 +80,11 @@ class FootTracker {
   double curvature() const { return kappa_; }
   // An upper bound of p's distance to the curve, where the local model is tracking and the bound is at most
   // `limit`: the distance from p to the model's point predicted along the tangent from the last one, or one Newton
-  // step from it every kPredictSteps calls (any point of the curve bounds the distance from above). True, with u that point's parameter and distance() the bound, curvature() a
-  // bound of the curvature over the model's whole stretch (NaN where it does not keep the convex regime); false,
-  // with nothing changed, where the model is not tracking, the point leaves the stretch, the bound exceeds the
-  // limit, or the point lies near a parameter where the exact foot matters (set_exact_near).
+  // step from it every kPredictSteps calls (any point of the curve bounds the distance from above). True, with u
+  // that point's parameter and distance() the bound, curvature() a bound of the curvature over the model's whole
+  // stretch (NaN where it does not keep the convex regime); false, with nothing changed, where the model is not
+  // tracking, the point leaves the stretch, the bound exceeds the limit, or the point lies near a parameter where the
+  // exact foot matters (set_exact_near).
   bool bound_within(Vec2 p, double guess, double reach, double limit, double& u);
   // Parameters near which bound_within() declines (the bounds of a caller's segments of the path, where an
   // estimated foot might fall on the wrong side).
@@ -269,7 +270,8 @@ inline bool FootTracker::bound_within(Vec2 p, double guess, double reach, double
   // near a parameter where the exact foot matters, the estimate (off by far less than its step) might not do
   bool near = false;
   if (!m_.exact.empty()) {
-    const double margin = 4.0 * std::abs(ds) + 64.0 * std::numeric_limits<double>::epsilon() * (std::abs(u0_) + std::abs(u1_));
+    const double margin =
+        4.0 * std::abs(ds) + 64.0 * std::numeric_limits<double>::epsilon() * (std::abs(u0_) + std::abs(u1_));
     for (double e : m_.exact) near = near || std::abs(sn - e) <= margin;
   }
   if (!(b2 <= limit * limit) || near) {

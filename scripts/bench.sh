@@ -6,8 +6,8 @@
 # cmake --build build --target polarcam polarcam_bench_digitize polarcam_bench_area_error).
 # Rates are per CPU-second and times are CPU seconds (user + system), so a loaded machine disturbs them less than
 # wall time (but the figure named *_wall_*, of two threads: wall seconds); each figure is the best of five runs
-# (the error: three; the report, the front and the map: one), the run least disturbed by other work. On a shared machine figures of unchanged code have moved by up to a third: re-run
-# before concluding.
+# (the error: three; the report, the front and the map: one), the run least disturbed by other work. On a shared
+# machine figures of unchanged code have moved by up to a third: re-run before concluding.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 

@@ -225,9 +225,10 @@ TEST(F1, DeviationBoundsSkipOnlyNodesThatCannotBeTheLargest) {
       {"witch's middle, a grid 50 times finer", placed(make_witch(0.2159, -0.05, 0.05), 0.1546, 1.236),
        coarse_grid(0.000508e-3, 800000)},
   };
+  std::vector<AreaRun> runs;
   for (const auto& c : cases) {
     const Grid& g = c.grid;
-    AreaRun r = area_run(*c.path, g, StepRule::nearest);
+    const AreaRun& r = runs.emplace_back(area_run(*c.path, g, StepRule::nearest));
     ErrorMetrics m[2];
     for (int bounds = 0; bounds < 2; ++bounds) {
       ErrorMeters em;
@@ -240,7 +241,8 @@ TEST(F1, DeviationBoundsSkipOnlyNodesThatCannotBeTheLargest) {
     EXPECT_NEAR(m[1].deviation_max_m, m[0].deviation_max_m, 1e-9 * m[0].deviation_max_m) << c.name;
     const Vec2 a = m[0].deviation_at, b = m[1].deviation_at;
     const bool same = std::abs(a.x - b.x) < 1e-12 && std::abs(a.y - b.y) < 1e-12;
-    const bool mirror = std::abs(std::abs(a.x) - std::abs(b.x)) < 1e-3 * g.dr && std::abs(std::abs(a.y) - std::abs(b.y)) < 1e-3 * g.dr;
+    const bool mirror = std::abs(std::abs(a.x) - std::abs(b.x)) < 1e-3 * g.dr &&
+                        std::abs(std::abs(a.y) - std::abs(b.y)) < 1e-3 * g.dr;
     EXPECT_TRUE(same || mirror) << c.name << ": (" << a.x << ", " << a.y << ") and (" << b.x << ", " << b.y << ")";
     EXPECT_EQ(m[1].f_counts.F_sum, m[0].f_counts.F_sum) << c.name;
     EXPECT_EQ(m[1].f_counts.F_dif, m[0].f_counts.F_dif) << c.name;
@@ -248,7 +250,7 @@ TEST(F1, DeviationBoundsSkipOnlyNodesThatCannotBeTheLargest) {
   }
   // the bounds are taken: most nodes of the finer witch are bounded, none with the bounds off
   const Grid& g = cases[1].grid;
-  AreaRun r = area_run(*cases[1].path, g, StepRule::nearest);
+  const AreaRun& r = runs[1];
   uint64_t bounded[2];
   for (int bounds = 0; bounds < 2; ++bounds) {
     DeviationMeter dm(*cases[1].path);
