@@ -255,6 +255,42 @@ void check_on_grid_impl(const Track& tr, double c, const Grid& grid, double shif
   check_radius(tr, c, grid, shift);
 }
 
+// How the track's coordinates meet the grid's steps, on the angular branch `shift`.
+template <class Track>
+WalkGrid walk_grid(const Track& tr, double c, const Grid& grid, StepRule rule, double shift) {
+  WalkGrid wg;
+  wg.res[0] = grid.dr;
+  wg.res[1] = grid.dtheta;
+  wg.offset[0] = c * shift;  // the radial motor turns with the arm's whole-turn shift
+  wg.offset[1] = shift;
+  wg.h = rule == StepRule::nearest ? 0.5 : 1.0;
+  // a closed path ends at its start advanced by whole turns; with a whole number of steps per turn its end value
+  // in angular steps is exact
+  if (tr.closed() && grid.steps_per_rev > 0)
+    wg.last_end[1] = (first_piece(tr).q_a[1] + shift) / grid.dtheta +
+                     static_cast<double>(tr.winding()) * static_cast<double>(grid.steps_per_rev);
+  return wg;
+}
+
+// The node a tape of the track starts on: the quantisers' value at the path's start; with the thesis rule on a
+// closed path the node they hold after one lap, so that the tape is periodic.
+template <class Track>
+void start_nodes(const Track& tr, double c, const Grid& grid, StepRule rule, const WalkGrid& wg, int64_t node[2]) {
+  const TrackPiece& first = first_piece(tr);
+  const double f0[2] = {(first.q_a[0] + wg.offset[0]) / grid.dr, (first.q_a[1] + wg.offset[1]) / grid.dtheta};
+  for (int a = 0; a < 2; ++a)
+    node[a] = static_cast<int64_t>(rule == StepRule::nearest ? std::floor(f0[a] + 0.5) : std::floor(f0[a]));
+  if (rule == StepRule::thesis && tr.closed()) {
+    // the radial motor of a coupled arm ends 2 pi c per turn away from its start
+    const bool radial_closes = c == 0.0 || tr.winding() == 0;
+    int64_t lap[2] = {node[0], node[1]};
+    walk_all<false, DigitizerStyle>(tr, wg, lap, [](int, int, double) {});
+    if (radial_closes) node[0] = lap[0];
+    if (grid.steps_per_rev > 0 || tr.winding() == 0)
+      node[1] = lap[1] - static_cast<int64_t>(tr.winding()) * grid.steps_per_rev;
+  }
+}
+
 // The walk of digitize_arm and digitize_arm_from: `from` null starts on the track's own start node.
 template <class Track>
 DigitizeResult walk_track(const Track& tr, double c, const Grid& grid, StepRule rule, const SpeedProfile& profile,
@@ -277,32 +313,14 @@ DigitizeResult walk_track(const Track& tr, double c, const Grid& grid, StepRule 
                        " Hz, beyond the tape's 1 ns tick (at most 1e9 steps per second): lower the speed at least " +
                        significant(ax->max_rate_hz / 1e9 * 1.001, 3) + " times");
 
-  WalkGrid wg;
-  wg.res[0] = grid.dr;
-  wg.res[1] = grid.dtheta;
-  wg.offset[0] = c * shift;  // the radial motor turns with the arm's whole-turn shift
-  wg.offset[1] = shift;
-  wg.h = rule == StepRule::nearest ? 0.5 : 1.0;
-  const TrackPiece& first = first_piece(tr);
-  const double f0[2] = {(first.q_a[0] + wg.offset[0]) / grid.dr, (first.q_a[1] + shift) / grid.dtheta};
-  // a closed path ends at its start advanced by whole turns; with a whole number of steps per turn its end value
-  // in angular steps is exact. The radial motor of a coupled arm ends 2 pi c per turn away from its start.
+  const WalkGrid wg = walk_grid(tr, c, grid, rule, shift);
   const bool radial_closes = c == 0.0 || tr.winding() == 0;
-  if (tr.closed() && grid.steps_per_rev > 0)
-    wg.last_end[1] = f0[1] + static_cast<double>(tr.winding()) * static_cast<double>(grid.steps_per_rev);
   int64_t node[2];
-  for (int a = 0; a < 2; ++a)
-    node[a] = static_cast<int64_t>(rule == StepRule::nearest ? std::floor(f0[a] + 0.5) : std::floor(f0[a]));
   if (from) {
     node[0] = from[0];
     node[1] = from[1];
-  } else if (rule == StepRule::thesis && tr.closed()) {
-    // start from the node the quantiser holds after one lap, so the tape is periodic
-    int64_t lap[2] = {node[0], node[1]};
-    walk_all<false, DigitizerStyle>(tr, wg, lap, [](int, int, double) {});
-    if (radial_closes) node[0] = lap[0];
-    if (grid.steps_per_rev > 0 || tr.winding() == 0)
-      node[1] = lap[1] - static_cast<int64_t>(tr.winding()) * grid.steps_per_rev;
+  } else {
+    start_nodes(tr, c, grid, rule, wg, node);
   }
   res.start_n = node[0];
   res.start_m = node[1];
@@ -358,6 +376,13 @@ DigitizeResult digitize_arm_from(const AxisTrack& tr, double c, const Grid& grid
 DigitizeResult digitize(const PolarTrack& tr, const Grid& grid, StepRule rule, const SpeedProfile& profile,
                         StepSink* sink) {
   return digitize_arm(tr, 0.0, grid, rule, profile, sink);
+}
+
+std::array<int64_t, 2> start_node(const PolarTrack& tr, const Grid& grid, StepRule rule) {
+  const double shift = place_on_grid_impl(tr, 0.0, grid);
+  std::array<int64_t, 2> node{};
+  start_nodes(tr, 0.0, grid, rule, walk_grid(tr, 0.0, grid, rule, shift), node.data());
+  return node;
 }
 
 }  // namespace polarcam

@@ -16,6 +16,7 @@
 // the nearest nanosecond from the start (never accumulated interval by interval, so there is no drift).
 // Simultaneous steps are two events with equal times; when two steps fall at the same point the radial one
 // comes first.
+#include <array>
 #include <cstdint>
 
 #include "digitizer/grid.hpp"
@@ -84,6 +85,10 @@ struct DigitizeResult {
 // Digitizes the track. `sink` may be null (counting and timing only).
 DigitizeResult digitize(const PolarTrack& track, const Grid& grid, StepRule rule, const SpeedProfile& profile,
                         StepSink* sink);
+// The node (radial n, angular m) digitize() starts the tape of this track on (its start_n, start_m), found without
+// walking the track (but the thesis rule's lap on a closed path). Throws InputError as digitize() does where the
+// path leaves the work area.
+std::array<int64_t, 2> start_node(const PolarTrack& track, const Grid& grid, StepRule rule);
 // Digitizes the track of an arm with radial coupling c (m/rad) as above; digitize() of a polar track is c = 0.
 DigitizeResult digitize_arm(const AxisTrack& track, double c, const Grid& grid, StepRule rule,
                             const SpeedProfile& profile, StepSink* sink);

@@ -103,6 +103,7 @@ void StairAreaMeter::reset(sweep::TrackView track, const StairGrid& grid) {
   peak_slots_ = 0;
   walk_.done = true;
   open_ = -1;
+  imp_.on = imp_.failed = imp_.walked = false;
 }
 
 uint32_t StairAreaMeter::key(int64_t j) const {
@@ -286,6 +287,120 @@ bool StairAreaMeter::walk_fit(const Span& s) {
       w.buf.push_back({t, static_cast<double>(walk_level(q + e)), p.h_a + (hb + r[1][e]), ab + r[2][e]});
     }
   }
+  if (imp_.on) {
+    // the radius at the half levels from the same fit, eight at a time on four vectors
+    const Lane2* ch = c[1];
+    const int nh = f[1].deg;
+    imply_levels(s, [&](const double* L, size_t cnt, double* out) {
+      auto& z = imp_.z;
+      z.resize(cnt + 8);
+      for (size_t i = 0; i < cnt; ++i) z[i] = std::clamp((L[i] * frame_.width - base_y - yc) * ik, -1.0, 1.0);
+      for (size_t i = cnt; i < cnt + 8; ++i) z[i] = 0.0;
+      for (size_t j = 0; j < cnt; j += 8) {
+        Lane2 zz[4], t2[4], b1[4], b2[4];
+        for (int v = 0; v < 4; ++v) {
+          zz[v] = Lane2{z[j + 2 * v], z[j + 2 * v + 1]};
+          t2[v] = zz[v] + zz[v];
+          b1[v] = b2[v] = Lane2{0.0, 0.0};
+        }
+        for (int i = nh; i >= 1; --i)
+          for (int v = 0; v < 4; ++v) {
+            const Lane2 b0 = (ch[i] - b2[v]) + t2[v] * b1[v];
+            b2[v] = b1[v];
+            b1[v] = b0;
+          }
+        for (int v = 0; v < 4; ++v) {
+          const Lane2 r = (ch[0] - b2[v]) + zz[v] * b1[v];
+          for (int e = 0; e < 2; ++e)
+            if (j + 2 * v + e < cnt) out[j + 2 * v + e] = p.h_a + (hb + r[e]);
+        }
+      }
+    });
+  }
+  return true;
+}
+
+// ---- the nearest staircase without the digitizer (imply_nearest)
+
+bool StairAreaMeter::near_level(double f) const {
+  const double u = f + 0.5, d = u - std::floor(u);
+  const double m = imp_.margin + 1e-13 * std::abs(f);
+  return !(d >= m && 1.0 - d >= m);
+}
+
+template <class HAt>
+void StairAreaMeter::imply_levels(const Span& s, HAt&& h_at) {
+  auto& L = imp_.L;
+  L.clear();
+  if (walk_.dir > 0) {
+    for (double l = std::floor(s.ga + 0.5) + 0.5; l <= s.gb; l += 1.0) L.push_back(l);
+  } else if (walk_.dir < 0) {
+    for (double l = std::floor(s.ga - 0.5) + 0.5; l > s.gb; l -= 1.0) L.push_back(l);
+  }
+  if (L.empty()) return;
+  imp_.h.resize(L.size());
+  h_at(L.data(), L.size(), imp_.h.data());
+  for (size_t i = 0; i < L.size(); ++i) imply_arc(imp_.h[i]);
+}
+
+void StairAreaMeter::imply_solve(const Span& s) {
+  const sweep::PieceView& p = track_.pieces[walk_.piece];
+  imply_levels(s, [&](const double* L, size_t cnt, double* out) {
+    double lo = s.ta, glo = s.ga;
+    for (size_t i = 0; i < cnt; ++i) {
+      const double y = L[i] * frame_.width - frame_.shift - p.g_a;
+      const double guess = lo + (L[i] - glo) / (s.gb - glo) * (s.tb - lo);
+      const double t = solve_level(*p.G, y, lo, s.tb, (glo - L[i]) * frame_.width, guess);
+      out[i] = p.h_a + (*p.H)(t);
+      lo = t;
+      glo = L[i];
+    }
+  });
+}
+
+void StairAreaMeter::imply_arc(double h) {
+  const double f = h / grid_.height;
+  if (near_level(f)) imp_.failed = true;
+  const int64_t n = static_cast<int64_t>(std::floor(f + 0.5));
+  // recorded as run() records a step: the node before it, relative to the start
+  arcs_.push_back({n - imp_.h0, m_, -1, static_cast<int8_t>(walk_.dir)});
+  m_ += walk_.dir;
+  ++nrun_;
+}
+
+void StairAreaMeter::imply_point(const WalkPt& p) {
+  const double f = p.h / grid_.height;
+  if (near_level(p.g) || near_level(f)) imp_.failed = true;
+  const int64_t n = static_cast<int64_t>(std::floor(f + 0.5));
+  nr_ += static_cast<uint64_t>(n > imp_.n ? n - imp_.n : imp_.n - n);
+  imp_.n = n;
+  n_ = n - imp_.h0;
+  if (static_cast<int64_t>(std::floor(p.g + 0.5)) != imp_.g0 + m_) imp_.failed = true;
+}
+
+bool StairAreaMeter::imply_nearest(int64_t h0, int64_t g0, double margin) {
+  if (!bound_) throw std::logic_error("StairAreaMeter::imply_nearest before reset");
+  if (stream_ || !arcs_.empty() || nr_ != 0 || nrun_ != 0)
+    throw std::logic_error("StairAreaMeter::imply_nearest after steps were recorded");
+  set_shift(g0);
+  prepare_recorded();
+  imp_.on = true;
+  imp_.failed = imp_.walked = false;
+  imp_.margin = margin;
+  imp_.h0 = imp_.n = h0;
+  imp_.g0 = g0;
+  walk_start();
+  if (nr_ != 0) imp_.failed = true;  // the path's start is not on the start node
+  while (walk_next()) {
+  }
+  imp_.on = false;
+  if (imp_.failed) {
+    arcs_.clear();
+    n_ = m_ = 0;
+    nr_ = nrun_ = 0;
+    return false;
+  }
+  imp_.walked = true;
   return true;
 }
 
@@ -301,7 +416,10 @@ void StairAreaMeter::walk_refill() {
     const Span s = w.spans.back();
     w.spans.pop_back();
     const int64_t n = s.j1 - s.j0;
-    if (n <= 0) continue;
+    if (n <= 0) {
+      if (imp_.on) imply_solve(s);
+      continue;
+    }
     if (n >= kMinFit) {
       if (n <= kMaxFit && walk_fit(s)) break;
       const double tm = 0.5 * (s.ta + s.tb);
@@ -318,6 +436,7 @@ void StairAreaMeter::walk_refill() {
       }
     }
     walk_solve(s);
+    if (imp_.on) imply_solve(s);
   }
   if (w.buf.empty()) throw std::logic_error("internal error: the area walk lost the edges of a segment");
 }
@@ -358,6 +477,7 @@ void StairAreaMeter::walk_piece_start() {
   w.tol[1] = 8.0 * eps * sh;
   w.tol[2] = 16.0 * eps * sa + std::numeric_limits<double>::min();
   w.cur = walk_at(-1.0);
+  if (imp_.on) imply_point(w.cur);
   walk_segment_start();
 }
 
@@ -377,6 +497,15 @@ bool StairAreaMeter::walk_next() {
     w.cur = lv;
     ++w.q;
     return true;
+  }
+  if (imp_.on) {
+    // the stretches left hold no edge, at most a half level each
+    while (!w.spans.empty()) {
+      const Span s = w.spans.back();
+      w.spans.pop_back();
+      imply_solve(s);
+    }
+    imply_point(w.nxt);
   }
   walk_emit(w.cur, w.nxt);
   w.cur = w.nxt;
@@ -866,17 +995,11 @@ StairAreaResult StairAreaMeter::finish(int64_t n0, int64_t m0) {
     return res;
   }
 
-  set_range();
+  // the contour's visits were made already where imply_nearest() made the staircase
+  const bool walked = imp_.walked;
+  imp_.walked = false;
+  if (!walked) prepare_recorded();
   const size_t nk = static_cast<size_t>(nkeys_);
-  arc_head_.assign(nk, -1);
-  visit_head_.assign(nk, -1);
-  extra_head_.assign(nk, -1);
-  forced_.assign(nk, 0);
-  visits_.clear();
-  subs_.clear();
-  extra_.clear();
-  extra_next_.clear();
-  open_ = -1;
 
   // the staircase's level strands, by sector
   for (size_t i = 0; i < arcs_.size(); ++i) {
@@ -893,8 +1016,10 @@ StairAreaResult StairAreaMeter::finish(int64_t n0, int64_t m0) {
     arc_head_[k] = static_cast<int32_t>(i);
   }
 
-  walk_start();
-  while (walk_next()) {
+  if (!walked) {
+    walk_start();
+    while (walk_next()) {
+    }
   }
   connect();
 
@@ -923,6 +1048,20 @@ StairAreaResult StairAreaMeter::finish(int64_t n0, int64_t m0) {
   n_ = m_ = 0;
   nr_ = nrun_ = 0;
   return res;
+}
+
+void StairAreaMeter::prepare_recorded() {
+  set_range();
+  const size_t nk = static_cast<size_t>(nkeys_);
+  arc_head_.assign(nk, -1);
+  visit_head_.assign(nk, -1);
+  extra_head_.assign(nk, -1);
+  forced_.assign(nk, 0);
+  visits_.clear();
+  subs_.clear();
+  extra_.clear();
+  extra_next_.clear();
+  open_ = -1;
 }
 
 void PolarAreaMeter::reset(const PolarTrack& track, const Grid& grid) {

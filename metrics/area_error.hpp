@@ -95,6 +95,16 @@ class StairAreaMeter {
   // Testing: compute every sector with the general sweep.
   void set_force_general(bool on) { force_general_ = on; }
 
+  // Instead of steps: the staircase the digitizer makes of the track with the nearest rule from node (h0, g0) (its
+  // start node), read off the walk of the contour (docs/area-error.md, "The nearest staircase without the
+  // digitizer"): each angular step is the crossing of a half level of the abscissa, and the radial node there is
+  // the nearest one to the path. Call after reset(), with no step recorded; then finish(h0, g0) measures it as
+  // if its steps had been recorded. False where a decision lies within `margin` grid units (plus rounding) of a
+  // level, so that the digitizer might take it the other way: nothing is recorded then (reset() and record the
+  // digitizer's steps).
+  bool imply_nearest(int64_t h0, int64_t g0, double margin = kImplyMargin);
+  static constexpr double kImplyMargin = 1e-7;
+
  private:
   struct ArcRec {
     int64_t n, m;  // node before the step, relative to the start; later absolute n and sector j
@@ -247,6 +257,15 @@ class StairAreaMeter {
   bool walk_fit(const Span& s);
   void walk_solve(const Span& s);
   void walk_emit(const WalkPt& a, const WalkPt& b);
+  // imply_nearest: the half levels of the abscissa a stretch crosses, in travel order (ga < L <= gb going up,
+  // gb < L <= ga going down), each an angular step at the radial node nearest the path there (imply_arc); h_at
+  // gives the radius at a batch of them (imply_levels)
+  template <class HAt>
+  void imply_levels(const Span& s, HAt&& h_at);
+  void imply_solve(const Span& s);  // the same, each crossing solved by Newton's method on the abscissa's series
+  void imply_arc(double h);  // the angular step at a half level, the radius there h
+  void imply_point(const WalkPt& p);  // a segment's end: its radial steps, and the margins of its values
+  bool near_level(double f) const;    // f within the margin of a half level
   void add_sub(const Sub& s, int64_t j, int8_t sigma, double hmin, double hmax);  // its direction, radial range
   void close_visit();
   void add_connector(Vec2 a, double ga, Vec2 b, double gb);
@@ -320,6 +339,16 @@ class StairAreaMeter {
   uint32_t pair_[2] = {kNoPiece, kNoPiece};
   area_roots::PairSeries pair_series_;
   StairAreaResult sres_;  // streamed: sectors measured so far
+  // imply_nearest: on while its walk runs; failed when a decision was too near a level; walked when finish() finds
+  // the walk done (visits and level strands); n the radial node at the last point; the margin in grid units
+  struct Implied {
+    bool on = false, failed = false, walked = false;
+    int64_t n = 0, h0 = 0, g0 = 0;
+    double margin = 0.0;
+    std::vector<double> L, z, h;  // a stretch's half levels, their z, their radii
+  };
+  Implied imp_;
+  void prepare_recorded();  // finish()'s state for the recorded mode (range, heads, lists)
 
   // streamed mode
   bool stream_ = false, failed_ = false;
@@ -381,6 +410,9 @@ class PolarAreaMeter final : public StairStepMeter {
   // Streams (StairAreaMeter::begin): the staircase starts on node (n0, m0). Named apart from StepSink::begin,
   // which the digitizer calls on every sink: a meter streams only when its owner asks it to.
   void stream_from(int64_t n0, int64_t m0) { core_.begin(n0, m0); }
+  // StairAreaMeter::imply_nearest: the nearest rule's staircase from the start node (n0, m0) (start_node()), made
+  // from the track; then finish(n0, m0). False: nothing recorded; reset() and digitize into the meter.
+  bool imply_nearest(int64_t n0, int64_t m0) { return core_.imply_nearest(n0, m0); }
   bool streamed() const { return core_.streamed(); }
   size_t peak_window() const { return core_.peak_window(); }
 

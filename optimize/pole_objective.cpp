@@ -215,9 +215,21 @@ PoleValue PoleEvaluator::run(Vec2 pole, bool want_area, bool want_value, bool on
   }
   if (want_area) {
     meter_.reset(tr, unlimited_);
-    auto prof = make_constant_speed(1.0, tr.length());  // step times do not matter here
-    const DigitizeResult d = digitize(tr, unlimited_, p_.rule, *prof, &meter_);
-    const AreaErrorResult a = meter_.finish(d.start_n, d.start_m);
+    AreaErrorResult a;
+    bool implied = false;
+    if (p_.rule == StepRule::nearest) {
+      // the nearest rule's staircase read off the meter's own walk of the path, where every decision is clear of
+      // the levels (the same staircase as the digitizer's); the digitizer otherwise
+      const std::array<int64_t, 2> n0 = start_node(tr, unlimited_, p_.rule);
+      implied = meter_.imply_nearest(n0[0], n0[1]);
+      if (implied) a = meter_.finish(n0[0], n0[1]);
+    }
+    if (!implied) {
+      meter_.reset(tr, unlimited_);
+      auto prof = make_constant_speed(1.0, tr.length());  // step times do not matter here
+      const DigitizeResult d = digitize(tr, unlimited_, p_.rule, *prof, &meter_);
+      a = meter_.finish(d.start_n, d.start_m);
+    }
     out.area_m2 = a.area_m2;
     out.steps = a.rise_steps + a.run_steps;
   }

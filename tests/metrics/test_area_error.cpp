@@ -184,3 +184,88 @@ TEST(AreaError, PairedCrossingsAreBitForBitTheSingleOnes) {
 }
 
 }  // namespace tu_metrics_test_area_error
+
+namespace tu_metrics_test_area_error {
+
+// The nearest rule's staircase read off the meter's walk of the path (imply_nearest) is the digitizer's: for every
+// contour and random pole where the walk accepts its decisions, the area error, the step counts and the sectors are
+// the same bytes as those of the digitizer's steps recorded into the meter. The walk must accept nearly every case
+// (a refusal costs a digitizing), and refuse, leaving the meter reusable, when its margin is made absurd.
+TEST(AreaError, ImpliedNearestStaircaseIsTheDigitizers) {
+  uint64_t seed = 0x2545F4914F6CDD1Dull;
+  auto uniform = [&] {
+    seed = seed * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<double>(seed >> 11) * 0x1.0p-53;
+  };
+  struct Shape {
+    const char* name;
+    CurvePtr curve;
+    double reach;  // poles within this distance of the contour's pole (m)
+  };
+  const std::vector<Shape> shapes = {
+      {"witch", make_witch(0.2159, -0.2032, 0.2032), 0.25},
+      {"limacon", make_limacon(0.0508, 0.0762), 0.08},
+      {"serpentine", make_serpentine(0.0127, 0.0762, -0.0762, 0.0762), 0.08},
+      {"circle", make_circle({0.01, 0.0}, 0.0508), 0.12},
+      {"spiral", make_spiral(0.002, 0.004, 0.5, 14.0), 0.06},
+      {"line", make_line({-0.03, 0.02}, {0.05, 0.03}), 0.05},
+  };
+  const Grid grids[] = {coarse_grid(0.0254e-3, 16000), coarse_grid(0.00254e-3, 160000), coarse_grid(1e-3, 720)};
+  int compared = 0, refused = 0;
+  PolarAreaMeter implied;
+  for (const Shape& sh : shapes) {
+    for (const Grid& g : grids) {
+      for (int k = 0; k < 6; ++k) {
+        const double C = sh.reach * uniform(), beta = 2.0 * kPi * uniform();
+        auto path = placed(sh.curve, C, beta);
+        AreaRun ref;
+        try {
+          ref = area_run(*path, g, StepRule::nearest);
+        } catch (const InputError&) {
+          continue;  // the path runs through the pole, or too near it
+        }
+        const std::array<int64_t, 2> n0 = start_node(ref.track, g, StepRule::nearest);
+        ASSERT_EQ(n0[0], ref.dig.start_n) << sh.name;
+        ASSERT_EQ(n0[1], ref.dig.start_m) << sh.name;
+        implied.reset(ref.track, g);
+        if (!implied.imply_nearest(n0[0], n0[1])) {
+          ++refused;
+          continue;
+        }
+        const AreaErrorResult a = implied.finish(n0[0], n0[1]);
+        ++compared;
+        const std::string what = std::string(sh.name) + " C " + std::to_string(C) + " beta " + std::to_string(beta) +
+                                 " dr " + std::to_string(g.dr);
+        EXPECT_EQ(std::bit_cast<uint64_t>(a.area_m2), std::bit_cast<uint64_t>(ref.area.area_m2))
+            << what << ": " << a.area_m2 << " vs " << ref.area.area_m2;
+        EXPECT_EQ(a.rise_steps, ref.area.rise_steps) << what;
+        EXPECT_EQ(a.run_steps, ref.area.run_steps) << what;
+        EXPECT_EQ(a.sectors, ref.area.sectors) << what;
+        EXPECT_EQ(a.general_sectors, ref.area.general_sectors) << what;
+      }
+    }
+  }
+  RecordProperty("compared", compared);
+  RecordProperty("refused", refused);
+  EXPECT_GE(compared, 80);
+  EXPECT_LE(refused * 20, compared) << refused << " refused";
+
+  // a margin of almost half a step: nearly every decision is "near", so the walk refuses; the meter then measures
+  // the digitizer's steps as usual
+  auto path = placed(make_witch(0.2159, -0.2032, 0.2032), 0.1546, 1.236);
+  const Grid g = coarse_grid(0.0254e-3, 16000);
+  const AreaRun ref = area_run(*path, g, StepRule::nearest);
+  StairAreaMeter core;
+  const auto n0 = start_node(ref.track, g, StepRule::nearest);
+  core.reset(sweep::view_of(ref.track), StairGrid{sweep::Geometry::polar, g.dtheta, g.dr, g.steps_per_rev});
+  EXPECT_FALSE(core.imply_nearest(n0[0], n0[1], 0.49));
+  implied.reset(ref.track, g);
+  for (const auto& s : ref.steps) implied.record(s.axis, s.dir);
+  EXPECT_EQ(std::bit_cast<uint64_t>(implied.finish(n0[0], n0[1]).area_m2),
+            std::bit_cast<uint64_t>(ref.area.area_m2));
+  core.reset(sweep::view_of(ref.track), StairGrid{sweep::Geometry::polar, g.dtheta, g.dr, g.steps_per_rev});
+  ASSERT_TRUE(core.imply_nearest(n0[0], n0[1]));
+  EXPECT_EQ(std::bit_cast<uint64_t>(core.finish(n0[0], n0[1]).area_m2), std::bit_cast<uint64_t>(ref.area.area_m2));
+}
+
+}  // namespace tu_metrics_test_area_error
