@@ -103,7 +103,8 @@ void StairAreaMeter::reset(sweep::TrackView track, const StairGrid& grid) {
   peak_slots_ = 0;
   walk_.done = true;
   open_ = -1;
-  imp_.on = imp_.failed = imp_.walked = false;
+  imp_.on = imp_.failed = imp_.walked = imp_.dense = false;
+  imp_.part.clear();
 }
 
 uint32_t StairAreaMeter::key(int64_t j) const {
@@ -176,6 +177,10 @@ void StairAreaMeter::add_sub(const Sub& s, int64_t j, int8_t sg, double lo, doub
     open_ = static_cast<int>(sl->visits.size());
     sl->visits.push_back(Visit{j, static_cast<uint32_t>(sl->subs.size()), 1, -1, sg, false, lo, hi});
     sl->subs.push_back(s);
+    return;
+  }
+  if (imp_.dense) {
+    dense_sub(s, j, sg, lo, hi);
     return;
   }
   if (open_ >= 0) {
@@ -362,8 +367,12 @@ void StairAreaMeter::imply_arc(double h) {
   const double f = h / grid_.height;
   if (near_level(f)) imp_.failed = true;
   const int64_t n = static_cast<int64_t>(std::floor(f + 0.5));
-  // recorded as run() records a step: the node before it, relative to the start
-  arcs_.push_back({n - imp_.h0, m_, -1, static_cast<int8_t>(walk_.dir)});
+  // recorded as run() records a step: the node before it, relative to the start (dense: waiting for its sector's
+  // visit, the sector floor(level) = the node before the step going up, the node after it going down)
+  if (imp_.dense)
+    imp_.arcs.push_back({n - imp_.h0, m_, imp_.g0 + m_ - (walk_.dir > 0 ? 0 : 1), static_cast<int8_t>(walk_.dir)});
+  else
+    arcs_.push_back({n - imp_.h0, m_, -1, static_cast<int8_t>(walk_.dir)});
   m_ += walk_.dir;
   ++nrun_;
 }
@@ -389,12 +398,27 @@ bool StairAreaMeter::imply_nearest(int64_t h0, int64_t g0, double margin) {
   imp_.margin = margin;
   imp_.h0 = imp_.n = h0;
   imp_.g0 = g0;
+  imp_.dir = force_general_ ? 0 : path_direction();
+  imp_.dense = imp_.dir != 0;
+  imp_.arcs.clear();
+  imp_.head = 0;
+  imp_.open = false;
+  dense_crossings_.clear();
+  if (imp_.dense) imp_.part.assign(static_cast<size_t>(nkeys_), std::numeric_limits<double>::quiet_NaN());
   walk_start();
   if (nr_ != 0) imp_.failed = true;  // the path's start is not on the start node
   while (walk_next()) {
   }
+  if (imp_.dense) {
+    dense_close();
+    dense_flush();
+    // every level strand has met its sector's visit
+    if (imp_.head != imp_.arcs.size()) imp_.failed = true;
+  }
   imp_.on = false;
+  imp_.dense = false;
   if (imp_.failed) {
+    imp_.part.clear();
     arcs_.clear();
     n_ = m_ = 0;
     nr_ = nrun_ = 0;
@@ -609,29 +633,32 @@ void StairAreaMeter::add_visit(const Visit& v, double rho, const std::vector<Sub
 }
 
 void StairAreaMeter::flush_pending() {
-  const auto& P = track_.pieces;
   double part[2] = {0.0, 0.0};
   if (crossings_.size() == 2) {
-    const Crossing &x0 = crossings_[0], &x1 = crossings_[1];
-    const sweep::PieceView &p0 = P[x0.b.piece], &p1 = P[x1.b.piece];
-    RadiusCrossing c0, c1;
-    start_crossing(x0.b, x0.rho, c0);
-    start_crossing(x1.b, x1.rho, c1);
-    if (x0.b.piece != pair_[0] || x1.b.piece != pair_[1]) {
-      prepare_pair(pair_series_, *p0.H, *p1.H, *p0.G, areas_[x0.b.piece], *p1.G, areas_[x1.b.piece]);
-      pair_[0] = x0.b.piece, pair_[1] = x1.b.piece;
-    }
-    radius_crossing2(pair_series_, *p0.H, *p1.H, c0, c1);
-    Lane2 g, a;
-    eval_rA2(pair_series_, Lane2{c0.t, c1.t}, g, a);
-    part[0] = crossed_part(x0.b, x0.rho, x0.jd, g[0], a[0]);
-    part[1] = crossed_part(x1.b, x1.rho, x1.jd, g[1], a[1]);
+    crossing_pair(crossings_[0], crossings_[1], part);
   } else if (crossings_.size() == 1) {
     part[0] = sub_part(crossings_[0].b, crossings_[0].rho, crossings_[0].jd);
   }
   for (const Pending& e : pending_) total_.add(e.crossing >= 0 ? part[e.crossing] : e.value);
   pending_.clear();
   crossings_.clear();
+}
+
+void StairAreaMeter::crossing_pair(const Crossing& x0, const Crossing& x1, double part[2]) {
+  const auto& P = track_.pieces;
+  const sweep::PieceView &p0 = P[x0.b.piece], &p1 = P[x1.b.piece];
+  RadiusCrossing c0, c1;
+  start_crossing(x0.b, x0.rho, c0);
+  start_crossing(x1.b, x1.rho, c1);
+  if (x0.b.piece != pair_[0] || x1.b.piece != pair_[1]) {
+    prepare_pair(pair_series_, *p0.H, *p1.H, *p0.G, areas_[x0.b.piece], *p1.G, areas_[x1.b.piece]);
+    pair_[0] = x0.b.piece, pair_[1] = x1.b.piece;
+  }
+  radius_crossing2(pair_series_, *p0.H, *p1.H, c0, c1);
+  Lane2 g, a;
+  eval_rA2(pair_series_, Lane2{c0.t, c1.t}, g, a);
+  part[0] = crossed_part(x0.b, x0.rho, x0.jd, g[0], a[0]);
+  part[1] = crossed_part(x1.b, x1.rho, x1.jd, g[1], a[1]);
 }
 
 bool StairAreaMeter::one_pass(const Visit& v, const ArcRec& a, const std::vector<Sub>& subs) {
@@ -1029,7 +1056,16 @@ StairAreaResult StairAreaMeter::finish(int64_t n0, int64_t m0) {
   crossings_.clear();
   SectorIn& in = sector_in_;
   in.subs = &subs_;
+  const bool dense = !imp_.part.empty();
   for (size_t k = 0; k < nk; ++k) {
+    if (dense && !std::isnan(imp_.part[k])) {
+      // measured by the walk (imply_nearest): the sector's only visit and level strand
+      if (visit_head_[k] >= 0 || arc_head_[k] >= 0 || extra_head_[k] >= 0)
+        throw std::logic_error("internal error: a sector measured by the walk has other strands");
+      ++res.sectors;
+      add_total(imp_.part[k]);
+      continue;
+    }
     if (visit_head_[k] < 0 && arc_head_[k] < 0 && extra_head_[k] < 0) continue;
     in.vs.clear();
     in.as.clear();
@@ -1041,6 +1077,7 @@ StairAreaResult StairAreaMeter::finish(int64_t n0, int64_t m0) {
     add_sector(in, res);
   }
   flush_pending();
+  imp_.part.clear();
   res.area_m2 = total_.value();
   if (!std::isfinite(res.area_m2)) throw std::logic_error("internal error: the area error is not finite");
   // the recorded steps are now absolute; the meter must be reset before it is used again
@@ -1048,6 +1085,110 @@ StairAreaResult StairAreaMeter::finish(int64_t n0, int64_t m0) {
   n_ = m_ = 0;
   nr_ = nrun_ = 0;
   return res;
+}
+
+int StairAreaMeter::path_direction() const {
+  // the angle at every segment's ends: each segment must move it the same way, and the path must not cover a sector
+  // twice (a closed path once round the pole covers its start's sector twice, partly each time: not a full visit)
+  const auto& P = track_.pieces;
+  const auto& E = *track_.extrema;
+  if (P.empty()) return 0;
+  int dir = 0;
+  for (const sweep::PieceView& p : P) {
+    double prev = p.g_a;
+    for (uint32_t k = p.ext_begin; k <= p.ext_end; ++k) {
+      const double g = k < p.ext_end ? p.g_a + (*p.G)(E[k]) : p.g_b;
+      const int d = g > prev ? 1 : (g < prev ? -1 : 0);
+      if (d == 0 || (dir != 0 && d != dir)) return 0;
+      dir = d;
+      prev = g;
+    }
+  }
+  const double w = grid_.width, span = std::abs(P.back().g_b - P.front().g_a) / w;
+  const int64_t N = grid_.steps_per_rev;
+  if (N > 0 && !(span <= static_cast<double>(N) - 2.0)) {
+    const double g0 = (P.front().g_a + shift_) / w, d = g0 - std::floor(g0);
+    if (!(track_.closed && std::abs(track_.winding) == 1 && d > 1e-6 && d < 1.0 - 1e-6 &&
+          span <= static_cast<double>(N) + 1e-6))
+      return 0;
+  }
+  return dir;
+}
+
+void StairAreaMeter::dense_sub(const Sub& s, int64_t j, int8_t sg, double lo, double hi) {
+  Implied& im = imp_;
+  if (im.open && im.j == j) {
+    if (im.sigma != sg) im.sigma = 0;
+    if (lo < im.hmin) im.hmin = lo;
+    if (hi > im.hmax) im.hmax = hi;
+    im.subs.push_back(s);
+    return;
+  }
+  dense_close();
+  im.open = true;
+  im.j = j;
+  im.sigma = sg;
+  im.hmin = lo;
+  im.hmax = hi;
+  im.subs.clear();
+  im.subs.push_back(s);
+}
+
+void StairAreaMeter::dense_close() {
+  Implied& im = imp_;
+  if (!im.open) return;
+  im.open = false;
+  // this sector's level strands: at the front of the queue (the strands of the sectors before were taken by their
+  // visits; a strand of a sector behind this one would mean the walk and the strands disagree)
+  size_t a0 = im.head, a1 = a0;
+  while (a1 < im.arcs.size() && im.arcs[a1].j == im.j) ++a1;
+  if (a1 == a0 && a0 < im.arcs.size() && (im.arcs[a0].j - im.j) * im.dir < 0) im.failed = true;
+  im.head = a1;
+  const Sub& a = im.subs.front();
+  const Sub& b = im.subs.back();
+  const bool full = im.sigma != 0 && ((a.l0 == 0.0 && b.l1 == 1.0) || (a.l0 == 1.0 && b.l1 == 0.0));
+  if (full && a1 - a0 == 1 && im.arcs[a0].dir == im.sigma) {
+    // the sector's only visit and only level strand: add_sector's one_pass, measured now
+    const double rho = static_cast<double>(im.arcs[a0].n + im.h0) * grid_.height;
+    const double jd = static_cast<double>(im.j);
+    const uint32_t k = key(im.j);
+    if (im.subs.size() == 1) {
+      if ((a.h0 - rho) * (a.h1 - rho) < 0.0)
+        dense_crossing(a, rho, jd, k);
+      else
+        im.part[k] = sub_part(a, rho, jd);
+    } else {
+      double sum = 0.0;
+      for (const Sub& x : im.subs) sum += sub_part(x, rho, jd);
+      im.part[k] = sum;
+    }
+    return;
+  }
+  // anything else goes to the lists, as add_sub and run() would have put it
+  open_ = static_cast<int>(visits_.size());
+  visits_.push_back(Visit{im.j, static_cast<uint32_t>(subs_.size()), static_cast<uint32_t>(im.subs.size()), -1,
+                          im.sigma, false, im.hmin, im.hmax});
+  subs_.insert(subs_.end(), im.subs.begin(), im.subs.end());
+  close_visit();
+  for (size_t i = a0; i < a1; ++i) arcs_.push_back({im.arcs[i].n, im.arcs[i].m, -1, im.arcs[i].dir});
+}
+
+void StairAreaMeter::dense_crossing(const Sub& b, double rho, double jd, uint32_t k) {
+  dense_crossings_.push_back({b, rho, jd, k});
+  if (dense_crossings_.size() == 2) dense_flush();
+}
+
+void StairAreaMeter::dense_flush() {
+  if (dense_crossings_.size() == 2) {
+    double part[2];
+    crossing_pair(dense_crossings_[0], dense_crossings_[1], part);
+    imp_.part[dense_crossings_[0].key] = part[0];
+    imp_.part[dense_crossings_[1].key] = part[1];
+  } else if (dense_crossings_.size() == 1) {
+    const Crossing& x = dense_crossings_[0];
+    imp_.part[x.key] = sub_part(x.b, x.rho, x.jd);
+  }
+  dense_crossings_.clear();
 }
 
 void StairAreaMeter::prepare_recorded() {

@@ -327,7 +327,9 @@ class StairAreaMeter {
   struct Crossing {
     Sub b;
     double rho, jd;
+    uint32_t key = 0;  // dense_crossing: the sector's key
   };
+  std::vector<Crossing> dense_crossings_;
   struct Pending {
     double value;
     int32_t crossing;  // >= 0: the value is that crossing's part
@@ -346,8 +348,34 @@ class StairAreaMeter {
     int64_t n = 0, h0 = 0, g0 = 0;
     double margin = 0.0;
     std::vector<double> L, z, h;  // a stretch's half levels, their z, their radii
+    // dense: the path's angle is monotone and no sector is visited twice, so a sector's one full visit and its one
+    // level strand are measured as the walk leaves it (dense_close), not listed for finish()
+    bool dense = false;
+    int dir = 0;  // the path's direction in angle
+    struct Arc {
+      int64_t n, m, j;  // the node before the step (relative to the start, as run() records it), the sector
+      int8_t dir;
+    };
+    std::vector<Arc> arcs;  // level strands waiting for their sector's visit, from `head` on
+    size_t head = 0;
+    bool open = false;  // the visit being gathered
+    int64_t j = 0;
+    int8_t sigma = 0;
+    double hmin = 0, hmax = 0;
+    std::vector<Sub> subs;
+    std::vector<double> part;  // by key: the dense sectors' parts (NaN: none)
   };
   Implied imp_;
+  struct Crossing;
+  // imply_nearest's test for the dense walk: the path's direction in angle, 0 where it turns back or may visit a
+  // sector twice
+  int path_direction() const;
+  void dense_sub(const Sub& s, int64_t j, int8_t sigma, double lo, double hi);
+  void dense_close();
+  void dense_crossing(const Sub& b, double rho, double jd, uint32_t k);
+  void dense_flush();
+  // the parts of two crossings found side by side (flush_pending, dense_crossing)
+  void crossing_pair(const Crossing& x0, const Crossing& x1, double part[2]);
   void prepare_recorded();  // finish()'s state for the recorded mode (range, heads, lists)
 
   // streamed mode
