@@ -30,6 +30,14 @@ const std::array<double, kMaxSamples + 1>& chebyshev_nodes(int M) {
 
 void cheb_sign_changes(const Cheb& d, std::vector<double>& out) {
   if (d.deg == 0 || d.max_abs() == 0.0) return;  // a constant has no sign change (theta-rho segments: every piece)
+  {
+    // |d - c_0| <= sum_{k >= 1} |c_k| on [-1, 1]: where c_0 outweighs it with room for the rounding of an
+    // evaluation, d keeps the sign of c_0 everywhere, and every sample and search below would find it so
+    double tail = 0.0, sum = std::abs(d.c[0]);
+    for (int k = 1; k <= d.deg; ++k) tail += std::abs(d.c[k]);
+    sum += tail;
+    if (std::abs(d.c[0]) - tail > 16.0 * (d.deg + 1) * std::numeric_limits<double>::epsilon() * sum) return;
+  }
   // a degree-d series has at most d - 1 turning points: sample it four times as densely
   const int M = std::min(kMaxSamples, std::max(8, 4 * d.deg));
   const std::array<double, kMaxSamples + 1>& t = chebyshev_nodes(M);
