@@ -217,8 +217,32 @@ void StairAreaMeter::walk_emit(const WalkPt& a, const WalkPt& b) {
   const double jd = static_cast<double>(j);
   const double l0 = std::clamp(a.g - jd, 0.0, 1.0), l1 = std::clamp(b.g - jd, 0.0, 1.0);
   const Sub s{static_cast<uint32_t>(walk_.piece), a.t, b.t, l0, l1, a.h, b.h, a.A, b.A};
+  const int8_t sg = l1 > l0 ? 1 : -1;
+  if (imp_.dense && std::abs(l1 - l0) == 1.0 && dense_full(s, j, sg)) return;
   // the direction and the radial range from the points themselves, not read back from the sub just stored
-  add_sub(s, j, l1 > l0 ? 1 : -1, a.h < b.h ? a.h : b.h, a.h < b.h ? b.h : a.h);
+  add_sub(s, j, sg, a.h < b.h ? a.h : b.h, a.h < b.h ? b.h : a.h);
+}
+
+bool StairAreaMeter::dense_full(const Sub& s, int64_t j, int8_t sg) {
+  // a sub from one edge of its sector to the other on a path monotone in angle is the whole of the sector's visit
+  // (the sub before it ended on this sector's first edge, in the sector before, whose visit is closed here): with
+  // the sector's one level strand at the front of the queue, in its direction, it is measured at once, as
+  // dense_close would; otherwise it opens a visit as any sub
+  Implied& im = imp_;
+  dense_close();  // the visit before, in another sector
+  const size_t a0 = im.head;
+  if (!(a0 < im.arcs.size() && im.arcs[a0].j == j && im.arcs[a0].dir == sg &&
+        (a0 + 1 == im.arcs.size() || im.arcs[a0 + 1].j != j)))
+    return false;
+  im.head = a0 + 1;
+  const double rho = static_cast<double>(im.arcs[a0].n + im.h0) * grid_.height;
+  const double jd = static_cast<double>(j);
+  const uint32_t k = key(j);
+  if ((s.h0 - rho) * (s.h1 - rho) < 0.0)
+    dense_crossing(s, rho, jd, k);
+  else
+    im.part[k] = sub_part(s, rho, jd);
+  return true;
 }
 
 void StairAreaMeter::walk_solve(const Span& s) {
@@ -364,9 +388,11 @@ void StairAreaMeter::imply_solve(const Span& s) {
 }
 
 void StairAreaMeter::imply_arc(double h) {
-  const double f = h / grid_.height;
-  if (near_level(f)) imp_.failed = true;
-  const int64_t n = static_cast<int64_t>(std::floor(f + 0.5));
+  // the radius in steps as the digitizer forms it (times the inverse of the step), its nearest node
+  const double f = h * imp_.inv_height, u = f + 0.5, fl = std::floor(u), d = u - fl;
+  const double m = imp_.margin + 1e-13 * std::abs(f);
+  if (!(d >= m && 1.0 - d >= m)) imp_.failed = true;
+  const int64_t n = static_cast<int64_t>(fl);
   // recorded as run() records a step: the node before it, relative to the start (dense: waiting for its sector's
   // visit, the sector floor(level) = the node before the step going up, the node after it going down)
   if (imp_.dense)
@@ -378,7 +404,7 @@ void StairAreaMeter::imply_arc(double h) {
 }
 
 void StairAreaMeter::imply_point(const WalkPt& p) {
-  const double f = p.h / grid_.height;
+  const double f = p.h * imp_.inv_height;
   if (near_level(p.g) || near_level(f)) imp_.failed = true;
   const int64_t n = static_cast<int64_t>(std::floor(f + 0.5));
   nr_ += static_cast<uint64_t>(n > imp_.n ? n - imp_.n : imp_.n - n);
@@ -398,6 +424,7 @@ bool StairAreaMeter::imply_nearest(int64_t h0, int64_t g0, double margin) {
   imp_.margin = margin;
   imp_.h0 = imp_.n = h0;
   imp_.g0 = g0;
+  imp_.inv_height = 1.0 / grid_.height;
   imp_.dir = force_general_ ? 0 : path_direction();
   imp_.dense = imp_.dir != 0;
   imp_.arcs.clear();

@@ -346,7 +346,7 @@ class StairAreaMeter {
   struct Implied {
     bool on = false, failed = false, walked = false;
     int64_t n = 0, h0 = 0, g0 = 0;
-    double margin = 0.0;
+    double margin = 0.0, inv_height = 0.0;
     std::vector<double> L, z, h;  // a stretch's half levels, their z, their radii
     // dense: the path's angle is monotone and no sector is visited twice, so a sector's one full visit and its one
     // level strand are measured as the walk leaves it (dense_close), not listed for finish()
@@ -372,6 +372,7 @@ class StairAreaMeter {
   int path_direction() const;
   void dense_sub(const Sub& s, int64_t j, int8_t sigma, double lo, double hi);
   void dense_close();
+  bool dense_full(const Sub& s, int64_t j, int8_t sigma);  // walk_emit's usual sub, measured at once
   void dense_crossing(const Sub& b, double rho, double jd, uint32_t k);
   void dense_flush();
   // the parts of two crossings found side by side (flush_pending, dense_crossing)
