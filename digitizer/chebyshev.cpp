@@ -54,6 +54,20 @@ Cheb cheb_fit(const double* f, int n) {
   return c;
 }
 
+double cheb_fit_tail(const double* f, int n) {
+  const auto& T = tables();
+  const int s = N / n;
+  double c[2];
+  for (int q = 0; q < 2; ++q) {
+    const int k = n - 1 + q;
+    double acc = 0.5 * (f[0] * T.cosjk[0][k] + f[n] * T.cosjk[n * s][k]);
+    for (int j = 1; j < n; ++j) acc += f[j] * T.cosjk[j * s][k];
+    c[q] = acc * (2.0 / n);
+    if (k == 0 || k == n) c[q] *= 0.5;
+  }
+  return std::abs(c[1]) + std::abs(c[0]);
+}
+
 double cheb_tail(const Cheb& s) {
   if (s.deg < 1) return 0.0;
   return std::abs(s.c[s.deg]) + std::abs(s.c[s.deg - 1]);

@@ -60,6 +60,8 @@ Cheb cheb_fit(const double* f, int n);
 
 // |c_{n-1}| + |c_n|: the tail that measures how well the interpolant has converged.
 double cheb_tail(const Cheb& s);
+// cheb_tail(cheb_fit(f, n)) without the other coefficients (the same operations: the same value).
+double cheb_fit_tail(const double* f, int n);
 
 // Drops trailing coefficients whose absolute sum stays below `tol`.
 void cheb_chop(Cheb& s, double tol);

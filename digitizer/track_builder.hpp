@@ -160,12 +160,16 @@ class TrackBuilder {
       span[1] = std::max(span[1], std::abs(f1[j]));
       mv = std::max(mv, fv[j]);
     }
-    pc.Q[0] = cheb_fit(f0.data(), n);
-    pc.Q[1] = cheb_fit(f1.data(), n);
-    pc.V = cheb_fit(fv.data(), n);
     double tol[2];
     map_.tolerances(a.q, span, aux_min, tol);
     const double tol_v = 1e-14 * mv + 1e-300;
+    // a fit that has not converged is refused on its last two coefficients, before the others are formed
+    if (cheb_fit_tail(f0.data(), n) > tol[0] || cheb_fit_tail(f1.data(), n) > tol[1] ||
+        cheb_fit_tail(fv.data(), n) > tol_v)
+      return false;
+    pc.Q[0] = cheb_fit(f0.data(), n);
+    pc.Q[1] = cheb_fit(f1.data(), n);
+    pc.V = cheb_fit(fv.data(), n);
     if (cheb_tail(pc.Q[0]) > tol[0] || cheb_tail(pc.Q[1]) > tol[1] || cheb_tail(pc.V) > tol_v) return false;
     cheb_chop(pc.Q[0], tol[0]);
     cheb_chop(pc.Q[1], tol[1]);

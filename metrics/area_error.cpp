@@ -266,6 +266,36 @@ void StairAreaMeter::walk_solve(const Span& s) {
   }
 }
 
+namespace {
+
+// The series c (each coefficient on both lanes of a vector, degree n) at the points z[0..cnt), into out: eight
+// points at a time on four vectors, so that four recurrences are in flight; each lane performs the operations of
+// one Clenshaw recurrence, (c_i - b_{i+2}) + 2z b_{i+1}, then (c_0 - b_2) + z b_1, in that order, so a value is the
+// same whichever points share its vector. z and out hold cnt rounded up to a multiple of eight (z padded).
+void clenshaw_many(const Lane2* c, int n, const double* z, size_t cnt, double* out) {
+  for (size_t j = 0; j < cnt; j += 8) {
+    Lane2 zz[4], t2[4], b1[4], b2[4];
+    for (int v = 0; v < 4; ++v) {
+      zz[v] = Lane2{z[j + 2 * v], z[j + 2 * v + 1]};
+      t2[v] = zz[v] + zz[v];
+      b1[v] = b2[v] = Lane2{0.0, 0.0};
+    }
+    for (int i = n; i >= 1; --i)
+      for (int v = 0; v < 4; ++v) {
+        const Lane2 b0 = (c[i] - b2[v]) + t2[v] * b1[v];
+        b2[v] = b1[v];
+        b1[v] = b0;
+      }
+    for (int v = 0; v < 4; ++v) {
+      const Lane2 r = (c[0] - b2[v]) + zz[v] * b1[v];
+      out[j + 2 * v] = r[0];
+      out[j + 2 * v + 1] = r[1];
+    }
+  }
+}
+
+}  // namespace
+
 bool StairAreaMeter::walk_fit(const Span& s) {
   Walk& w = walk_;
   const sweep::PieceView& p = track_.pieces[w.piece];
@@ -287,11 +317,10 @@ bool StairAreaMeter::walk_fit(const Span& s) {
   Cheb f[3];
   if (!fit_inverse<3>(sample, s.ta, s.tb, w.tol, yc, ik, f)) return false;
   // the edges: the three series at each edge's z, two edges to a vector
-  const int n = std::max({f[0].deg, f[1].deg, f[2].deg});
   Lane2 c[3][kChebMaxDegree + 1];
   for (int k = 0; k < 3; ++k)
-    for (int i = 0; i <= n; ++i) {
-      const double v = i <= f[k].deg ? f[k].c[static_cast<size_t>(i)] : 0.0;
+    for (int i = 0; i <= f[k].deg; ++i) {
+      const double v = f[k].c[static_cast<size_t>(i)];
       c[k][i] = Lane2{v, v};
     }
   const double base_y = frame_.shift + p.g_a;
@@ -299,51 +328,33 @@ bool StairAreaMeter::walk_fit(const Span& s) {
     const double y = static_cast<double>(walk_level(q)) * frame_.width - base_y;
     return std::clamp((y - yc) * ik, -1.0, 1.0);
   };
-  for (int64_t q = s.j0; q < s.j1; q += 2) {
-    const bool two = q + 1 < s.j1;
-    const Lane2 z = {z_of(q), two ? z_of(q + 1) : 0.0}, tt = z + z;
-    Lane2 b1[3] = {}, b2[3] = {};
-    for (int i = n; i >= 1; --i)
-      for (int k = 0; k < 3; ++k) {
-        const Lane2 b0 = (c[k][i] - b2[k]) + tt * b1[k];
-        b2[k] = b1[k];
-        b1[k] = b0;
-      }
-    Lane2 r[3];
-    for (int k = 0; k < 3; ++k) r[k] = (c[k][0] - b2[k]) + z * b1[k];
-    for (int e = 0; e < (two ? 2 : 1); ++e) {
-      const double t = std::clamp(s.ta + r[0][e], s.ta, s.tb);
-      w.buf.push_back({t, static_cast<double>(walk_level(q + e)), p.h_a + (hb + r[1][e]), ab + r[2][e]});
-    }
+  // each series at every edge's z in turn, eight edges at a time (clenshaw_many)
+  const size_t cnt = static_cast<size_t>(s.j1 - s.j0);
+  auto& ez = w.z;
+  ez.resize(cnt + 8);
+  for (size_t i = 0; i < cnt; ++i) ez[i] = z_of(s.j0 + static_cast<int64_t>(i));
+  for (size_t i = cnt; i < cnt + 8; ++i) ez[i] = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    w.r[k].resize(cnt + 8);
+    clenshaw_many(c[k], f[k].deg, ez.data(), cnt, w.r[k].data());
+  }
+  const double *r0 = w.r[0].data(), *r1 = w.r[1].data(), *r2 = w.r[2].data();
+  for (size_t i = 0; i < cnt; ++i) {
+    const int64_t q = s.j0 + static_cast<int64_t>(i);
+    const double t = std::clamp(s.ta + r0[i], s.ta, s.tb);
+    w.buf.push_back({t, static_cast<double>(walk_level(q)), p.h_a + (hb + r1[i]), ab + r2[i]});
   }
   if (imp_.on) {
-    // the radius at the half levels from the same fit, eight at a time on four vectors
-    const Lane2* ch = c[1];
-    const int nh = f[1].deg;
-    imply_levels(s, [&](const double* L, size_t cnt, double* out) {
+    // the radius at the half levels from the same fit
+    imply_levels(s, [&](const double* L, size_t nl, double* out) {
       auto& z = imp_.z;
-      z.resize(cnt + 8);
-      for (size_t i = 0; i < cnt; ++i) z[i] = std::clamp((L[i] * frame_.width - base_y - yc) * ik, -1.0, 1.0);
-      for (size_t i = cnt; i < cnt + 8; ++i) z[i] = 0.0;
-      for (size_t j = 0; j < cnt; j += 8) {
-        Lane2 zz[4], t2[4], b1[4], b2[4];
-        for (int v = 0; v < 4; ++v) {
-          zz[v] = Lane2{z[j + 2 * v], z[j + 2 * v + 1]};
-          t2[v] = zz[v] + zz[v];
-          b1[v] = b2[v] = Lane2{0.0, 0.0};
-        }
-        for (int i = nh; i >= 1; --i)
-          for (int v = 0; v < 4; ++v) {
-            const Lane2 b0 = (ch[i] - b2[v]) + t2[v] * b1[v];
-            b2[v] = b1[v];
-            b1[v] = b0;
-          }
-        for (int v = 0; v < 4; ++v) {
-          const Lane2 r = (ch[0] - b2[v]) + zz[v] * b1[v];
-          for (int e = 0; e < 2; ++e)
-            if (j + 2 * v + e < cnt) out[j + 2 * v + e] = p.h_a + (hb + r[e]);
-        }
-      }
+      z.resize(nl + 8);
+      for (size_t i = 0; i < nl; ++i) z[i] = std::clamp((L[i] * frame_.width - base_y - yc) * ik, -1.0, 1.0);
+      for (size_t i = nl; i < nl + 8; ++i) z[i] = 0.0;
+      auto& r = w.r[3];
+      r.resize(nl + 8);
+      clenshaw_many(c[1], f[1].deg, z.data(), nl, r.data());
+      for (size_t i = 0; i < nl; ++i) out[i] = p.h_a + (hb + r[i]);
     });
   }
   return true;

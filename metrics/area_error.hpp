@@ -239,6 +239,7 @@ class StairAreaMeter {
     std::vector<WalkPt> buf;
     size_t bpos = 0;
     double tol[3] = {0, 0, 0};  // the fits' tolerances in t, h and Astar on this piece
+    std::vector<double> z, r[4];  // walk_fit: the edges' z, the series' values there (and the half levels')
   };
 
   uint32_t key(int64_t j) const;

@@ -1,6 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <vector>
 
 #include "digitizer/chebyshev.hpp"
 #include "digitizer/polar_track.hpp"
@@ -65,6 +68,54 @@ TEST(Chebyshev, SolveAndSignChanges) {
   ASSERT_EQ(roots.size(), 2u);
   EXPECT_NEAR(roots[0], 0.3 - 1e-4, 1e-12);
   EXPECT_NEAR(roots[1], 0.3 + 1e-4, 1e-12);
+}
+
+}  // namespace tu_digitizer_test_chebyshev
+
+namespace tu_digitizer_test_chebyshev {
+
+// The tail of a fit formed alone is the tail of the whole fit, to the bit (the track builder refuses a fit on it
+// before forming the other coefficients, and must refuse exactly the fits it refused before).
+TEST(Chebyshev, TailAloneIsTheWholeFitsTail) {
+  uint64_t seed = 12345;
+  auto uniform = [&] {
+    seed = seed * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<double>(seed >> 11) * 0x1.0p-53;
+  };
+  for (int n : {8, 16}) {
+    for (int trial = 0; trial < 200; ++trial) {
+      std::array<double, kChebMaxDegree + 1> v{};
+      const double scale = std::pow(10.0, -12.0 + 14.0 * uniform());
+      for (int j = 0; j <= n; ++j) v[j] = scale * (2.0 * uniform() - 1.0);
+      const double whole = cheb_tail(cheb_fit(v.data(), n));
+      EXPECT_EQ(std::bit_cast<uint64_t>(cheb_fit_tail(v.data(), n)), std::bit_cast<uint64_t>(whole)) << n << " " << trial;
+    }
+  }
+}
+
+// A series whose constant term outweighs the others keeps its sign: no sign change is reported, and a dense
+// evaluation agrees; one whose constant term is just short of that, with a turning point that dips through zero,
+// still has its two sign changes found.
+TEST(Chebyshev, DominantConstantTermHasNoSignChange) {
+  Cheb c;
+  c.deg = 6;
+  c.c = {};
+  c.c[0] = 1.0;
+  c.c[2] = -0.4, c.c[4] = 0.3, c.c[6] = -0.29;  // sum of the rest 0.99 < 1
+  std::vector<double> roots;
+  cheb_sign_changes(c, roots);
+  EXPECT_TRUE(roots.empty());
+  for (double x = -1; x <= 1; x += 1e-4) EXPECT_GT(c(x), 0.0) << x;
+  // -0.3 T_2 (x) dips to 1 - 0.3 - ... : with c_2 = -1.2 the series 1 - 1.2 T_2 is negative about x = 0
+  Cheb d;
+  d.deg = 2;
+  d.c = {};
+  d.c[0] = 1.0;
+  d.c[2] = -1.2;  // 1 - 1.2 (2x^2 - 1) = 2.2 - 2.4 x^2: roots at +-sqrt(2.2 / 2.4)
+  cheb_sign_changes(d, roots);
+  ASSERT_EQ(roots.size(), 2u);
+  EXPECT_NEAR(roots[0], -std::sqrt(2.2 / 2.4), 1e-14);
+  EXPECT_NEAR(roots[1], std::sqrt(2.2 / 2.4), 1e-14);
 }
 
 }  // namespace tu_digitizer_test_chebyshev
