@@ -6,7 +6,8 @@
 //  - BM_AreaErrorStreamed: the meter in its streamed mode (begin(), constant memory), the same staircases;
 //  - BM_ErrorMetersStreamed: the area and the deviation together as `polarcam error` runs them (ErrorMeters in
 //    the streamed mode: area, deviation, F_sum/F_dif step counts), the same staircases, the limacon also 100x;
-//  - BM_DigitizeAndArea: what one evaluation of the optimiser costs (track, digitize into the meter, finish);
+//  - BM_DigitizeAndArea: one evaluation of the optimiser as it was (track, digitize into the meter, finish);
+//  - BM_TrackAndImpliedArea: one evaluation as it is (track, the nearest staircase from the meter's walk, finish);
 //  - BM_CartesianAreaError: the Cartesian meter (metrics/cartesian_error.hpp) alone over the exact Cartesian
 //    generator's staircase of the same contours in their own frames, BLU = 0.001 in and 10x finer;
 //  - BM_CartesianDeviation: the deviation of the same staircases (DeviationMeter: three foot points a step).
@@ -149,6 +150,38 @@ void BM_DigitizeAndArea(benchmark::State& state) {
   state.SetLabel(std::string(kNames[which]) + ", area " + std::to_string(area * 1e6) + " mm^2");
 }
 BENCHMARK(BM_DigitizeAndArea)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
+
+// What one evaluation of the pole search costs now: the track, the nearest rule's staircase read off the meter's
+// walk (imply_nearest; the digitizer where it refuses), finish. The label says how many were refused.
+void BM_TrackAndImpliedArea(benchmark::State& state) {
+  const int which = static_cast<int>(state.range(0));
+  auto path = contour(which);
+  Grid g = thesis_grid(1.0);
+  PolarAreaMeter meter;
+  uint64_t steps = 0, refused = 0;
+  double area = 0;
+  for (auto _ : state) {
+    PolarTrack tr = PolarTrack::build(*path);
+    const auto n0 = start_node(tr, g, StepRule::nearest);
+    meter.reset(tr, g);
+    AreaErrorResult a;
+    if (meter.imply_nearest(n0[0], n0[1])) {
+      a = meter.finish(n0[0], n0[1]);
+    } else {
+      ++refused;
+      auto prof = make_constant_speed(0.0152, tr.length());
+      meter.reset(tr, g);
+      DigitizeResult d = digitize(tr, g, StepRule::nearest, *prof, &meter);
+      a = meter.finish(d.start_n, d.start_m);
+    }
+    steps = a.rise_steps + a.run_steps;
+    area = a.area_m2;
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * steps));
+  state.SetLabel(std::string(kNames[which]) + ", area " + std::to_string(area * 1e6) + " mm^2" +
+                 (refused ? ", " + std::to_string(refused) + " refused" : std::string()));
+}
+BENCHMARK(BM_TrackAndImpliedArea)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
 
 ToolPathPtr own_frame(int which) {
   switch (which) {
