@@ -85,6 +85,7 @@ void StairAreaMeter::reset(sweep::TrackView track, const StairGrid& grid) {
   grid_ = grid;
   sector_area_series(track_, areas_);
   pair_[0] = pair_[1] = kNoPiece;  // the pieces' series are new
+  for (uint32_t& q : quad_) q = kNoPiece;
   arcs_.clear();
   n_ = m_ = 0;
   nr_ = 0;
@@ -1213,20 +1214,49 @@ void StairAreaMeter::dense_close() {
 
 void StairAreaMeter::dense_crossing(const Sub& b, double rho, double jd, uint32_t k) {
   dense_crossings_.push_back({b, rho, jd, k});
-  if (dense_crossings_.size() == 2) dense_flush();
+  // four at a time where the processor has AVX, two otherwise (the same values either way)
+  if (dense_crossings_.size() == (area_roots::has_avx() ? 4u : 2u)) dense_flush();
+}
+
+void StairAreaMeter::crossing_quad(const Crossing* x, double part[4]) {
+  const auto& P = track_.pieces;
+  bool same = true;
+  for (int q = 0; q < 4; ++q) same = same && x[q].b.piece == quad_[q];
+  if (!same) {
+    const Cheb* H[4];
+    const Cheb* G[4];
+    const LongCheb* A[4];
+    for (int q = 0; q < 4; ++q) {
+      const uint32_t i = x[q].b.piece;
+      H[q] = P[i].H, G[q] = P[i].G, A[q] = &areas_[i];
+      quad_[q] = i;
+    }
+    area_roots::prepare_quad(quad_series_, H, G, A);
+  }
+  RadiusCrossing c[4];
+  for (int q = 0; q < 4; ++q) start_crossing(x[q].b, x[q].rho, c[q]);
+  double g[4], a[4];
+  area_roots::radius_crossing4(quad_series_, c, g, a);
+  for (int q = 0; q < 4; ++q) part[q] = crossed_part(x[q].b, x[q].rho, x[q].jd, g[q], a[q]);
 }
 
 void StairAreaMeter::dense_flush() {
-  if (dense_crossings_.size() == 2) {
-    double part[2];
-    crossing_pair(dense_crossings_[0], dense_crossings_[1], part);
-    imp_.part[dense_crossings_[0].key] = part[0];
-    imp_.part[dense_crossings_[1].key] = part[1];
-  } else if (dense_crossings_.size() == 1) {
-    const Crossing& x = dense_crossings_[0];
-    imp_.part[x.key] = sub_part(x.b, x.rho, x.jd);
+  auto& x = dense_crossings_;
+  size_t i = 0;
+  if (x.size() == 4) {
+    double part[4];
+    crossing_quad(x.data(), part);
+    for (int q = 0; q < 4; ++q) imp_.part[x[static_cast<size_t>(q)].key] = part[q];
+    i = 4;
   }
-  dense_crossings_.clear();
+  for (; i + 2 <= x.size(); i += 2) {
+    double part[2];
+    crossing_pair(x[i], x[i + 1], part);
+    imp_.part[x[i].key] = part[0];
+    imp_.part[x[i + 1].key] = part[1];
+  }
+  if (i < x.size()) imp_.part[x[i].key] = sub_part(x[i].b, x[i].rho, x[i].jd);
+  x.clear();
 }
 
 void StairAreaMeter::prepare_recorded() {

@@ -341,6 +341,8 @@ class StairAreaMeter {
   static constexpr uint32_t kNoPiece = 0xffffffffu;
   uint32_t pair_[2] = {kNoPiece, kNoPiece};
   area_roots::PairSeries pair_series_;
+  uint32_t quad_[4] = {kNoPiece, kNoPiece, kNoPiece, kNoPiece};  // the four pieces whose series quad_series_ holds
+  area_roots::QuadSeries quad_series_;
   StairAreaResult sres_;  // streamed: sectors measured so far
   // imply_nearest: on while its walk runs; failed when a decision was too near a level; walked when finish() finds
   // the walk done (visits and level strands); n the radial node at the last point; the margin in grid units
@@ -378,6 +380,8 @@ class StairAreaMeter {
   void dense_flush();
   // the parts of two crossings found side by side (flush_pending, dense_crossing)
   void crossing_pair(const Crossing& x0, const Crossing& x1, double part[2]);
+  // the same for four, on the four lanes of an AVX vector (dense_flush, where area_roots::has_avx())
+  void crossing_quad(const Crossing* x, double part[4]);
   void prepare_recorded();  // finish()'s state for the recorded mode (range, heads, lists)
 
   // streamed mode

@@ -208,4 +208,86 @@ inline double solve_level(const Cheb& f, double y, double lo, double hi, double 
   return t;
 }
 
+// Four crossings side by side on the four lanes of a 256-bit vector (AVX), each lane bit for bit the one-at-a-time
+// search and evaluation, as two lanes are above: the same operations in the same order, no fused multiply-add (AVX
+// has none; the target attribute enables AVX alone). Only for processors that have AVX: has_avx() says so at run
+// time, and the meter finds its crossings two at a time otherwise (the same values).
+typedef double Lane4 __attribute__((vector_size(32)));
+struct QuadSeries {
+  int n = 0;
+  Lane4 h[kChebMaxDegree + 1];
+  int top = 0;
+  Lane4 ge[kLongChebMaxDegree / 2 + 3], go[kLongChebMaxDegree / 2 + 3], ae[kLongChebMaxDegree / 2 + 3],
+      ao[kLongChebMaxDegree / 2 + 3];
+};
+inline void prepare_quad(QuadSeries& s, const Cheb* const H[4], const Cheb* const G[4], const LongCheb* const A[4]) {
+  auto c = [](const Cheb& f, int k) { return k <= f.deg ? f.c[static_cast<size_t>(k)] : 0.0; };
+  auto l = [](const LongCheb& f, int k) { return k <= f.deg ? f.c[static_cast<size_t>(k)] : 0.0; };
+  s.n = 0;
+  s.top = 0;
+  for (int q = 0; q < 4; ++q) {
+    s.n = std::max(s.n, H[q]->deg);
+    s.top = std::max({s.top, A[q]->deg / 2 + 1, G[q]->deg / 2 + 1});
+  }
+  for (int k = 0; k <= s.n; ++k) s.h[k] = Lane4{c(*H[0], k), c(*H[1], k), c(*H[2], k), c(*H[3], k)};
+  for (int m = 0; m <= s.top; ++m) {
+    const int ke = 2 * m, ko = 2 * m + 1;
+    s.ge[m] = Lane4{c(*G[0], ke), c(*G[1], ke), c(*G[2], ke), c(*G[3], ke)};
+    s.go[m] = Lane4{c(*G[0], ko), c(*G[1], ko), c(*G[2], ko), c(*G[3], ko)};
+    s.ae[m] = Lane4{l(*A[0], ke), l(*A[1], ke), l(*A[2], ke), l(*A[3], ke)};
+    s.ao[m] = Lane4{l(*A[0], ko), l(*A[1], ko), l(*A[2], ko), l(*A[3], ko)};
+  }
+}
+
+inline bool has_avx() {
+  static const bool yes = __builtin_cpu_supports("avx");
+  return yes;
+}
+
+// eval3_2 on four lanes.
+__attribute__((target("avx"))) inline void eval3_4(const QuadSeries& s, Lane4 t, Lane4& f, Lane4& d1, Lane4& d2) {
+  Lane4 b1 = {0, 0, 0, 0}, b2 = b1, e1 = b1, e2 = b1, h1 = b1, h2 = b1;
+  const Lane4 tt = t + t;
+  for (int k = s.n; k >= 1; --k) {
+    const Lane4 b0 = (s.h[k] - b2) + tt * b1, e0 = ((b1 + b1) - e2) + tt * e1;
+    const Lane4 h0 = (((e1 + e1) + (e1 + e1)) - h2) + tt * h1;
+    b2 = b1, b1 = b0, e2 = e1, e1 = e0, h2 = h1, h1 = h0;
+  }
+  f = (s.h[0] - b2) + t * b1;
+  d1 = (b1 - e2) + t * e1;
+  d2 = ((e1 + e1) - h2) + t * h1;
+}
+
+// eval_rA2 on four lanes.
+__attribute__((target("avx"))) inline void eval_rA4(const QuadSeries& s, Lane4 t, Lane4& r, Lane4& a) {
+  const Lane4 two = {2.0, 2.0, 2.0, 2.0}, one = {1.0, 1.0, 1.0, 1.0};
+  const Lane4 y = two * t * t - one, yy = two * y;
+  Lane4 re1 = {0, 0, 0, 0}, re2 = re1, ro1 = re1, ro2 = re1, ae1 = re1, ae2 = re1, ao1 = re1, ao2 = re1;
+  for (int m = s.top; m >= 1; --m) {
+    const Lane4 re0 = (s.ge[m] - re2) + yy * re1, ro0 = (s.go[m] - ro2) + yy * ro1;
+    const Lane4 ae0 = (s.ae[m] - ae2) + yy * ae1, ao0 = (s.ao[m] - ao2) + yy * ao1;
+    re2 = re1, re1 = re0, ro2 = ro1, ro1 = ro0, ae2 = ae1, ae1 = ae0, ao2 = ao1, ao1 = ao0;
+  }
+  const Lane4 r_even = (s.ge[0] - re2) + y * re1, r_odd = t * ((s.go[0] - ro2) + (yy - one) * ro1);
+  const Lane4 a_even = (s.ae[0] - ae2) + y * ae1, a_odd = t * ((s.ao[0] - ao2) + (yy - one) * ao1);
+  r = r_even + r_odd;
+  a = a_even + a_odd;
+}
+
+// Four crossings side by side (each radius_crossing's, bit for bit): the lanes still searching step together, a
+// lane that is done keeps its crossing; then the abscissa g and Astar a at each crossing (eval_rA's values).
+__attribute__((target("avx"))) inline void radius_crossing4(const QuadSeries& s, RadiusCrossing c[4], double g[4],
+                                                             double a[4]) {
+  bool done[4] = {false, false, false, false};
+  while (!(done[0] && done[1] && done[2] && done[3])) {
+    Lane4 v, d, d2;
+    eval3_4(s, Lane4{c[0].t, c[1].t, c[2].t, c[3].t}, v, d, d2);
+    for (int q = 0; q < 4; ++q)
+      if (!done[q]) done[q] = c[q].next(v[q], d[q], d2[q]);
+  }
+  Lane4 gv, av;
+  eval_rA4(s, Lane4{c[0].t, c[1].t, c[2].t, c[3].t}, gv, av);
+  for (int q = 0; q < 4; ++q) g[q] = gv[q], a[q] = av[q];
+}
+
 }  // namespace polarcam::area_roots

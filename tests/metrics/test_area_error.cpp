@@ -183,6 +183,74 @@ TEST(AreaError, PairedCrossingsAreBitForBitTheSingleOnes) {
   EXPECT_EQ(crossings, 600);
 }
 
+// The same for four crossings on the four lanes of an AVX vector (where the processor has AVX): each lane's
+// evaluations, crossing, abscissa and area there are bit for bit the one-at-a-time ones.
+TEST(AreaError, QuadCrossingsAreBitForBitTheSingleOnes) {
+  using namespace polarcam::area_roots;
+  if (!has_avx()) GTEST_SKIP() << "this processor has no AVX: the meter finds its crossings two at a time";
+  uint64_t state = 777;
+  auto uniform = [&] {  // a fixed linear congruential sequence in [-1, 1)
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(state >> 11) * 0x1.0p-52 - 1.0;
+  };
+  auto series = [&](int deg, double lead) {
+    Cheb c;
+    c.deg = deg;
+    for (int k = 0; k <= deg; ++k) c.c[static_cast<size_t>(k)] = uniform() * std::pow(0.3, k);
+    c.c[1] = lead;
+    for (int k = deg + 1; k <= kChebMaxDegree; ++k) c.c[static_cast<size_t>(k)] = 7.0;  // junk past the degree
+    return c;
+  };
+  auto long_series = [&](int deg) {
+    LongCheb a;
+    a.deg = deg;
+    for (int k = 0; k <= deg; ++k) a.c[static_cast<size_t>(k)] = uniform() * std::pow(0.7, k);
+    for (int k = deg + 1; k <= kLongChebMaxDegree; ++k) a.c[static_cast<size_t>(k)] = -3.0;
+    return a;
+  };
+  int checked = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    Cheb R[4], G[4];
+    LongCheb A[4];
+    const Cheb* pr[4];
+    const Cheb* pg[4];
+    const LongCheb* pa[4];
+    RadiusCrossing c[4];
+    double y[4], ya[4], yb[4];
+    bool down[4];
+    for (int q = 0; q < 4; ++q) {
+      R[q] = series(1 + (trial * (q + 3)) % 16, q % 2 ? -1.5 : 2.0);
+      G[q] = series(1 + (trial * (q + 5)) % 16, 1.0);
+      A[q] = long_series((trial * (2 * q + 5)) % 60 + q % 2);
+      pr[q] = &R[q], pg[q] = &G[q], pa[q] = &A[q];
+      double x;
+      eval3(R[q], -0.2, ya[q], x, x);
+      eval3(R[q], 0.2, yb[q], x, x);
+      y[q] = ya[q] + (0.2 + 0.6 * (0.5 + 0.5 * uniform())) * (yb[q] - ya[q]);
+      down[q] = q >= 2;  // two in the other direction of travel
+      if (down[q])
+        c[q].start(y[q], 0.2, -0.2, yb[q], ya[q]);
+      else
+        c[q].start(y[q], -0.2, 0.2, ya[q], yb[q]);
+    }
+    QuadSeries quad;
+    prepare_quad(quad, pr, pg, pa);
+    double g[4], a[4];
+    radius_crossing4(quad, c, g, a);
+    for (int q = 0; q < 4; ++q) {
+      const double t = down[q] ? radius_crossing(R[q], y[q], 0.2, -0.2, yb[q], ya[q])
+                               : radius_crossing(R[q], y[q], -0.2, 0.2, ya[q], yb[q]);
+      double gs, as;
+      eval_rA(G[q], A[q], t, gs, as);
+      EXPECT_EQ(std::bit_cast<uint64_t>(t), std::bit_cast<uint64_t>(c[q].t)) << trial << " lane " << q;
+      EXPECT_EQ(std::bit_cast<uint64_t>(gs), std::bit_cast<uint64_t>(g[q])) << trial << " lane " << q;
+      EXPECT_EQ(std::bit_cast<uint64_t>(as), std::bit_cast<uint64_t>(a[q])) << trial << " lane " << q;
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 800);
+}
+
 }  // namespace tu_metrics_test_area_error
 
 namespace tu_metrics_test_area_error {
