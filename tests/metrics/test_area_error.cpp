@@ -112,28 +112,42 @@ namespace tu_metrics_test_area_error {
 // The crossings found two at a time (and the radius and area evaluated two at a time) are bit for bit those found
 // one at a time, whatever the two series' degrees: the sum of the area takes them in the same order, so the area
 // error is the same bytes.
-TEST(AreaError, PairedCrossingsAreBitForBitTheSingleOnes) {
-  using namespace polarcam::area_roots;
-  uint64_t state = 12345;
-  auto uniform = [&] {  // a fixed linear congruential sequence in [-1, 1)
+namespace {
+
+// Random series for the crossing tests, from a fixed linear congruential sequence: radius-like series monotone
+// enough on [-0.2, 0.2] to hold one crossing, and long area-like series, each with junk past its degree (which the
+// evaluations must not read).
+struct RandomSeries {
+  uint64_t state;
+  double uniform() {  // in [-1, 1)
     state = state * 6364136223846793005ULL + 1442695040888963407ULL;
     return static_cast<double>(state >> 11) * 0x1.0p-52 - 1.0;
-  };
-  auto series = [&](int deg, double lead) {
+  }
+  Cheb series(int deg, double lead) {
     Cheb c;
     c.deg = deg;
     for (int k = 0; k <= deg; ++k) c.c[static_cast<size_t>(k)] = uniform() * std::pow(0.3, k);
-    c.c[1] = lead;  // monotone enough on the stretch below to hold one crossing
-    for (int k = deg + 1; k <= kChebMaxDegree; ++k) c.c[static_cast<size_t>(k)] = 7.0;  // junk past the degree
+    c.c[1] = lead;
+    for (int k = deg + 1; k <= kChebMaxDegree; ++k) c.c[static_cast<size_t>(k)] = 7.0;
     return c;
-  };
-  auto long_series = [&](int deg) {
+  }
+  LongCheb long_series(int deg) {
     LongCheb a;
     a.deg = deg;
     for (int k = 0; k <= deg; ++k) a.c[static_cast<size_t>(k)] = uniform() * std::pow(0.7, k);
     for (int k = deg + 1; k <= kLongChebMaxDegree; ++k) a.c[static_cast<size_t>(k)] = -3.0;
     return a;
-  };
+  }
+};
+
+}  // namespace
+
+TEST(AreaError, PairedCrossingsAreBitForBitTheSingleOnes) {
+  using namespace polarcam::area_roots;
+  RandomSeries random{12345};
+  auto uniform = [&] { return random.uniform(); };
+  auto series = [&](int deg, double lead) { return random.series(deg, lead); };
+  auto long_series = [&](int deg) { return random.long_series(deg); };
   int crossings = 0;
   for (int trial = 0; trial < 300; ++trial) {
     const int d0 = 1 + trial % 16, d1 = 1 + (trial * 7) % 16;
@@ -188,26 +202,7 @@ TEST(AreaError, PairedCrossingsAreBitForBitTheSingleOnes) {
 TEST(AreaError, QuadCrossingsAreBitForBitTheSingleOnes) {
   using namespace polarcam::area_roots;
   if (!has_avx()) GTEST_SKIP() << "this processor has no AVX: the meter finds its crossings two at a time";
-  uint64_t state = 777;
-  auto uniform = [&] {  // a fixed linear congruential sequence in [-1, 1)
-    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
-    return static_cast<double>(state >> 11) * 0x1.0p-52 - 1.0;
-  };
-  auto series = [&](int deg, double lead) {
-    Cheb c;
-    c.deg = deg;
-    for (int k = 0; k <= deg; ++k) c.c[static_cast<size_t>(k)] = uniform() * std::pow(0.3, k);
-    c.c[1] = lead;
-    for (int k = deg + 1; k <= kChebMaxDegree; ++k) c.c[static_cast<size_t>(k)] = 7.0;  // junk past the degree
-    return c;
-  };
-  auto long_series = [&](int deg) {
-    LongCheb a;
-    a.deg = deg;
-    for (int k = 0; k <= deg; ++k) a.c[static_cast<size_t>(k)] = uniform() * std::pow(0.7, k);
-    for (int k = deg + 1; k <= kLongChebMaxDegree; ++k) a.c[static_cast<size_t>(k)] = -3.0;
-    return a;
-  };
+  RandomSeries rs{777};
   int checked = 0;
   for (int trial = 0; trial < 200; ++trial) {
     Cheb R[4], G[4];
@@ -219,14 +214,14 @@ TEST(AreaError, QuadCrossingsAreBitForBitTheSingleOnes) {
     double y[4], ya[4], yb[4];
     bool down[4];
     for (int q = 0; q < 4; ++q) {
-      R[q] = series(1 + (trial * (q + 3)) % 16, q % 2 ? -1.5 : 2.0);
-      G[q] = series(1 + (trial * (q + 5)) % 16, 1.0);
-      A[q] = long_series((trial * (2 * q + 5)) % 60 + q % 2);
+      R[q] = rs.series(1 + (trial * (q + 3)) % 16, q % 2 ? -1.5 : 2.0);
+      G[q] = rs.series(1 + (trial * (q + 5)) % 16, 1.0);
+      A[q] = rs.long_series((trial * (2 * q + 5)) % 60 + q % 2);
       pr[q] = &R[q], pg[q] = &G[q], pa[q] = &A[q];
       double x;
       eval3(R[q], -0.2, ya[q], x, x);
       eval3(R[q], 0.2, yb[q], x, x);
-      y[q] = ya[q] + (0.2 + 0.6 * (0.5 + 0.5 * uniform())) * (yb[q] - ya[q]);
+      y[q] = ya[q] + (0.2 + 0.6 * (0.5 + 0.5 * rs.uniform())) * (yb[q] - ya[q]);
       down[q] = q >= 2;  // two in the other direction of travel
       if (down[q])
         c[q].start(y[q], 0.2, -0.2, yb[q], ya[q]);
