@@ -404,6 +404,10 @@ void StairAreaMeter::imply_arc(double h) {
   const double f = h * imp_.inv_height, u = f + 0.5, fl = std::floor(u), d = u - fl;
   const double m = imp_.margin + 1e-13 * std::abs(f);
   if (!(d >= m && 1.0 - d >= m)) imp_.failed = true;
+  if (!(std::abs(fl) < 4e18)) {  // not a node (a value that is not finite fails above)
+    imp_.failed = true;
+    return;
+  }
   const int64_t n = static_cast<int64_t>(fl);
   // recorded as run() records a step: the node before it, relative to the start (dense: waiting for its sector's
   // visit, the sector floor(level) = the node before the step going up, the node after it going down)
@@ -418,11 +422,16 @@ void StairAreaMeter::imply_arc(double h) {
 void StairAreaMeter::imply_point(const WalkPt& p) {
   const double f = p.h * imp_.inv_height;
   if (near_level(p.g) || near_level(f)) imp_.failed = true;
-  const int64_t n = static_cast<int64_t>(std::floor(f + 0.5));
+  const double fn = std::floor(f + 0.5), gn = std::floor(p.g + 0.5);
+  if (!(std::abs(fn) < 4e18 && std::abs(gn) < 4e18)) {  // not a node
+    imp_.failed = true;
+    return;
+  }
+  const int64_t n = static_cast<int64_t>(fn);
   nr_ += static_cast<uint64_t>(n > imp_.n ? n - imp_.n : imp_.n - n);
   imp_.n = n;
   n_ = n - imp_.h0;
-  if (static_cast<int64_t>(std::floor(p.g + 0.5)) != imp_.g0 + m_) imp_.failed = true;
+  if (static_cast<int64_t>(gn) != imp_.g0 + m_) imp_.failed = true;
 }
 
 bool StairAreaMeter::imply_nearest(int64_t h0, int64_t g0, double margin) {
