@@ -369,7 +369,6 @@ class StairAreaMeter {
     std::vector<double> part;  // by key: the dense sectors' parts (NaN: none)
   };
   Implied imp_;
-  struct Crossing;
   // imply_nearest's test for the dense walk: the path's direction in angle, 0 where it turns back or may visit a
   // sector twice
   int path_direction() const;
