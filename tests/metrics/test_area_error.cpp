@@ -273,12 +273,15 @@ TEST(AreaError, ImpliedNearestStaircaseIsTheDigitizers) {
       {"spiral", make_spiral(0.002, 0.004, 0.5, 14.0), 0.06},
       {"line", make_line({-0.03, 0.02}, {0.05, 0.03}), 0.05},
   };
+  // the finer grid (ten times the steps) at fewer poles: the suite also runs sanitized
   const Grid grids[] = {coarse_grid(0.0254e-3, 16000), coarse_grid(0.00254e-3, 160000), coarse_grid(1e-3, 720)};
+  const int poles[] = {6, 2, 6};
   int compared = 0, refused = 0;
   PolarAreaMeter implied;
   for (const Shape& sh : shapes) {
-    for (const Grid& g : grids) {
-      for (int k = 0; k < 6; ++k) {
+    for (int gi = 0; gi < 3; ++gi) {
+      const Grid& g = grids[gi];
+      for (int k = 0; k < poles[gi]; ++k) {
         const double C = sh.reach * uniform(), beta = 2.0 * kPi * uniform();
         auto path = placed(sh.curve, C, beta);
         AreaRun ref;
@@ -310,7 +313,7 @@ TEST(AreaError, ImpliedNearestStaircaseIsTheDigitizers) {
   }
   RecordProperty("compared", compared);
   RecordProperty("refused", refused);
-  EXPECT_GE(compared, 80);
+  EXPECT_GE(compared, 75);
   EXPECT_LE(refused * 20, compared) << refused << " refused";
 
   // a margin of almost half a step: nearly every decision is "near", so the walk refuses; the meter then measures
