@@ -132,6 +132,10 @@ Vec2 StairAreaMeter::path_point(double h, double g) const {
   return {h * std::cos(g), h * std::sin(g)};
 }
 
+bool StairAreaMeter::full_visit(int8_t sigma, const Sub& first, const Sub& last) {
+  return sigma != 0 && ((first.l0 == 0.0 && last.l1 == 1.0) || (first.l0 == 1.0 && last.l1 == 0.0));
+}
+
 void StairAreaMeter::close_visit() {
   if (open_ < 0) return;
   if (stream_) {
@@ -139,14 +143,14 @@ void StairAreaMeter::close_visit() {
     Visit& v = sl.visits[static_cast<size_t>(open_)];
     const Sub& a = sl.subs[v.first];
     const Sub& b = sl.subs[v.first + v.count - 1];
-    v.full = v.sigma != 0 && ((a.l0 == 0.0 && b.l1 == 1.0) || (a.l0 == 1.0 && b.l1 == 0.0));
+    v.full = full_visit(v.sigma, a, b);
     open_ = -1;
     return;
   }
   Visit& v = visits_[static_cast<size_t>(open_)];
   const Sub& a = subs_[v.first];
   const Sub& b = subs_[v.first + v.count - 1];
-  v.full = v.sigma != 0 && ((a.l0 == 0.0 && b.l1 == 1.0) || (a.l0 == 1.0 && b.l1 == 0.0));
+  v.full = full_visit(v.sigma, a, b);
   const uint32_t k = key(v.j);
   v.next = visit_head_[k];
   visit_head_[k] = open_;
@@ -219,30 +223,25 @@ void StairAreaMeter::walk_emit(const WalkPt& a, const WalkPt& b) {
   const double l0 = std::clamp(a.g - jd, 0.0, 1.0), l1 = std::clamp(b.g - jd, 0.0, 1.0);
   const Sub s{static_cast<uint32_t>(walk_.piece), a.t, b.t, l0, l1, a.h, b.h, a.A, b.A};
   const int8_t sg = l1 > l0 ? 1 : -1;
-  if (imp_.dense && std::abs(l1 - l0) == 1.0 && dense_full(s, j, sg)) return;
   // the direction and the radial range from the points themselves, not read back from the sub just stored
-  add_sub(s, j, sg, a.h < b.h ? a.h : b.h, a.h < b.h ? b.h : a.h);
+  const double lo = a.h < b.h ? a.h : b.h, hi = a.h < b.h ? b.h : a.h;
+  if (imp_.dense && std::abs(l1 - l0) == 1.0 && dense_full(s, j, sg)) return;
+  add_sub(s, j, sg, lo, hi);
 }
 
 bool StairAreaMeter::dense_full(const Sub& s, int64_t j, int8_t sg) {
   // a sub from one edge of its sector to the other on a path monotone in angle is the whole of the sector's visit
   // (the sub before it ended on this sector's first edge, in the sector before, whose visit is closed here): with
   // the sector's one level strand at the front of the queue, in its direction, it is measured at once, as
-  // dense_close would; otherwise it opens a visit as any sub
+  // dense_visit would; otherwise it opens a visit as any sub
   Implied& im = imp_;
-  dense_close();  // the visit before, in another sector
+  dense_close();
   const size_t a0 = im.head;
   if (!(a0 < im.arcs.size() && im.arcs[a0].j == j && im.arcs[a0].dir == sg &&
         (a0 + 1 == im.arcs.size() || im.arcs[a0 + 1].j != j)))
     return false;
   im.head = a0 + 1;
-  const double rho = static_cast<double>(im.arcs[a0].n + im.h0) * grid_.height;
-  const double jd = static_cast<double>(j);
-  const uint32_t k = key(j);
-  if ((s.h0 - rho) * (s.h1 - rho) < 0.0)
-    dense_crossing(s, rho, jd, k);
-  else
-    im.part[k] = sub_part(s, rho, jd);
+  dense_part(&s, 1, im.arcs[a0], j);
   return true;
 }
 
@@ -272,8 +271,13 @@ namespace {
 // The series c (each coefficient on both lanes of a vector, degree n) at the points z[0..cnt), into out: eight
 // points at a time on four vectors, so that four recurrences are in flight; each lane performs the operations of
 // one Clenshaw recurrence, (c_i - b_{i+2}) + 2z b_{i+1}, then (c_0 - b_2) + z b_1, in that order, so a value is the
-// same whichever points share its vector. z and out hold cnt rounded up to a multiple of eight (z padded).
-void clenshaw_many(const Lane2* c, int n, const double* z, size_t cnt, double* out) {
+// same whichever points share its vector. z is padded with zeros to a multiple of eight, out sized to match.
+void clenshaw_many(const Lane2* c, int n, std::vector<double>& zv, size_t cnt, std::vector<double>& outv) {
+  zv.resize(cnt + 8);
+  std::fill(zv.begin() + static_cast<std::ptrdiff_t>(cnt), zv.end(), 0.0);
+  outv.resize(cnt + 8);
+  const double* z = zv.data();
+  double* out = outv.data();
   for (size_t j = 0; j < cnt; j += 8) {
     Lane2 zz[4], t2[4], b1[4], b2[4];
     for (int v = 0; v < 4; ++v) {
@@ -325,20 +329,16 @@ bool StairAreaMeter::walk_fit(const Span& s) {
       c[k][i] = Lane2{v, v};
     }
   const double base_y = frame_.shift + p.g_a;
-  auto z_of = [&](int64_t q) {
-    const double y = static_cast<double>(walk_level(q)) * frame_.width - base_y;
+  auto z_of = [&](double level) {  // an abscissa level's z
+    const double y = level * frame_.width - base_y;
     return std::clamp((y - yc) * ik, -1.0, 1.0);
   };
   // each series at every edge's z in turn, eight edges at a time (clenshaw_many)
   const size_t cnt = static_cast<size_t>(s.j1 - s.j0);
   auto& ez = w.z;
-  ez.resize(cnt + 8);
-  for (size_t i = 0; i < cnt; ++i) ez[i] = z_of(s.j0 + static_cast<int64_t>(i));
-  for (size_t i = cnt; i < cnt + 8; ++i) ez[i] = 0.0;
-  for (int k = 0; k < 3; ++k) {
-    w.r[k].resize(cnt + 8);
-    clenshaw_many(c[k], f[k].deg, ez.data(), cnt, w.r[k].data());
-  }
+  ez.resize(cnt);
+  for (size_t i = 0; i < cnt; ++i) ez[i] = z_of(static_cast<double>(walk_level(s.j0 + static_cast<int64_t>(i))));
+  for (int k = 0; k < 3; ++k) clenshaw_many(c[k], f[k].deg, ez, cnt, w.r[k]);
   const double *r0 = w.r[0].data(), *r1 = w.r[1].data(), *r2 = w.r[2].data();
   for (size_t i = 0; i < cnt; ++i) {
     const int64_t q = s.j0 + static_cast<int64_t>(i);
@@ -349,12 +349,10 @@ bool StairAreaMeter::walk_fit(const Span& s) {
     // the radius at the half levels from the same fit
     imply_levels(s, [&](const double* L, size_t nl, double* out) {
       auto& z = imp_.z;
-      z.resize(nl + 8);
-      for (size_t i = 0; i < nl; ++i) z[i] = std::clamp((L[i] * frame_.width - base_y - yc) * ik, -1.0, 1.0);
-      for (size_t i = nl; i < nl + 8; ++i) z[i] = 0.0;
+      z.resize(nl);
+      for (size_t i = 0; i < nl; ++i) z[i] = z_of(L[i]);
       auto& r = w.r[3];
-      r.resize(nl + 8);
-      clenshaw_many(c[1], f[1].deg, z.data(), nl, r.data());
+      clenshaw_many(c[1], f[1].deg, z, nl, r);
       for (size_t i = 0; i < nl; ++i) out[i] = p.h_a + (hb + r[i]);
     });
   }
@@ -363,10 +361,12 @@ bool StairAreaMeter::walk_fit(const Span& s) {
 
 // ---- the nearest staircase without the digitizer (imply_nearest)
 
-bool StairAreaMeter::near_level(double f) const {
-  const double u = f + 0.5, d = u - std::floor(u);
+bool StairAreaMeter::nearest_node(double f, int64_t& n) const {
+  const double u = f + 0.5, fl = std::floor(u), d = u - fl;
+  if (!(std::abs(fl) < 4e18)) return false;  // not a node (or not finite)
+  n = static_cast<int64_t>(fl);
   const double m = imp_.margin + 1e-13 * std::abs(f);
-  return !(d >= m && 1.0 - d >= m);
+  return d >= m && 1.0 - d >= m;
 }
 
 template <class HAt>
@@ -400,15 +400,13 @@ void StairAreaMeter::imply_solve(const Span& s) {
 }
 
 void StairAreaMeter::imply_arc(double h) {
-  // the radius in steps as the digitizer forms it (times the inverse of the step), its nearest node
-  const double f = h * imp_.inv_height, u = f + 0.5, fl = std::floor(u), d = u - fl;
-  const double m = imp_.margin + 1e-13 * std::abs(f);
-  if (!(d >= m && 1.0 - d >= m)) imp_.failed = true;
-  if (!(std::abs(fl) < 4e18)) {  // not a node (a value that is not finite fails above)
+  // the radius in steps as the digitizer forms it (times the inverse of the step), its nearest node (a walk that
+  // has failed is discarded: it need not go on recording)
+  int64_t n;
+  if (!nearest_node(h * imp_.inv_height, n)) {
     imp_.failed = true;
     return;
   }
-  const int64_t n = static_cast<int64_t>(fl);
   // recorded as run() records a step: the node before it, relative to the start (dense: waiting for its sector's
   // visit, the sector floor(level) = the node before the step going up, the node after it going down)
   if (imp_.dense)
@@ -420,18 +418,15 @@ void StairAreaMeter::imply_arc(double h) {
 }
 
 void StairAreaMeter::imply_point(const WalkPt& p) {
-  const double f = p.h * imp_.inv_height;
-  if (near_level(p.g) || near_level(f)) imp_.failed = true;
-  const double fn = std::floor(f + 0.5), gn = std::floor(p.g + 0.5);
-  if (!(std::abs(fn) < 4e18 && std::abs(gn) < 4e18)) {  // not a node
+  int64_t n, m;
+  if (!nearest_node(p.h * imp_.inv_height, n) || !nearest_node(p.g, m)) {
     imp_.failed = true;
     return;
   }
-  const int64_t n = static_cast<int64_t>(fn);
   nr_ += static_cast<uint64_t>(n > imp_.n ? n - imp_.n : imp_.n - n);
   imp_.n = n;
   n_ = n - imp_.h0;
-  if (static_cast<int64_t>(gn) != imp_.g0 + m_) imp_.failed = true;
+  if (m != imp_.g0 + m_) imp_.failed = true;
 }
 
 bool StairAreaMeter::imply_nearest(int64_t h0, int64_t g0, double margin) {
@@ -645,9 +640,9 @@ double StairAreaMeter::sub_part(const Sub& b, double rho, double jd) const {
   return crossed_part(b, rho, jd, g, a);
 }
 
-double StairAreaMeter::fast_visit(const Visit& v, double rho, const std::vector<Sub>& subs) const {
+double StairAreaMeter::fast_visit(const Sub* subs, size_t count, double rho, double jd) const {
   double s = 0.0;
-  for (uint32_t i = v.first; i < v.first + v.count; ++i) s += sub_part(subs[i], rho, static_cast<double>(v.j));
+  for (size_t i = 0; i < count; ++i) s += sub_part(subs[i], rho, jd);
   return s;
 }
 
@@ -677,7 +672,7 @@ void StairAreaMeter::add_visit(const Visit& v, double rho, const std::vector<Sub
     add_total(sub_part(b, rho, static_cast<double>(v.j)));  // (fast_visit's 0 + the one part: the part itself)
     return;
   }
-  add_total(fast_visit(v, rho, subs));
+  add_total(fast_visit(subs.data() + v.first, v.count, rho, static_cast<double>(v.j)));
 }
 
 void StairAreaMeter::flush_pending() {
@@ -1186,39 +1181,39 @@ void StairAreaMeter::dense_close() {
   Implied& im = imp_;
   if (!im.open) return;
   im.open = false;
+  dense_visit(im.subs.data(), im.subs.size(), im.j, im.sigma, im.hmin, im.hmax);
+}
+
+void StairAreaMeter::dense_visit(const Sub* subs, size_t count, int64_t j, int8_t sigma, double hmin, double hmax) {
+  Implied& im = imp_;
   // this sector's level strands: at the front of the queue (the strands of the sectors before were taken by their
   // visits; a strand of a sector behind this one would mean the walk and the strands disagree)
   size_t a0 = im.head, a1 = a0;
-  while (a1 < im.arcs.size() && im.arcs[a1].j == im.j) ++a1;
-  if (a1 == a0 && a0 < im.arcs.size() && (im.arcs[a0].j - im.j) * im.dir < 0) im.failed = true;
+  while (a1 < im.arcs.size() && im.arcs[a1].j == j) ++a1;
+  if (a1 == a0 && a0 < im.arcs.size() && (im.arcs[a0].j - j) * im.dir < 0) im.failed = true;
   im.head = a1;
-  const Sub& a = im.subs.front();
-  const Sub& b = im.subs.back();
-  const bool full = im.sigma != 0 && ((a.l0 == 0.0 && b.l1 == 1.0) || (a.l0 == 1.0 && b.l1 == 0.0));
-  if (full && a1 - a0 == 1 && im.arcs[a0].dir == im.sigma) {
-    // the sector's only visit and only level strand: add_sector's one_pass, measured now
-    const double rho = static_cast<double>(im.arcs[a0].n + im.h0) * grid_.height;
-    const double jd = static_cast<double>(im.j);
-    const uint32_t k = key(im.j);
-    if (im.subs.size() == 1) {
-      if ((a.h0 - rho) * (a.h1 - rho) < 0.0)
-        dense_crossing(a, rho, jd, k);
-      else
-        im.part[k] = sub_part(a, rho, jd);
-    } else {
-      double sum = 0.0;
-      for (const Sub& x : im.subs) sum += sub_part(x, rho, jd);
-      im.part[k] = sum;
-    }
+  if (full_visit(sigma, subs[0], subs[count - 1]) && a1 - a0 == 1 && im.arcs[a0].dir == sigma) {
+    dense_part(subs, count, im.arcs[a0], j);
     return;
   }
   // anything else goes to the lists, as add_sub and run() would have put it
   open_ = static_cast<int>(visits_.size());
-  visits_.push_back(Visit{im.j, static_cast<uint32_t>(subs_.size()), static_cast<uint32_t>(im.subs.size()), -1,
-                          im.sigma, false, im.hmin, im.hmax});
-  subs_.insert(subs_.end(), im.subs.begin(), im.subs.end());
+  visits_.push_back(Visit{j, static_cast<uint32_t>(subs_.size()), static_cast<uint32_t>(count), -1, sigma, false,
+                          hmin, hmax});
+  subs_.insert(subs_.end(), subs, subs + count);
   close_visit();
   for (size_t i = a0; i < a1; ++i) arcs_.push_back({im.arcs[i].n, im.arcs[i].m, -1, im.arcs[i].dir});
+}
+
+void StairAreaMeter::dense_part(const Sub* subs, size_t count, const Implied::Arc& arc, int64_t j) {
+  // the sector's only visit and only level strand: add_sector's one_pass (add_visit), measured now
+  const double rho = static_cast<double>(arc.n + imp_.h0) * grid_.height;
+  const double jd = static_cast<double>(j);
+  const uint32_t k = key(j);
+  if (count == 1 && (subs[0].h0 - rho) * (subs[0].h1 - rho) < 0.0)
+    dense_crossing(subs[0], rho, jd, k);
+  else
+    imp_.part[k] = count == 1 ? sub_part(subs[0], rho, jd) : fast_visit(subs, count, rho, jd);
 }
 
 void StairAreaMeter::dense_crossing(const Sub& b, double rho, double jd, uint32_t k) {

@@ -266,11 +266,16 @@ class StairAreaMeter {
   void imply_solve(const Span& s);  // the same, each crossing solved by Newton's method on the abscissa's series
   void imply_arc(double h);  // the angular step at a half level, the radius there h
   void imply_point(const WalkPt& p);  // a segment's end: its radial steps, and the margins of its values
-  bool near_level(double f) const;    // f within the margin of a half level
+  // the node nearest f (floor(f + 1/2)) into n; false where f lies within the margin of a half level or is not a
+  // node (not finite, or beyond 4e18 steps; n is then left as it was)
+  bool nearest_node(double f, int64_t& n) const;
   void add_sub(const Sub& s, int64_t j, int8_t sigma, double hmin, double hmax);  // its direction, radial range
   void close_visit();
   void add_connector(Vec2 a, double ga, Vec2 b, double gb);
-  double fast_visit(const Visit& v, double rho, const std::vector<Sub>& subs) const;
+  double fast_visit(const Sub* subs, size_t count, double rho, double jd) const;  // a visit's parts, summed
+  // a visit of these first and last subs, monotone in direction sigma (0: it reverses), runs from one side of its
+  // sector to the other
+  static bool full_visit(int8_t sigma, const Sub& first, const Sub& last);
   // the integral of the staircase's level rho minus a piece's base ha, per unit of lambda
   double level_factor(double ha, double rho) const;
   // a sub's part against the level rho (split where the path crosses it), and the start of the crossing's search
@@ -374,7 +379,12 @@ class StairAreaMeter {
   int path_direction() const;
   void dense_sub(const Sub& s, int64_t j, int8_t sigma, double lo, double hi);
   void dense_close();
+  // a sector's visit (its subs, direction and radial range): measured with its one level strand where it is the
+  // fast path's one pass, otherwise listed with its level strands for finish()
+  void dense_visit(const Sub* subs, size_t count, int64_t j, int8_t sigma, double hmin, double hmax);
   bool dense_full(const Sub& s, int64_t j, int8_t sigma);  // walk_emit's usual sub, measured at once
+  // the part of a sector's one pass against its level strand (dense_visit, dense_full)
+  void dense_part(const Sub* subs, size_t count, const Implied::Arc& arc, int64_t j);
   void dense_crossing(const Sub& b, double rho, double jd, uint32_t k);
   void dense_flush();
   // the parts of two crossings found side by side (flush_pending, dense_crossing)
