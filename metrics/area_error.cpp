@@ -102,6 +102,8 @@ void StairAreaMeter::reset(sweep::TrackView track, const StairGrid& grid) {
   run_lo_ = 1, run_hi_ = 0;
   pinned_.clear();
   peak_slots_ = 0;
+  pass_on_ = false;
+  pass_clear();
   walk_.done = true;
   open_ = -1;
   imp_.on = imp_.failed = imp_.walked = imp_.dense = false;
@@ -163,6 +165,7 @@ void StairAreaMeter::add_sub(const Sub& s, int64_t j, int8_t sg, double lo, doub
     if (failed_) return;
     const uint32_t k = key(j);
     walk_key_ = k;
+    if (pass_on_ && pass_sub(s, j, sg, k)) return;
     if (open_ >= 0) {
       Slot& o = slots_[open_slot_];
       Visit& v = o.visits[static_cast<size_t>(open_)];
@@ -176,7 +179,7 @@ void StairAreaMeter::add_sub(const Sub& s, int64_t j, int8_t sg, double lo, doub
       }
       close_visit();
     }
-    Slot* sl = slot(k);
+    Slot* sl = stream_slot(k);
     if (!sl) return;
     open_slot_ = static_cast<uint32_t>(sl - slots_.data());
     open_ = static_cast<int>(sl->visits.size());
@@ -606,7 +609,7 @@ void StairAreaMeter::add_connector(Vec2 a, double ga, Vec2 b, double gb) {
     s.b = b;
     const uint32_t k = key(j);
     if (stream_) {
-      Slot* sl = slot(k);
+      Slot* sl = stream_slot(k);
       if (!sl) return;
       sl->extra.push_back(s);
       sl->forced = true;
@@ -662,26 +665,33 @@ void StairAreaMeter::add_total(double x) {
 
 void StairAreaMeter::add_visit(const Visit& v, double rho, const std::vector<Sub>& subs) {
   if (v.count == 1) {
-    const Sub& b = subs[v.first];
-    if ((b.h0 - rho) * (b.h1 - rho) < 0.0) {
-      pending_.push_back({0.0, static_cast<int32_t>(crossings_.size())});
-      crossings_.push_back({b, rho, static_cast<double>(v.j)});
-      if (crossings_.size() == 2) flush_pending();
-      return;
-    }
-    add_total(sub_part(b, rho, static_cast<double>(v.j)));  // (fast_visit's 0 + the one part: the part itself)
+    add_one(subs[v.first], rho, v.j);
     return;
   }
   add_total(fast_visit(subs.data() + v.first, v.count, rho, static_cast<double>(v.j)));
 }
 
-void StairAreaMeter::flush_pending() {
-  double part[2] = {0.0, 0.0};
-  if (crossings_.size() == 2) {
-    crossing_pair(crossings_[0], crossings_[1], part);
-  } else if (crossings_.size() == 1) {
-    part[0] = sub_part(crossings_[0].b, crossings_[0].rho, crossings_[0].jd);
+void StairAreaMeter::add_one(const Sub& b, double rho, int64_t j) {
+  if ((b.h0 - rho) * (b.h1 - rho) < 0.0) {
+    pending_.push_back({0.0, static_cast<int32_t>(crossings_.size())});
+    crossings_.push_back({b, rho, static_cast<double>(j)});
+    // four at a time where the processor has AVX, two otherwise (the same values either way)
+    if (crossings_.size() == (area_roots::has_avx() ? 4u : 2u)) flush_pending();
+    return;
   }
+  add_total(sub_part(b, rho, static_cast<double>(j)));  // (fast_visit's 0 + the one part: the part itself)
+}
+
+void StairAreaMeter::flush_pending() {
+  double part[4] = {0.0, 0.0, 0.0, 0.0};
+  const size_t nc = crossings_.size();
+  size_t i = 0;
+  if (nc == 4) {
+    crossing_quad(crossings_.data(), part);
+    i = 4;
+  }
+  for (; i + 2 <= nc; i += 2) crossing_pair(crossings_[i], crossings_[i + 1], part + i);
+  if (i < nc) part[i] = sub_part(crossings_[i].b, crossings_[i].rho, crossings_[i].jd);
   for (const Pending& e : pending_) total_.add(e.crossing >= 0 ? part[e.crossing] : e.value);
   pending_.clear();
   crossings_.clear();
@@ -862,7 +872,7 @@ void StairAreaMeter::flush_run() {
   done_.emplace(lo, hi);
 }
 
-StairAreaMeter::Slot* StairAreaMeter::slot(uint32_t k) {
+StairAreaMeter::Slot* StairAreaMeter::slot(uint32_t k, bool ordered) {
   const uint32_t at = slot_of_.find(k);
   if (at != SlotIndex::kNone) return &slots_[at];
   if (finalized(k)) {
@@ -885,8 +895,8 @@ StairAreaMeter::Slot* StairAreaMeter::slot(uint32_t k) {
   sl.extra.clear();
   sl.forced = false;
   slot_of_.insert(k, i);
-  order_.push_back(pinned(k) ? k | kPinned : k);  // the pins do not move: whether a key is pinned, once
-  peak_slots_ = std::max(peak_slots_, slot_of_.size());
+  if (ordered) order_.push_back(pinned(k) ? k | kPinned : k);  // the pins do not move: whether a key is pinned, once
+  peak_slots_ = std::max(peak_slots_, slot_of_.size() + pass_n_);
   return &sl;
 }
 
@@ -912,8 +922,10 @@ void StairAreaMeter::finalize(uint32_t i) {
 }
 
 void StairAreaMeter::evict(bool all) {
+  // in the order the sectors were opened (a slot or an entry of the one-pass queue): the oldest one still within
+  // the window of the staircase or the walk keeps every later one
   while (!order_.empty()) {
-    const uint32_t e = order_.front(), k = e & ~kPinned;
+    const uint32_t e = order_.front(), k = e & ~(kPinned | kPass);
     if (!all) {
       if (e & kPinned) {  // near the start or the end: the connectors may add to it
         pinned_.push_back(k);
@@ -922,6 +934,18 @@ void StairAreaMeter::evict(bool all) {
       }
       if (key_distance(k, stair_key_) <= kStreamWindow) break;
       if (!walk_.done && key_distance(k, walk_key_) <= kStreamWindow) break;
+    }
+    if (e & kPass) {  // the head of the one-pass queue (moved into a slot, or measured here)
+      const PassEnt& q = pass_[pass_seq0_ & (pass_.size() - 1)];
+      ++pass_seq0_;
+      --pass_n_;
+      if (!q.dead) {
+        pass_key_[k & (kPassDirect - 1)] = SlotIndex::kNone;
+        pass_measure(q);
+        order_.pop_front();
+        mark_finalized(k);
+        continue;
+      }
     }
     finalize(slot_of_.find(k));
     slot_of_.erase(k);
@@ -966,6 +990,8 @@ void StairAreaMeter::begin(int64_t h0, int64_t g0) {
   pins_[2] = key_near((P.back().g_b + shift_) / dth);
   stair_key_ = walk_key_ = pins_[0];
   open_ = -1;
+  pass_clear();
+  pass_on_ = !force_general_;
   walk_start();
 }
 
@@ -984,13 +1010,96 @@ void StairAreaMeter::stream_run(int dir) {
     return;
   }
   const uint32_t k = key(j);
-  Slot* sl = slot(k);
-  if (!sl) return;
-  sl->arcs.push_back({n, j, -1, static_cast<int8_t>(dir)});
+  PassEnt* e = pass_on_ ? pass_find(k) : nullptr;
+  if (e && e->narcs == 0) {  // the usual case: the sector's one level strand
+    e->narcs = 1;
+    e->arc_n = n;
+    e->arc_dir = static_cast<int8_t>(dir);
+  } else {
+    Slot* sl = stream_slot(k);
+    if (!sl) return;
+    sl->arcs.push_back({n, j, -1, static_cast<int8_t>(dir)});
+  }
   stair_key_ = k;
   // keep the contour's walk up with the staircase: about as many sectors walked as level strands stepped
   while (!failed_ && !walk_.done && subs_out_ < nrun_ + 1 + kStreamWindow / 2) walk_next();
   if (!failed_) evict(false);
+}
+
+// ---- the streamed mode's one-pass queue
+
+void StairAreaMeter::pass_clear() {
+  pass_seq0_ = 0;
+  pass_n_ = 0;
+  pass_key_.fill(SlotIndex::kNone);
+}
+
+StairAreaMeter::PassEnt* StairAreaMeter::pass_find(uint32_t k) {
+  const uint32_t d = k & (kPassDirect - 1);
+  if (pass_key_[d] != k) return nullptr;
+  return &pass_[pass_seq_[d] & (pass_.size() - 1)];
+}
+
+bool StairAreaMeter::pass_sub(const Sub& s, int64_t j, int8_t sg, uint32_t k) {
+  // a sub from ray to ray of a sector with no strand yet, away from the pins, whose cell of the index is free
+  const uint32_t d = k & (kPassDirect - 1);
+  if (!(std::abs(s.l1 - s.l0) == 1.0) || pass_key_[d] != SlotIndex::kNone || slot_of_.find(k) != SlotIndex::kNone ||
+      k >= kPass || finalized(k) || pinned(k))
+    return false;
+  close_visit();
+  if (pass_n_ == pass_.size()) {  // grow: each entry to its place in a ring twice the size
+    std::vector<PassEnt> b(std::max<size_t>(256, 2 * pass_.size()));
+    for (uint64_t q = pass_seq0_; q < pass_seq0_ + pass_n_; ++q) b[q & (b.size() - 1)] = pass_[q & (pass_.size() - 1)];
+    pass_ = std::move(b);
+  }
+  const uint64_t q = pass_seq0_ + pass_n_;
+  pass_[q & (pass_.size() - 1)] = PassEnt{s, j, 0, k, sg, 0, 0, false};
+  ++pass_n_;
+  pass_key_[d] = k;
+  pass_seq_[d] = q;
+  order_.push_back(k | kPass);
+  peak_slots_ = std::max(peak_slots_, slot_of_.size() + pass_n_);
+  return true;
+}
+
+void StairAreaMeter::pass_promote(PassEnt& e) {
+  // the slot the entry would have been: its visit (closed: one sub, from ray to ray) and its level strand; it keeps
+  // the entry's place in the order of measurement
+  e.dead = true;
+  pass_key_[e.key & (kPassDirect - 1)] = SlotIndex::kNone;
+  Slot* sl = slot(e.key, false);
+  if (!sl) return;
+  const double lo = std::min(e.sub.h0, e.sub.h1), hi = std::max(e.sub.h0, e.sub.h1);
+  sl->visits.push_back(Visit{e.j, static_cast<uint32_t>(sl->subs.size()), 1, -1, e.sigma, true, lo, hi});
+  sl->subs.push_back(e.sub);
+  if (e.narcs == 1) sl->arcs.push_back({e.arc_n, e.j, -1, e.arc_dir});
+}
+
+StairAreaMeter::Slot* StairAreaMeter::stream_slot(uint32_t k) {
+  if (pass_on_)
+    if (PassEnt* e = pass_find(k)) pass_promote(*e);
+  return slot(k);
+}
+
+void StairAreaMeter::pass_measure(const PassEnt& e) {
+  // finalize()'s one pass, or add_sector with the entry's visit and strand
+  if (!force_general_ && e.narcs == 1 && e.arc_dir == e.sigma) {
+    ++sres_.sectors;
+    add_one(e.sub, static_cast<double>(e.arc_n) * grid_.height, e.j);
+    return;
+  }
+  const double lo = std::min(e.sub.h0, e.sub.h1), hi = std::max(e.sub.h0, e.sub.h1);
+  const Visit v{e.j, 0, 1, -1, e.sigma, true, lo, hi};
+  const ArcRec a{e.arc_n, e.j, -1, e.arc_dir};
+  pass_subs_.assign(1, e.sub);
+  SectorIn& in = sector_in_;
+  in.vs.assign(1, &v);
+  in.as.clear();
+  if (e.narcs == 1) in.as.push_back(&a);
+  in.extra.clear();
+  in.subs = &pass_subs_;
+  in.forced = false;
+  add_sector(in, sres_);
 }
 
 StairAreaResult StairAreaMeter::finish(int64_t n0, int64_t m0) {

@@ -285,6 +285,7 @@ class StairAreaMeter {
   // second, and the two crossings are found side by side (radius_crossing2); the values wait with them, so the sum
   // takes them in the same order (the same bytes as fast_visit one by one).
   void add_visit(const Visit& v, double rho, const std::vector<Sub>& subs);
+  void add_one(const Sub& b, double rho, int64_t j);  // add_visit of a visit of one sub
   void add_total(double x);
   void flush_pending();
   // the part of a sub crossing its level rho where the path's abscissa and area are g and a
@@ -297,7 +298,10 @@ class StairAreaMeter {
   Vec2 path_point(double h, double g) const;
   // streamed mode
   void stream_run(int dir);
-  Slot* slot(uint32_t k);  // nullptr (and failed_) when the sector was measured already
+  // nullptr (and failed_) when the sector was measured already; ordered: in order_ (a slot that takes the place of
+  // an entry of the one-pass queue keeps the entry's)
+  Slot* slot(uint32_t k, bool ordered = true);
+  Slot* stream_slot(uint32_t k);  // slot(k), after moving a lane entry of k into it
   bool pinned(uint32_t k) const;
   void evict(bool all);
   void finalize(uint32_t slot_index);
@@ -401,18 +405,43 @@ class StairAreaMeter {
   SlotIndex slot_of_;
   std::vector<Slot> slots_;
   std::vector<uint32_t> free_slots_;
-  KeyRing order_;  // keys in the order their slots were opened, with kPinned where pinned
+  KeyRing order_;  // keys in the order their slots (or one-pass entries) were opened, with kPinned, kPass
   std::map<uint32_t, uint32_t> done_;  // measured keys: disjoint ranges [first, last], but the run below
   uint32_t done_lo_ = 1, done_hi_ = 0;  // the least and the largest measured key (none: lo > hi)
   uint32_t run_lo_ = 1, run_hi_ = 0;    // the range being extended, key by key, not yet in done_ (none: lo > hi)
   void flush_run();                     // the run into done_
   static constexpr uint32_t kPinned = 0x80000000u;  // in order_: the key is pinned (keys are below 2^31)
+  static constexpr uint32_t kPass = 0x40000000u;    // in order_: an entry of the one-pass queue (keys below 2^30)
   std::vector<uint32_t> pinned_;  // keys about the start and end (connectors): measured at finish()
   uint32_t pins_[3] = {0, 0, 0};
   uint32_t stair_key_ = 0, walk_key_ = 0;
   SectorIn sector_in_;
   std::vector<sweep::Strand> strands_;
   size_t peak_slots_ = 0;
+  // The streamed mode's one-pass queue (docs/area-error.md, "The one-pass queue"): a sector the walk crosses in one
+  // sub, from ray to ray, with no strand before it and away from the pins, is an entry of a queue in the walk's
+  // order with room for one level strand, not a slot. It takes its place in order_ and is measured as a slot would
+  // be; anything more in it (a second strand or visit, a connector) moves it into a slot first.
+  struct PassEnt {
+    Sub sub;
+    int64_t j, arc_n;
+    uint32_t key;
+    int8_t sigma, narcs, arc_dir;
+    bool dead;  // moved into a slot
+  };
+  static constexpr uint32_t kPassDirect = 1024;  // the queue's direct-mapped index by the key's low bits
+  bool pass_on_ = false;
+  std::vector<PassEnt> pass_;  // a ring of power-of-two size: the entry of sequence number q at q & (size - 1)
+  uint64_t pass_seq0_ = 0;     // the head's sequence number
+  size_t pass_n_ = 0;
+  std::array<uint32_t, kPassDirect> pass_key_{};  // the key of the live entry in each cell (SlotIndex::kNone: none)
+  std::array<uint64_t, kPassDirect> pass_seq_{};  // its sequence number
+  std::vector<Sub> pass_subs_;                    // pass_measure's one sub, for add_sector
+  void pass_clear();
+  PassEnt* pass_find(uint32_t k);
+  bool pass_sub(const Sub& s, int64_t j, int8_t sigma, uint32_t k);  // false: not a queue entry
+  void pass_promote(PassEnt& e);  // into a slot
+  void pass_measure(const PassEnt& e);
 };
 
 // A StairAreaMeter fed by a tape: steps of the tape axis `rise_axis` are the staircase's rises (its height

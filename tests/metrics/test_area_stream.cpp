@@ -3,6 +3,8 @@
 // the staircase comes back to a sector measured already.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <bit>
 #include <cmath>
 #include <numbers>
 
@@ -140,6 +142,69 @@ TEST(AreaStream, AStaircaseThatComesBackIsLeftToTheRecordedMode) {
   for (const auto& s : steps) m.record(s.axis, s.dir);
   const AreaErrorResult a = m.finish(r.dig.start_n, r.dig.start_m);
   EXPECT_GT(a.area_m2, r.area.area_m2);  // the detour adds area
+}
+
+// A staircase that wanders inside the window: here and there it steps back one sector or five and forward again, or
+// radially out and in again (no area: each strand is run both ways), or round one cell (back, out, forward, in).
+// Those sectors get more than one level strand, most of them after the one-pass queue took the contour's pass: the
+// streamed meter measures them with the general sweep, as the recorded one does, with the same area and counts.
+TEST(AreaStream, AStaircaseThatWandersInsideTheWindowIsMeasuredAsRecorded) {
+  const Grid g = coarse_grid(0.0254e-3, 16000);
+  struct Case {
+    const char* name;
+    ToolPathPtr path;
+  };
+  const Case cases[] = {{"limacon", placed(make_limacon(0.0508, 0.0762), 0.0127, 0.0)},
+                        {"witch", placed(make_witch(0.2159, -0.2032, 0.2032), 0.1546, 1.236)}};
+  for (const auto& c : cases) {
+    AreaRun r = area_run(*c.path, g, StepRule::nearest);
+    size_t total_runs = 0;
+    for (const auto& s : r.steps) total_runs += s.axis == kAxisAngular;
+    const size_t period = std::max<size_t>(7, total_runs / 60);  // about 60 detours of each kind
+    for (bool cells : {false, true}) {
+      const std::string what = std::string(c.name) + (cells ? ", round cells" : ", there and back");
+      std::vector<Recorded> steps;
+      size_t runs = 0, wanders = 0;
+      for (const auto& s : r.steps) {
+        steps.push_back(s);
+        if (s.axis != kAxisAngular) continue;
+        ++runs;
+        const Recorded back{kAxisAngular, -s.dir, s.t_ns}, fwd = s;
+        const Recorded out{kAxisRadial, 1, s.t_ns}, in{kAxisRadial, -1, s.t_ns};
+        if (runs % period == 0) {
+          const size_t k = runs % (2 * period) == 0 ? 5 : 1;
+          steps.insert(steps.end(), k, back);
+          if (cells) steps.push_back(out);
+          steps.insert(steps.end(), k, fwd);
+          if (cells) steps.push_back(in);
+          ++wanders;
+        } else if (runs % period == period / 2 && !cells) {
+          steps.push_back(out);
+          steps.push_back(in);
+          ++wanders;
+        }
+      }
+      ASSERT_GT(wanders, 50u) << what;
+      PolarAreaMeter rec;
+      rec.reset(r.track, g);
+      for (const auto& s : steps) rec.record(s.axis, s.dir);
+      const AreaErrorResult x = rec.finish(r.dig.start_n, r.dig.start_m);
+      bool ok = false;
+      const AreaErrorResult y = streamed(r, g, steps, &ok);
+      ASSERT_TRUE(ok) << what;
+      EXPECT_GT(x.general_sectors, wanders / 2) << what;
+      if (!cells) {  // strands run both ways enclose nothing
+        EXPECT_NEAR(x.area_m2, r.area.area_m2, 1e-9 * r.area.area_m2) << what;
+      } else {
+        EXPECT_GT(std::abs(x.area_m2 - r.area.area_m2), 1e-3 * r.area.area_m2) << what;
+      }
+      EXPECT_EQ(std::bit_cast<uint64_t>(y.area_m2), std::bit_cast<uint64_t>(x.area_m2)) << what;
+      EXPECT_EQ(y.sectors, x.sectors) << what;
+      EXPECT_EQ(y.general_sectors, x.general_sectors) << what;
+      EXPECT_EQ(y.run_steps, x.run_steps) << what;
+      EXPECT_EQ(y.rise_steps, x.rise_steps) << what;
+    }
+  }
 }
 
 // The lane hands every byte over, in order, across many blocks; a consumer's exception comes back from close();
