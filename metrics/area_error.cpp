@@ -825,9 +825,46 @@ uint64_t StairAreaMeter::key_distance(uint32_t a, uint32_t b) const {
 }
 
 bool StairAreaMeter::pinned(uint32_t k) const {
-  for (uint32_t p : pins_)
-    if (key_distance(k, p) <= kStreamWindow) return true;
+  if (pin_near_[0] <= k && k <= pin_near_[1]) return pin_near_val_;  // the usual case: beside the last key asked
+  // the run of keys about k with k's answer: the interval holding k, or the gap between the intervals about it
+  uint32_t lo = 0, hi = std::numeric_limits<uint32_t>::max();
+  for (size_t i = 0; i < npin_iv_; ++i) {
+    const uint32_t a = pin_iv_[i][0], b = pin_iv_[i][1];
+    if (a <= k && k <= b) {
+      pin_near_ = pin_iv_[i];
+      pin_near_val_ = true;
+      return true;
+    }
+    if (b < k)
+      lo = std::max(lo, b + 1);
+    else
+      hi = std::min(hi, a - 1);
+  }
+  pin_near_ = {lo, hi};
+  pin_near_val_ = false;
   return false;
+}
+
+void StairAreaMeter::set_pins() {
+  // the keys within the window of each pin (key_distance(k, pin) <= kStreamWindow), as intervals of keys: one a pin,
+  // or two where it wraps past the ends of a revolution
+  npin_iv_ = 0;
+  pin_near_ = {1, 0};  // nothing known
+  const int64_t W = kStreamWindow, K = nkeys_;
+  for (uint32_t p : pins_) {
+    int64_t lo = static_cast<int64_t>(p) - W, hi = static_cast<int64_t>(p) + W;
+    if (!wrap_ || 2 * W + 1 >= K) {
+      lo = std::max<int64_t>(lo, 0);
+      hi = std::min<int64_t>(hi, K - 1);
+    } else if (lo < 0) {
+      pin_iv_[npin_iv_++] = {static_cast<uint32_t>(lo + K), static_cast<uint32_t>(K - 1)};
+      lo = 0;
+    } else if (hi >= K) {
+      pin_iv_[npin_iv_++] = {0, static_cast<uint32_t>(hi - K)};
+      hi = K - 1;
+    }
+    pin_iv_[npin_iv_++] = {static_cast<uint32_t>(lo), static_cast<uint32_t>(hi)};
+  }
 }
 
 bool StairAreaMeter::finalized(uint32_t k) const {
@@ -988,6 +1025,7 @@ void StairAreaMeter::begin(int64_t h0, int64_t g0) {
   pins_[0] = key_near(static_cast<double>(g0));
   pins_[1] = key_near((P.front().g_a + shift_) / dth);
   pins_[2] = key_near((P.back().g_b + shift_) / dth);
+  set_pins();
   stair_key_ = walk_key_ = pins_[0];
   open_ = -1;
   pass_clear();
@@ -1023,7 +1061,8 @@ void StairAreaMeter::stream_run(int dir) {
   stair_key_ = k;
   // keep the contour's walk up with the staircase: about as many sectors walked as level strands stepped
   while (!failed_ && !walk_.done && subs_out_ < nrun_ + 1 + kStreamWindow / 2) walk_next();
-  if (!failed_) evict(false);
+  // the sectors left behind, every 16 level strands (a sector measured later than it could be is measured the same)
+  if (!failed_ && (nrun_ & 15) == 0) evict(false);
 }
 
 // ---- the streamed mode's one-pass queue
@@ -1046,7 +1085,7 @@ bool StairAreaMeter::pass_sub(const Sub& s, int64_t j, int8_t sg, uint32_t k) {
   if (!(std::abs(s.l1 - s.l0) == 1.0) || pass_key_[d] != SlotIndex::kNone || slot_of_.find(k) != SlotIndex::kNone ||
       k >= kPass || finalized(k) || pinned(k))
     return false;
-  close_visit();
+  if (open_ >= 0) close_visit();
   if (pass_n_ == pass_.size()) {  // grow: each entry to its place in a ring twice the size
     std::vector<PassEnt> b(std::max<size_t>(256, 2 * pass_.size()));
     for (uint64_t q = pass_seq0_; q < pass_seq0_ + pass_n_; ++q) b[q & (b.size() - 1)] = pass_[q & (pass_.size() - 1)];

@@ -414,6 +414,11 @@ class StairAreaMeter {
   static constexpr uint32_t kPass = 0x40000000u;    // in order_: an entry of the one-pass queue (keys below 2^30)
   std::vector<uint32_t> pinned_;  // keys about the start and end (connectors): measured at finish()
   uint32_t pins_[3] = {0, 0, 0};
+  std::array<uint32_t, 2> pin_iv_[6] = {};  // the keys pinned(): npin_iv_ intervals [first, last]
+  size_t npin_iv_ = 0;
+  mutable std::array<uint32_t, 2> pin_near_ = {1, 0};  // keys known to share pin_near_val_ (pinned()'s last answer)
+  mutable bool pin_near_val_ = false;
+  void set_pins();  // pin_iv_ from pins_
   uint32_t stair_key_ = 0, walk_key_ = 0;
   SectorIn sector_in_;
   std::vector<sweep::Strand> strands_;
