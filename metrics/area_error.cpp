@@ -962,7 +962,8 @@ void StairAreaMeter::evict(bool all) {
   // in the order the sectors were opened (a slot or an entry of the one-pass queue): the oldest one still within
   // the window of the staircase or the walk keeps every later one
   while (!order_.empty()) {
-    const uint32_t e = order_.front(), k = e & ~(kPinned | kPass);
+    // (with the queue on, keys are below kPass, and that bit marks an entry)
+    const uint32_t e = order_.front(), k = e & ~(kPinned | (pass_on_ ? kPass : 0u));
     if (!all) {
       if (e & kPinned) {  // near the start or the end: the connectors may add to it
         pinned_.push_back(k);
@@ -972,7 +973,7 @@ void StairAreaMeter::evict(bool all) {
       if (key_distance(k, stair_key_) <= kStreamWindow) break;
       if (!walk_.done && key_distance(k, walk_key_) <= kStreamWindow) break;
     }
-    if (e & kPass) {  // the head of the one-pass queue (moved into a slot, or measured here)
+    if (pass_on_ && (e & kPass)) {  // the head of the one-pass queue (moved into a slot, or measured here)
       const PassEnt& q = pass_[pass_seq0_ & (pass_.size() - 1)];
       ++pass_seq0_;
       --pass_n_;
@@ -1029,7 +1030,7 @@ void StairAreaMeter::begin(int64_t h0, int64_t g0) {
   stair_key_ = walk_key_ = pins_[0];
   open_ = -1;
   pass_clear();
-  pass_on_ = !force_general_;
+  pass_on_ = !force_general_ && nkeys_ <= int64_t{kPass};  // keys below kPass: order_ can mark an entry by that bit
   walk_start();
 }
 
@@ -1083,7 +1084,7 @@ bool StairAreaMeter::pass_sub(const Sub& s, int64_t j, int8_t sg, uint32_t k) {
   // a sub from ray to ray of a sector with no strand yet, away from the pins, whose cell of the index is free
   const uint32_t d = k & (kPassDirect - 1);
   if (!(std::abs(s.l1 - s.l0) == 1.0) || pass_key_[d] != SlotIndex::kNone || slot_of_.find(k) != SlotIndex::kNone ||
-      k >= kPass || finalized(k) || pinned(k))
+      finalized(k) || pinned(k))
     return false;
   if (open_ >= 0) close_visit();
   if (pass_n_ == pass_.size()) {  // grow: each entry to its place in a ring twice the size

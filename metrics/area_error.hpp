@@ -411,7 +411,8 @@ class StairAreaMeter {
   uint32_t run_lo_ = 1, run_hi_ = 0;    // the range being extended, key by key, not yet in done_ (none: lo > hi)
   void flush_run();                     // the run into done_
   static constexpr uint32_t kPinned = 0x80000000u;  // in order_: the key is pinned (keys are below 2^31)
-  static constexpr uint32_t kPass = 0x40000000u;    // in order_: an entry of the one-pass queue (keys below 2^30)
+  // in order_: an entry of the one-pass queue (the queue is on only where every key is below kPass)
+  static constexpr uint32_t kPass = 0x40000000u;
   std::vector<uint32_t> pinned_;  // keys about the start and end (connectors): measured at finish()
   uint32_t pins_[3] = {0, 0, 0};
   std::array<uint32_t, 2> pin_iv_[6] = {};  // the keys pinned(): npin_iv_ intervals [first, last]
