@@ -973,17 +973,20 @@ void StairAreaMeter::evict(bool all) {
       if (key_distance(k, stair_key_) <= kStreamWindow) break;
       if (!walk_.done && key_distance(k, walk_key_) <= kStreamWindow) break;
     }
-    if (pass_on_ && (e & kPass)) {  // the head of the one-pass queue (moved into a slot, or measured here)
-      const PassEnt& q = pass_[pass_seq0_ & (pass_.size() - 1)];
+    if (pass_on_ && (e & kPass)) {  // the head of the one-pass queue
+      PassEnt& q = pass_[pass_seq0_ & (pass_.size() - 1)];
       ++pass_seq0_;
       --pass_n_;
-      if (!q.dead) {
+      if (!q.dead && !force_general_ && q.narcs == 1 && q.arc_dir == q.sigma) {
+        // finalize()'s one pass, measured here
         pass_key_[k & (kPassDirect - 1)] = SlotIndex::kNone;
-        pass_measure(q);
+        ++sres_.sectors;
+        add_one(q.sub, static_cast<double>(q.arc_n) * grid_.height, q.j);
         order_.pop_front();
         mark_finalized(k);
         continue;
       }
+      if (!q.dead) pass_promote(q);  // anything else: measured from the slot it would have been, below
     }
     finalize(slot_of_.find(k));
     slot_of_.erase(k);
@@ -1119,27 +1122,6 @@ StairAreaMeter::Slot* StairAreaMeter::stream_slot(uint32_t k) {
   if (pass_on_)
     if (PassEnt* e = pass_find(k)) pass_promote(*e);
   return slot(k);
-}
-
-void StairAreaMeter::pass_measure(const PassEnt& e) {
-  // finalize()'s one pass, or add_sector with the entry's visit and strand
-  if (!force_general_ && e.narcs == 1 && e.arc_dir == e.sigma) {
-    ++sres_.sectors;
-    add_one(e.sub, static_cast<double>(e.arc_n) * grid_.height, e.j);
-    return;
-  }
-  const double lo = std::min(e.sub.h0, e.sub.h1), hi = std::max(e.sub.h0, e.sub.h1);
-  const Visit v{e.j, 0, 1, -1, e.sigma, true, lo, hi};
-  const ArcRec a{e.arc_n, e.j, -1, e.arc_dir};
-  pass_subs_.assign(1, e.sub);
-  SectorIn& in = sector_in_;
-  in.vs.assign(1, &v);
-  in.as.clear();
-  if (e.narcs == 1) in.as.push_back(&a);
-  in.extra.clear();
-  in.subs = &pass_subs_;
-  in.forced = false;
-  add_sector(in, sres_);
 }
 
 StairAreaResult StairAreaMeter::finish(int64_t n0, int64_t m0) {

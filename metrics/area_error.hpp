@@ -442,12 +442,10 @@ class StairAreaMeter {
   size_t pass_n_ = 0;
   std::array<uint32_t, kPassDirect> pass_key_{};  // the key of the live entry in each cell (SlotIndex::kNone: none)
   std::array<uint64_t, kPassDirect> pass_seq_{};  // its sequence number
-  std::vector<Sub> pass_subs_;                    // pass_measure's one sub, for add_sector
   void pass_clear();
   PassEnt* pass_find(uint32_t k);
   bool pass_sub(const Sub& s, int64_t j, int8_t sigma, uint32_t k);  // false: not a queue entry
   void pass_promote(PassEnt& e);  // into a slot
-  void pass_measure(const PassEnt& e);
 };
 
 // A StairAreaMeter fed by a tape: steps of the tape axis `rise_axis` are the staircase's rises (its height

@@ -207,6 +207,34 @@ TEST(AreaStream, AStaircaseThatWandersInsideTheWindowIsMeasuredAsRecorded) {
   }
 }
 
+// The witch's tape played backwards, from its end node: every sector's level strand runs against the contour's pass,
+// so the streamed meter measures each one from a slot with the general sweep while the steps come. At the end the
+// tape is refused, as the recorded meter refuses it: it starts at the path's end, not at its start.
+TEST(AreaStream, ATapePlayedBackwardsIsRefusedAsRecorded) {
+  const Grid g = coarse_grid(0.0254e-3, 16000);
+  auto path = placed(make_witch(0.2159, -0.2032, 0.2032), 0.1546, 1.236);
+  AreaRun r = area_run(*path, g, StepRule::nearest);
+  std::vector<Recorded> back(r.steps.rbegin(), r.steps.rend());
+  for (auto& s : back) s.dir = -s.dir;
+  const int64_t n0 = r.dig.end_n, m0 = r.dig.end_m;
+  ASSERT_GT(std::abs(m0 - r.dig.start_m), 1000);
+  auto message = [&](bool stream) {
+    PolarAreaMeter m;
+    m.reset(r.track, g);
+    if (stream) m.stream_from(n0, m0);
+    for (const auto& s : back) m.record(s.axis, s.dir);
+    try {
+      m.finish(n0, m0);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("not refused");
+  };
+  const std::string recorded = message(false);
+  EXPECT_NE(recorded.find("does not follow this path: its start node"), std::string::npos) << recorded;
+  EXPECT_EQ(message(true), recorded);
+}
+
 // The lane hands every byte over, in order, across many blocks; a consumer's exception comes back from close();
 // a lane dropped without close() stops its thread.
 TEST(StepLane, HandsEveryStepOverInOrder) {
