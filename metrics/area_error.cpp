@@ -675,23 +675,29 @@ void StairAreaMeter::add_one(const Sub& b, double rho, int64_t j) {
   if ((b.h0 - rho) * (b.h1 - rho) < 0.0) {
     pending_.push_back({0.0, static_cast<int32_t>(crossings_.size())});
     crossings_.push_back({b, rho, static_cast<double>(j)});
-    // four at a time where the processor has AVX, two otherwise (the same values either way)
-    if (crossings_.size() == (area_roots::has_avx() ? 4u : 2u)) flush_pending();
+    if (crossings_.size() == crossing_batch()) flush_pending();
     return;
   }
   add_total(sub_part(b, rho, static_cast<double>(j)));  // (fast_visit's 0 + the one part: the part itself)
 }
 
-void StairAreaMeter::flush_pending() {
-  double part[4] = {0.0, 0.0, 0.0, 0.0};
-  const size_t nc = crossings_.size();
+size_t StairAreaMeter::crossing_batch() {
+  return area_roots::has_avx() ? 4 : 2;  // four at a time where the processor has AVX (the same values either way)
+}
+
+void StairAreaMeter::crossing_parts(const std::vector<Crossing>& x, double part[4]) {
   size_t i = 0;
-  if (nc == 4) {
-    crossing_quad(crossings_.data(), part);
+  if (x.size() == 4) {
+    crossing_quad(x.data(), part);
     i = 4;
   }
-  for (; i + 2 <= nc; i += 2) crossing_pair(crossings_[i], crossings_[i + 1], part + i);
-  if (i < nc) part[i] = sub_part(crossings_[i].b, crossings_[i].rho, crossings_[i].jd);
+  for (; i + 2 <= x.size(); i += 2) crossing_pair(x[i], x[i + 1], part + i);
+  if (i < x.size()) part[i] = sub_part(x[i].b, x[i].rho, x[i].jd);
+}
+
+void StairAreaMeter::flush_pending() {
+  double part[4] = {0.0, 0.0, 0.0, 0.0};
+  crossing_parts(crossings_, part);
   for (const Pending& e : pending_) total_.add(e.crossing >= 0 ? part[e.crossing] : e.value);
   pending_.clear();
   crossings_.clear();
@@ -1349,8 +1355,7 @@ void StairAreaMeter::dense_part(const Sub* subs, size_t count, const Implied::Ar
 
 void StairAreaMeter::dense_crossing(const Sub& b, double rho, double jd, uint32_t k) {
   dense_crossings_.push_back({b, rho, jd, k});
-  // four at a time where the processor has AVX, two otherwise (the same values either way)
-  if (dense_crossings_.size() == (area_roots::has_avx() ? 4u : 2u)) dense_flush();
+  if (dense_crossings_.size() == crossing_batch()) dense_flush();
 }
 
 void StairAreaMeter::crossing_quad(const Crossing* x, double part[4]) {
@@ -1376,22 +1381,10 @@ void StairAreaMeter::crossing_quad(const Crossing* x, double part[4]) {
 }
 
 void StairAreaMeter::dense_flush() {
-  auto& x = dense_crossings_;
-  size_t i = 0;
-  if (x.size() == 4) {
-    double part[4];
-    crossing_quad(x.data(), part);
-    for (int q = 0; q < 4; ++q) imp_.part[x[static_cast<size_t>(q)].key] = part[q];
-    i = 4;
-  }
-  for (; i + 2 <= x.size(); i += 2) {
-    double part[2];
-    crossing_pair(x[i], x[i + 1], part);
-    imp_.part[x[i].key] = part[0];
-    imp_.part[x[i + 1].key] = part[1];
-  }
-  if (i < x.size()) imp_.part[x[i].key] = sub_part(x[i].b, x[i].rho, x[i].jd);
-  x.clear();
+  double part[4] = {0.0, 0.0, 0.0, 0.0};
+  crossing_parts(dense_crossings_, part);
+  for (size_t i = 0; i < dense_crossings_.size(); ++i) imp_.part[dense_crossings_[i].key] = part[i];
+  dense_crossings_.clear();
 }
 
 void StairAreaMeter::prepare_recorded() {

@@ -395,6 +395,9 @@ class StairAreaMeter {
   void crossing_pair(const Crossing& x0, const Crossing& x1, double part[2]);
   // the same for four, on the four lanes of an AVX vector (dense_flush, where area_roots::has_avx())
   void crossing_quad(const Crossing* x, double part[4]);
+  // the parts of up to four crossings (a batch of flush_pending or dense_flush): four side by side, pairs, then one
+  void crossing_parts(const std::vector<Crossing>& x, double part[4]);
+  static size_t crossing_batch();  // crossings gathered before they are found together: 4 with AVX, else 2
   void prepare_recorded();  // finish()'s state for the recorded mode (range, heads, lists)
 
   // streamed mode
