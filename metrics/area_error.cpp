@@ -271,35 +271,16 @@ void StairAreaMeter::walk_solve(const Span& s) {
 
 namespace {
 
-// The series c (each coefficient on both lanes of a vector, degree n) at the points z[0..cnt), into out: eight
-// points at a time on four vectors, so that four recurrences are in flight; each lane performs the operations of
-// one Clenshaw recurrence, (c_i - b_{i+2}) + 2z b_{i+1}, then (c_0 - b_2) + z b_1, in that order, so a value is the
-// same whichever points share its vector. z is padded with zeros to a multiple of eight, out sized to match.
-void clenshaw_many(const Lane2* c, int n, std::vector<double>& zv, size_t cnt, std::vector<double>& outv) {
-  zv.resize(cnt + 8);
+// The series c (degree n) at the points z[0..cnt) into out (area_roots::clenshaw_many4 or clenshaw_many2: the same
+// values). z is padded with zeros to a multiple of sixteen, out sized to match.
+void clenshaw_many(const double* c, int n, std::vector<double>& zv, size_t cnt, std::vector<double>& outv) {
+  zv.resize(cnt + 16);
   std::fill(zv.begin() + static_cast<std::ptrdiff_t>(cnt), zv.end(), 0.0);
-  outv.resize(cnt + 8);
-  const double* z = zv.data();
-  double* out = outv.data();
-  for (size_t j = 0; j < cnt; j += 8) {
-    Lane2 zz[4], t2[4], b1[4], b2[4];
-    for (int v = 0; v < 4; ++v) {
-      zz[v] = Lane2{z[j + 2 * v], z[j + 2 * v + 1]};
-      t2[v] = zz[v] + zz[v];
-      b1[v] = b2[v] = Lane2{0.0, 0.0};
-    }
-    for (int i = n; i >= 1; --i)
-      for (int v = 0; v < 4; ++v) {
-        const Lane2 b0 = (c[i] - b2[v]) + t2[v] * b1[v];
-        b2[v] = b1[v];
-        b1[v] = b0;
-      }
-    for (int v = 0; v < 4; ++v) {
-      const Lane2 r = (c[0] - b2[v]) + zz[v] * b1[v];
-      out[j + 2 * v] = r[0];
-      out[j + 2 * v + 1] = r[1];
-    }
-  }
+  outv.resize(cnt + 16);
+  if (area_roots::has_avx())
+    area_roots::clenshaw_many4(c, n, zv.data(), cnt, outv.data());
+  else
+    area_roots::clenshaw_many2(c, n, zv.data(), cnt, outv.data());
 }
 
 }  // namespace
@@ -324,13 +305,8 @@ bool StairAreaMeter::walk_fit(const Span& s) {
   double yc, ik;
   Cheb f[3];
   if (!fit_inverse<3>(sample, s.ta, s.tb, w.tol, yc, ik, f)) return false;
-  // the edges: the three series at each edge's z, two edges to a vector
-  Lane2 c[3][kChebMaxDegree + 1];
-  for (int k = 0; k < 3; ++k)
-    for (int i = 0; i <= f[k].deg; ++i) {
-      const double v = f[k].c[static_cast<size_t>(i)];
-      c[k][i] = Lane2{v, v};
-    }
+  // the edges: the three series at each edge's z
+  const double* c[3] = {f[0].c.data(), f[1].c.data(), f[2].c.data()};
   const double base_y = frame_.shift + p.g_a;
   auto z_of = [&](double level) {  // an abscissa level's z
     const double y = level * frame_.width - base_y;

@@ -197,6 +197,41 @@ TEST(AreaError, PairedCrossingsAreBitForBitTheSingleOnes) {
   EXPECT_EQ(crossings, 600);
 }
 
+// The walk's series at many points at once (sixteen on four AVX vectors, eight on four SSE2 vectors): every value
+// is, bit for bit, one Clenshaw recurrence at that point alone, (c_k - b_{k+2}) + 2z b_{k+1} and then
+// (c_0 - b_2) + z b_1, written out here; whichever points share a vector, and for counts that are not a multiple
+// of the batch. The coefficients beyond the degree are poison: a recurrence that read them would differ.
+TEST(AreaError, ManyPointSeriesAreBitForBitOneRecurrenceEach) {
+  using namespace polarcam::area_roots;
+  RandomSeries rs{4242};
+  int checked = 0;
+  for (int trial = 0; trial < 120; ++trial) {
+    const int deg = trial % (kChebMaxDegree + 1);
+    const Cheb f = rs.series(deg, 1.0 + 0.01 * trial);
+    const size_t cnt = 1 + static_cast<size_t>(trial * 7) % 53;
+    std::vector<double> z(cnt + 16, 0.0), out2(cnt + 16, -1.0), out4(cnt + 16, -1.0);
+    for (size_t i = 0; i < cnt; ++i) z[i] = rs.uniform();
+    if (trial % 5 == 0) z[0] = -1.0, z[cnt - 1] = 1.0;  // the ends of the interval
+    clenshaw_many2(f.c.data(), deg, z.data(), cnt, out2.data());
+    if (has_avx()) clenshaw_many4(f.c.data(), deg, z.data(), cnt, out4.data());
+    for (size_t i = 0; i < cnt; ++i) {
+      double b1 = 0.0, b2 = 0.0;
+      for (int k = deg; k >= 1; --k) {
+        const double b0 = (f.c[static_cast<size_t>(k)] - b2) + (z[i] + z[i]) * b1;
+        b2 = b1;
+        b1 = b0;
+      }
+      const double want = (f.c[0] - b2) + z[i] * b1;
+      EXPECT_EQ(std::bit_cast<uint64_t>(want), std::bit_cast<uint64_t>(out2[i])) << trial << " point " << i;
+      if (has_avx()) {
+        EXPECT_EQ(std::bit_cast<uint64_t>(want), std::bit_cast<uint64_t>(out4[i])) << trial << " point " << i;
+      }
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 2000);
+}
+
 // The same for four crossings on the four lanes of an AVX vector (where the processor has AVX): each lane's
 // evaluations, crossing, abscissa and area there are bit for bit the one-at-a-time ones.
 TEST(AreaError, QuadCrossingsAreBitForBitTheSingleOnes) {
