@@ -319,22 +319,80 @@ bool StairAreaMeter::walk_fit(const Span& s) {
   for (size_t i = 0; i < cnt; ++i) ez[i] = z_of(static_cast<double>(walk_level(s.j0 + static_cast<int64_t>(i))));
   for (int k = 0; k < 3; ++k) clenshaw_many(c[k], f[k].deg, ez, cnt, w.r[k]);
   const double *r0 = w.r[0].data(), *r1 = w.r[1].data(), *r2 = w.r[2].data();
-  for (size_t i = 0; i < cnt; ++i) {
+  auto edge = [&](size_t i) -> WalkPt {
     const int64_t q = s.j0 + static_cast<int64_t>(i);
     const double t = std::clamp(s.ta + r0[i], s.ta, s.tb);
-    w.buf.push_back({t, static_cast<double>(walk_level(q)), p.h_a + (hb + r1[i]), ab + r2[i]});
+    return {t, static_cast<double>(walk_level(q)), p.h_a + (hb + r1[i]), ab + r2[i]};
+  };
+  if (!imp_.on) {
+    for (size_t i = 0; i < cnt; ++i) w.buf.push_back(edge(i));
+    return true;
   }
-  if (imp_.on) {
-    // the radius at the half levels from the same fit
-    imply_levels(s, [&](const double* L, size_t nl, double* out) {
-      auto& z = imp_.z;
-      z.resize(nl);
-      for (size_t i = 0; i < nl; ++i) z[i] = z_of(L[i]);
-      auto& r = w.r[3];
-      clenshaw_many(c[1], f[1].deg, z, nl, r);
-      for (size_t i = 0; i < nl; ++i) out[i] = p.h_a + (hb + r[i]);
-    });
+  // the radius at the half levels from the same fit
+  const std::vector<double>& L = half_levels(s);
+  const size_t nl = L.size();
+  auto& hl = imp_.h;
+  hl.resize(nl);
+  if (nl > 0) {
+    auto& z = imp_.z;
+    z.resize(nl);
+    for (size_t i = 0; i < nl; ++i) z[i] = z_of(L[i]);
+    auto& r = w.r[3];
+    clenshaw_many(c[1], f[1].deg, z, nl, r);
+    for (size_t i = 0; i < nl; ++i) hl[i] = p.h_a + (hb + r[i]);
   }
+  // Dense: the columns between two edges of the stretch, each a sub from ray to ray under the level strand of its
+  // half level, are measured here at once, as walk_next, imply_arc and dense_full would one by one (the same parts,
+  // in the same sectors: the sum in key order is unchanged). The walk is handed the first edge and the last; the
+  // half levels before and after those columns make their level strands as before.
+  size_t k0 = nl;  // the half level of the column from edge 0 to edge 1
+  if (imp_.dense && cnt >= 3) {
+    const double l_first = std::min(edge(0).g, edge(1).g) + 0.5;
+    const double k = w.dir > 0 ? l_first - (nl > 0 ? L[0] : 0.0) : (nl > 0 ? L[0] : 0.0) - l_first;
+    if (nl > 0 && k >= 0.0 && k + static_cast<double>(cnt - 1) <= static_cast<double>(nl)) {
+      k0 = static_cast<size_t>(k);
+      if (!(L[k0] == l_first)) k0 = nl;
+    }
+  }
+  size_t done = 0;
+  if (k0 < nl) {
+    for (; done < k0; ++done) imply_arc(hl[done]);
+    // the staircase's next level strand must be that of the first column (as dense_full requires)
+    const int64_t j_next = imp_.g0 + m_ - (w.dir > 0 ? 0 : 1);
+    if (imp_.failed || j_next != static_cast<int64_t>(std::floor(std::min(edge(0).g, edge(1).g)))) k0 = nl;
+  }
+  if (k0 >= nl) {
+    for (; done < nl; ++done) imply_arc(hl[done]);
+    for (size_t i = 0; i < cnt; ++i) w.buf.push_back(edge(i));
+    return true;
+  }
+  const double dr = grid_.height, inv = imp_.inv_height;
+  const uint32_t piece = static_cast<uint32_t>(w.piece);
+  WalkPt a = edge(0);
+  w.buf.push_back(a);
+  for (size_t i = 0; i + 1 < cnt; ++i) {
+    const WalkPt b = edge(i + 1);
+    int64_t n = 0;
+    if (!nearest_node(hl[k0 + i] * inv, n)) imp_.failed = true;  // discarded: the digitizer measures this pole
+    m_ += w.dir;
+    ++nrun_;
+    ++subs_out_;
+    const int64_t j = static_cast<int64_t>(std::floor(std::min(a.g, b.g)));
+    const double jd = static_cast<double>(j);
+    const double l0 = std::clamp(a.g - jd, 0.0, 1.0), l1 = std::clamp(b.g - jd, 0.0, 1.0);
+    const Sub sub{piece, a.t, b.t, l0, l1, a.h, b.h, a.A, b.A};
+    const double rho = static_cast<double>((n - imp_.h0) + imp_.h0) * dr;
+    const uint32_t key_j = key(j);
+    if ((sub.h0 - rho) * (sub.h1 - rho) < 0.0)
+      dense_crossing(sub, rho, jd, key_j);
+    else
+      imp_.part[key_j] = sub_part(sub, rho, jd);
+    a = b;
+  }
+  w.buf.push_back(a);
+  w.jump = 1;
+  w.jump_q = static_cast<int64_t>(cnt) - 1;
+  for (done = k0 + cnt - 1; done < nl; ++done) imply_arc(hl[done]);
   return true;
 }
 
@@ -348,8 +406,7 @@ bool StairAreaMeter::nearest_node(double f, int64_t& n) const {
   return d >= m && 1.0 - d >= m;
 }
 
-template <class HAt>
-void StairAreaMeter::imply_levels(const Span& s, HAt&& h_at) {
+const std::vector<double>& StairAreaMeter::half_levels(const Span& s) {
   auto& L = imp_.L;
   L.clear();
   if (walk_.dir > 0) {
@@ -357,6 +414,12 @@ void StairAreaMeter::imply_levels(const Span& s, HAt&& h_at) {
   } else if (walk_.dir < 0) {
     for (double l = std::floor(s.ga - 0.5) + 0.5; l > s.gb; l -= 1.0) L.push_back(l);
   }
+  return L;
+}
+
+template <class HAt>
+void StairAreaMeter::imply_levels(const Span& s, HAt&& h_at) {
+  const std::vector<double>& L = half_levels(s);
   if (L.empty()) return;
   imp_.h.resize(L.size());
   h_at(L.data(), L.size(), imp_.h.data());
@@ -457,6 +520,7 @@ void StairAreaMeter::walk_refill() {
   Walk& w = walk_;
   const sweep::PieceView& p = track_.pieces[w.piece];
   w.buf.clear();
+  w.jump = std::numeric_limits<size_t>::max();
   w.bpos = 0;
   while (w.buf.empty() && !w.spans.empty()) {
     const Span s = w.spans.back();
@@ -494,6 +558,7 @@ void StairAreaMeter::walk_segment_start() {
   w.q = w.count = 0;
   w.spans.clear();
   w.buf.clear();
+  w.jump = std::numeric_limits<size_t>::max();
   w.bpos = 0;
   if (w.dir != 0) {
     const double lo_g = std::min(w.cur.g, w.nxt.g), hi_g = std::max(w.cur.g, w.nxt.g);
@@ -538,7 +603,13 @@ bool StairAreaMeter::walk_next() {
   if (w.done) return false;
   if (w.q < w.count) {
     if (w.bpos == w.buf.size()) walk_refill();
-    const WalkPt lv = w.buf[w.bpos++];
+    const size_t at = w.bpos++;
+    const WalkPt lv = w.buf[at];
+    if (at == w.jump) {  // the columns up to this edge were measured by walk_fit
+      w.cur = lv;
+      w.q += w.jump_q;
+      return true;
+    }
     walk_emit(w.cur, lv);
     w.cur = lv;
     ++w.q;

@@ -238,6 +238,9 @@ class StairAreaMeter {
     std::vector<Span> spans;
     std::vector<WalkPt> buf;
     size_t bpos = 0;
+    // buf[jump] ends a run of columns walk_fit measured at once (dense): the walk moves there, jump_q edges on
+    size_t jump = std::numeric_limits<size_t>::max();
+    int64_t jump_q = 0;
     double tol[3] = {0, 0, 0};  // the fits' tolerances in t, h and Astar on this piece
     std::vector<double> z, r[4];  // walk_fit: the edges' z, the series' values there (and the half levels')
   };
@@ -263,6 +266,7 @@ class StairAreaMeter {
   // gives the radius at a batch of them (imply_levels)
   template <class HAt>
   void imply_levels(const Span& s, HAt&& h_at);
+  const std::vector<double>& half_levels(const Span& s);  // the half levels of a stretch, in the walk's order
   void imply_solve(const Span& s);  // the same, each crossing solved by Newton's method on the abscissa's series
   void imply_arc(double h);  // the angular step at a half level, the radius there h
   void imply_point(const WalkPt& p);  // a segment's end: its radial steps, and the margins of its values
