@@ -368,25 +368,30 @@ bool StairAreaMeter::walk_fit(const Span& s) {
   }
   const double dr = grid_.height, inv = imp_.inv_height;
   const uint32_t piece = static_cast<uint32_t>(w.piece);
+  // each column's sector is the lower of its two edges' levels, and it is crossed from ray to ray: l runs from 0 to 1
+  // going up, from 1 to 0 going down (walk_emit's clamps of exact levels); its part where the path stays on one
+  // side of the level strand is sub_part's
+  const double l0 = w.dir > 0 ? 0.0 : 1.0, l1 = 1.0 - l0;
   WalkPt a = edge(0);
   w.buf.push_back(a);
   for (size_t i = 0; i + 1 < cnt; ++i) {
-    const WalkPt b = edge(i + 1);
+    const int64_t qb = s.j0 + static_cast<int64_t>(i) + 1;
+    const WalkPt b{std::clamp(s.ta + r0[i + 1], s.ta, s.tb), static_cast<double>(walk_level(qb)),
+                   p.h_a + (hb + r1[i + 1]), ab + r2[i + 1]};
     int64_t n = 0;
     if (!nearest_node(hl[k0 + i] * inv, n)) imp_.failed = true;  // discarded: the digitizer measures this pole
     m_ += w.dir;
     ++nrun_;
     ++subs_out_;
-    const int64_t j = static_cast<int64_t>(std::floor(std::min(a.g, b.g)));
+    const int64_t j = w.dir > 0 ? walk_level(qb) - 1 : walk_level(qb);
     const double jd = static_cast<double>(j);
-    const double l0 = std::clamp(a.g - jd, 0.0, 1.0), l1 = std::clamp(b.g - jd, 0.0, 1.0);
-    const Sub sub{piece, a.t, b.t, l0, l1, a.h, b.h, a.A, b.A};
     const double rho = static_cast<double>((n - imp_.h0) + imp_.h0) * dr;
     const uint32_t key_j = key(j);
-    if ((sub.h0 - rho) * (sub.h1 - rho) < 0.0)
-      dense_crossing(sub, rho, jd, key_j);
-    else
-      imp_.part[key_j] = sub_part(sub, rho, jd);
+    if ((a.h - rho) * (b.h - rho) < 0.0) {
+      dense_crossing(Sub{piece, a.t, b.t, l0, l1, a.h, b.h, a.A, b.A}, rho, jd, key_j);
+    } else {
+      imp_.part[key_j] = std::abs(b.A - a.A + level_factor(p.h_a, rho) * (l1 - l0));
+    }
     a = b;
   }
   w.buf.push_back(a);
