@@ -24,12 +24,6 @@ std::string num(double v, int prec = 6) { return significant(v, prec); }
 
 }  // namespace
 
-void StairAreaMeter::Neumaier::add(double x) {
-  const double t = s + x;
-  c += std::abs(s) >= std::abs(x) ? (s - t) + x : (x - t) + s;
-  s = t;
-}
-
 void StairAreaMeter::SlotIndex::clear() {
   dkeys_.fill(kNone);
   dsize_ = 0;
@@ -708,7 +702,7 @@ double StairAreaMeter::crossed_part(const Sub& b, double rho, double jd, double 
   return std::abs(a - b.A0 + k * (l - b.l0)) + std::abs(b.A1 - a + k * (b.l1 - l));
 }
 
-void StairAreaMeter::add_total(double x) {
+inline void StairAreaMeter::add_total(double x) {
   if (pending_.empty())
     total_.add(x);
   else

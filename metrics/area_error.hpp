@@ -126,7 +126,11 @@ class StairAreaMeter {
 
   struct Neumaier {
     double s = 0.0, c = 0.0;
-    void add(double x);
+    void add(double x) {
+      const double t = s + x;
+      c += std::abs(s) >= std::abs(x) ? (s - t) + x : (x - t) + s;
+      s = t;
+    }
     double value() const { return s + c; }
   };
   // One sector's strands, in the order the recorded mode lists them (the latest first).
