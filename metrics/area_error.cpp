@@ -22,6 +22,13 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 std::string num(double v, int prec = 6) { return significant(v, prec); }
 
+// Whether a sub whose radius runs from h0 to h1 crosses the level strand at rho (strictly, within the sub).
+inline bool crosses(double h0, double h1, double rho) { return (h0 - rho) * (h1 - rho) < 0.0; }
+
+// The part of a sub that stays on one side of its level strand: its Astar from A0 to A1, less the strand's over the
+// sub's run dl in l (k: level_factor).
+inline double one_side(double A0, double A1, double k, double dl) { return std::abs(A1 - A0 + k * dl); }
+
 }  // namespace
 
 void StairAreaMeter::SlotIndex::clear() {
@@ -313,7 +320,7 @@ bool StairAreaMeter::walk_fit(const Span& s) {
   for (size_t i = 0; i < cnt; ++i) ez[i] = z_of(static_cast<double>(walk_level(s.j0 + static_cast<int64_t>(i))));
   for (int k = 0; k < 3; ++k) clenshaw_many(c[k], f[k].deg, ez, cnt, w.r[k]);
   const double *r0 = w.r[0].data(), *r1 = w.r[1].data(), *r2 = w.r[2].data();
-  auto edge = [&](size_t i) -> WalkPt {
+  auto edge = [&](size_t i) __attribute__((always_inline)) -> WalkPt {
     const int64_t q = s.j0 + static_cast<int64_t>(i);
     const double t = std::clamp(s.ta + r0[i], s.ta, s.tb);
     return {t, static_cast<double>(walk_level(q)), p.h_a + (hb + r1[i]), ab + r2[i]};
@@ -339,11 +346,13 @@ bool StairAreaMeter::walk_fit(const Span& s) {
   // half level, are measured here at once, as walk_next, imply_arc and dense_full would one by one (the same parts,
   // in the same sectors: the sum in key order is unchanged). The walk is handed the first edge and the last; the
   // half levels before and after those columns make their level strands as before.
-  size_t k0 = nl;  // the half level of the column from edge 0 to edge 1
-  if (imp_.dense && cnt >= 3) {
-    const double l_first = std::min(edge(0).g, edge(1).g) + 0.5;
-    const double k = w.dir > 0 ? l_first - (nl > 0 ? L[0] : 0.0) : (nl > 0 ? L[0] : 0.0) - l_first;
-    if (nl > 0 && k >= 0.0 && k + static_cast<double>(cnt - 1) <= static_cast<double>(nl)) {
+  // column i runs from edge i to edge i + 1; its sector is the lower of their levels
+  auto column = [&](size_t i) { return walk_level(s.j0 + static_cast<int64_t>(i)) - (w.dir > 0 ? 0 : 1); };
+  size_t k0 = nl;  // the half level of column 0
+  if (imp_.dense && cnt >= 3 && nl > 0) {
+    const double l_first = static_cast<double>(column(0)) + 0.5;
+    const double k = w.dir > 0 ? l_first - L[0] : L[0] - l_first;
+    if (k >= 0.0 && k + static_cast<double>(cnt - 1) <= static_cast<double>(nl)) {
       k0 = static_cast<size_t>(k);
       if (!(L[k0] == l_first)) k0 = nl;
     }
@@ -351,9 +360,8 @@ bool StairAreaMeter::walk_fit(const Span& s) {
   size_t done = 0;
   if (k0 < nl) {
     for (; done < k0; ++done) imply_arc(hl[done]);
-    // the staircase's next level strand must be that of the first column (as dense_full requires)
-    const int64_t j_next = imp_.g0 + m_ - (w.dir > 0 ? 0 : 1);
-    if (imp_.failed || j_next != static_cast<int64_t>(std::floor(std::min(edge(0).g, edge(1).g)))) k0 = nl;
+    // the staircase's next level strand must be that of column 0 (as dense_full requires)
+    if (imp_.failed || imp_.g0 + m_ - (w.dir > 0 ? 0 : 1) != column(0)) k0 = nl;
   }
   if (k0 >= nl) {
     for (; done < nl; ++done) imply_arc(hl[done]);
@@ -362,35 +370,33 @@ bool StairAreaMeter::walk_fit(const Span& s) {
   }
   const double dr = grid_.height, inv = imp_.inv_height;
   const uint32_t piece = static_cast<uint32_t>(w.piece);
-  // each column's sector is the lower of its two edges' levels, and it is crossed from ray to ray: l runs from 0 to 1
-  // going up, from 1 to 0 going down (walk_emit's clamps of exact levels); its part where the path stays on one
-  // side of the level strand is sub_part's
+  // each column is crossed from ray to ray: l runs from 0 to 1 going up, from 1 to 0 going down (walk_emit's clamps
+  // of exact levels)
   const double l0 = w.dir > 0 ? 0.0 : 1.0, l1 = 1.0 - l0;
   WalkPt a = edge(0);
   w.buf.push_back(a);
   for (size_t i = 0; i + 1 < cnt; ++i) {
-    const int64_t qb = s.j0 + static_cast<int64_t>(i) + 1;
-    const WalkPt b{std::clamp(s.ta + r0[i + 1], s.ta, s.tb), static_cast<double>(walk_level(qb)),
-                   p.h_a + (hb + r1[i + 1]), ab + r2[i + 1]};
+    const WalkPt b = edge(i + 1);
     int64_t n = 0;
     if (!nearest_node(hl[k0 + i] * inv, n)) imp_.failed = true;  // discarded: the digitizer measures this pole
-    m_ += w.dir;
-    ++nrun_;
-    ++subs_out_;
-    const int64_t j = w.dir > 0 ? walk_level(qb) - 1 : walk_level(qb);
+    const int64_t j = column(i);
     const double jd = static_cast<double>(j);
     const double rho = static_cast<double>((n - imp_.h0) + imp_.h0) * dr;
     const uint32_t key_j = key(j);
-    if ((a.h - rho) * (b.h - rho) < 0.0) {
+    if (crosses(a.h, b.h, rho))
       dense_crossing(Sub{piece, a.t, b.t, l0, l1, a.h, b.h, a.A, b.A}, rho, jd, key_j);
-    } else {
-      imp_.part[key_j] = std::abs(b.A - a.A + level_factor(p.h_a, rho) * (l1 - l0));
-    }
+    else
+      imp_.part[key_j] = one_side(a.A, b.A, level_factor(p.h_a, rho), l1 - l0);
     a = b;
   }
+  // each column an angular step of the staircase, and a sub of the walk
+  const int64_t ncol = static_cast<int64_t>(cnt) - 1;
+  m_ += w.dir * ncol;
+  nrun_ += static_cast<uint64_t>(ncol);
+  subs_out_ += static_cast<uint64_t>(ncol);
   w.buf.push_back(a);
   w.jump = 1;
-  w.jump_q = static_cast<int64_t>(cnt) - 1;
+  w.jump_q = ncol;
   for (done = k0 + cnt - 1; done < nl; ++done) imply_arc(hl[done]);
   return true;
 }
@@ -678,8 +684,7 @@ void StairAreaMeter::start_crossing(const Sub& b, double rho, RadiusCrossing& c)
 }
 
 double StairAreaMeter::sub_part(const Sub& b, double rho, double jd) const {
-  if (!((b.h0 - rho) * (b.h1 - rho) < 0.0))
-    return std::abs(b.A1 - b.A0 + level_factor(track_.pieces[b.piece].h_a, rho) * (b.l1 - b.l0));
+  if (!crosses(b.h0, b.h1, rho)) return one_side(b.A0, b.A1, level_factor(track_.pieces[b.piece].h_a, rho), b.l1 - b.l0);
   const sweep::PieceView& p = track_.pieces[b.piece];
   RadiusCrossing c;
   start_crossing(b, rho, c);
@@ -718,7 +723,7 @@ void StairAreaMeter::add_visit(const Visit& v, double rho, const std::vector<Sub
 }
 
 void StairAreaMeter::add_one(const Sub& b, double rho, int64_t j) {
-  if ((b.h0 - rho) * (b.h1 - rho) < 0.0) {
+  if (crosses(b.h0, b.h1, rho)) {
     pending_.push_back({0.0, static_cast<int32_t>(crossings_.size())});
     crossings_.push_back({b, rho, static_cast<double>(j)});
     if (crossings_.size() == crossing_batch()) flush_pending();
@@ -1393,7 +1398,7 @@ void StairAreaMeter::dense_part(const Sub* subs, size_t count, const Implied::Ar
   const double rho = static_cast<double>(arc.n + imp_.h0) * grid_.height;
   const double jd = static_cast<double>(j);
   const uint32_t k = key(j);
-  if (count == 1 && (subs[0].h0 - rho) * (subs[0].h1 - rho) < 0.0)
+  if (count == 1 && crosses(subs[0].h0, subs[0].h1, rho))
     dense_crossing(subs[0], rho, jd, k);
   else
     imp_.part[k] = count == 1 ? sub_part(subs[0], rho, jd) : fast_visit(subs, count, rho, jd);
