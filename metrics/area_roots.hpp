@@ -296,51 +296,40 @@ __attribute__((target("avx"))) inline void radius_crossing4(const QuadSeries& s,
 // time on four vectors of four lanes where the processor has AVX, eight on four vectors of two lanes otherwise;
 // four recurrences are in flight either way. cnt is rounded up to a multiple of eight (sixteen): z and out must
 // have room for as many.
-inline void clenshaw_many2(const double* c, int n, const double* z, size_t cnt, double* out) {
-  Lane2 cc[kChebMaxDegree + 1];
-  for (int i = 0; i <= n; ++i) cc[i] = Lane2{c[i], c[i]};
-  for (size_t j = 0; j < cnt; j += 8) {
-    Lane2 zz[4], t2[4], b1[4], b2[4];
+// V: a vector of W lanes. Inlined always, so that the four-lane copy is compiled inside clenshaw_many4 (with AVX).
+template <class V, int W>
+__attribute__((always_inline)) inline void clenshaw_lanes(const double* c, int n, const double* z, size_t cnt,
+                                                          double* out) {
+  V cc[kChebMaxDegree + 1];
+  for (int i = 0; i <= n; ++i)
+    for (int q = 0; q < W; ++q) cc[i][q] = c[i];
+  for (size_t j = 0; j < cnt; j += 4 * W) {
+    V zz[4], t2[4], b1[4], b2[4];
     for (int v = 0; v < 4; ++v) {
-      zz[v] = Lane2{z[j + 2 * v], z[j + 2 * v + 1]};
+      for (int q = 0; q < W; ++q) zz[v][q] = z[j + W * v + q];
       t2[v] = zz[v] + zz[v];
-      b1[v] = b2[v] = Lane2{0.0, 0.0};
+      b1[v] = b2[v] = V{};
     }
     for (int i = n; i >= 1; --i)
       for (int v = 0; v < 4; ++v) {
-        const Lane2 b0 = (cc[i] - b2[v]) + t2[v] * b1[v];
+        const V b0 = (cc[i] - b2[v]) + t2[v] * b1[v];
         b2[v] = b1[v];
         b1[v] = b0;
       }
     for (int v = 0; v < 4; ++v) {
-      const Lane2 r = (cc[0] - b2[v]) + zz[v] * b1[v];
-      out[j + 2 * v] = r[0];
-      out[j + 2 * v + 1] = r[1];
+      const V r = (cc[0] - b2[v]) + zz[v] * b1[v];
+      for (int q = 0; q < W; ++q) out[j + W * v + q] = r[q];
     }
   }
 }
 
-__attribute__((target("avx"))) inline void clenshaw_many4(const double* c, int n, const double* z, size_t cnt, double* out) {
-  Lane4 cc[kChebMaxDegree + 1];
-  for (int i = 0; i <= n; ++i) cc[i] = Lane4{c[i], c[i], c[i], c[i]};
-  for (size_t j = 0; j < cnt; j += 16) {
-    Lane4 zz[4], t2[4], b1[4], b2[4];
-    for (int v = 0; v < 4; ++v) {
-      zz[v] = Lane4{z[j + 4 * v], z[j + 4 * v + 1], z[j + 4 * v + 2], z[j + 4 * v + 3]};
-      t2[v] = zz[v] + zz[v];
-      b1[v] = b2[v] = Lane4{0.0, 0.0, 0.0, 0.0};
-    }
-    for (int i = n; i >= 1; --i)
-      for (int v = 0; v < 4; ++v) {
-        const Lane4 b0 = (cc[i] - b2[v]) + t2[v] * b1[v];
-        b2[v] = b1[v];
-        b1[v] = b0;
-      }
-    for (int v = 0; v < 4; ++v) {
-      const Lane4 r = (cc[0] - b2[v]) + zz[v] * b1[v];
-      for (int q = 0; q < 4; ++q) out[j + 4 * v + q] = r[q];
-    }
-  }
+inline void clenshaw_many2(const double* c, int n, const double* z, size_t cnt, double* out) {
+  clenshaw_lanes<Lane2, 2>(c, n, z, cnt, out);
+}
+
+__attribute__((target("avx"))) inline void clenshaw_many4(const double* c, int n, const double* z, size_t cnt,
+                                                          double* out) {
+  clenshaw_lanes<Lane4, 4>(c, n, z, cnt, out);
 }
 
 }  // namespace polarcam::area_roots
