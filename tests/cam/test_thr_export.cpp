@@ -74,21 +74,33 @@ double one_way(const std::vector<Vec2>& a, const std::vector<Vec2>& b, double to
     grid[key(i, j)].push_back(k);
   }
   double worst = 0;
+  std::vector<size_t> near;  // the pieces of the nine cells about (ci, cj): consecutive points share their cell
+  int64_t ci = 0, cj = 0;
+  bool have = false;
   for (Vec2 p : a) {
     int64_t i, j;
     cell_of(p, i, j);
-    double d = cell;
-    for (int64_t di = -1; di <= 1; ++di)
-      for (int64_t dj = -1; dj <= 1; ++dj) {
-        auto it = grid.find(key(i + di, j + dj));
-        if (it == grid.end()) continue;
-        for (size_t k : it->second) {
-          const Vec2 e = b[k + 1] - b[k];
-          const double t = std::clamp(dot(p - b[k], e) / std::max(dot(e, e), 1e-300), 0.0, 1.0);
-          d = std::min(d, norm(p - (b[k] + t * e)));
+    if (!have || i != ci || j != cj) {
+      have = true, ci = i, cj = j;
+      near.clear();
+      for (int64_t di = -1; di <= 1; ++di)
+        for (int64_t dj = -1; dj <= 1; ++dj) {
+          auto it = grid.find(key(i + di, j + dj));
+          if (it != grid.end()) near.insert(near.end(), it->second.begin(), it->second.end());
         }
-      }
-    worst = std::max(worst, d);
+    }
+    // the squared distance to each piece, in plain arithmetic (the sanitized build, at -O1, calls every operator)
+    const Vec2* bp = b.data();
+    double d2 = cell * cell;
+    for (size_t k : near) {
+      const double ax = bp[k].x, ay = bp[k].y, ex = bp[k + 1].x - ax, ey = bp[k + 1].y - ay;
+      const double wx = p.x - ax, wy = p.y - ay;
+      double t = (wx * ex + wy * ey) / std::max(ex * ex + ey * ey, 1e-300);
+      t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
+      const double dx = wx - t * ex, dy = wy - t * ey, q = dx * dx + dy * dy;
+      if (q < d2) d2 = q;
+    }
+    worst = std::max(worst, std::sqrt(d2));
   }
   return worst;
 }

@@ -2,6 +2,8 @@
 // steps in the same order, and every step time within 1 ns of the reference's exact time.
 #include <gtest/gtest.h>
 
+#include <string>
+
 #include <cmath>
 #include <numbers>
 
@@ -131,12 +133,26 @@ void compare(const Case& c, StepRule rule) {
 
 }  // namespace
 
+// Under the sanitizers, whose run checks the memory and the undefined behaviour of the same calls, three of the six
+// cases: the limacon passing near the pole, the witch and the serpentine (one of each contour).
+bool in_this_run(const Case& c) {
+#ifdef POLARCAM_SANITIZED
+  const std::string n = c.name;
+  return n == "limacon_near_pole" || n == "witch" || n == "serpentine";
+#else
+  (void)c;
+  return true;
+#endif
+}
+
 TEST(DigitizerReference, SeedContoursNearestRule) {
-  for (const auto& c : seed_cases(false)) compare(c, StepRule::nearest);
+  for (const auto& c : seed_cases(false))
+    if (in_this_run(c)) compare(c, StepRule::nearest);
 }
 
 TEST(DigitizerReference, SeedContoursThesisRule) {
-  for (const auto& c : seed_cases(true)) compare(c, StepRule::thesis);
+  for (const auto& c : seed_cases(true))
+    if (in_this_run(c)) compare(c, StepRule::thesis);
 }
 
 TEST(DigitizerReference, OffsetToolPathMatchesReference) {
