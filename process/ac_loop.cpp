@@ -1,13 +1,13 @@
 #include "process/ac_loop.hpp"
 
 #include <Eigen/Dense>
-#include <unsupported/Eigen/MatrixFunctions>
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 
 #include "cam/error.hpp"
+#include "cam/linalg.hpp"
 
 namespace polarcam::process {
 namespace {
@@ -41,7 +41,7 @@ Discrete discretise_zoh(const std::vector<double>& A, const std::vector<double>&
     for (int j = 0; j < n; ++j) M(i, j) = A[static_cast<size_t>(i * n + j)] * dt;
     for (int j = 0; j < m; ++j) M(i, n + j) = B[static_cast<size_t>(i * m + j)] * dt;
   }
-  const Eigen::MatrixXd E = M.exp();
+  const Eigen::MatrixXd E = linalg::expm(M);
   Discrete d;
   d.n = n;
   d.m = m;
@@ -220,9 +220,9 @@ std::vector<std::complex<double>> closed_loop_poles(const Eq521& e) {
   Eigen::Matrix4d C = Eigen::Matrix4d::Zero();
   for (int j = 0; j < 4; ++j) C(0, j) = -p[static_cast<size_t>(j + 1)];
   for (int i = 1; i < 4; ++i) C(i, i - 1) = 1.0;
-  Eigen::EigenSolver<Eigen::Matrix4d> es(C, false);
+  const Eigen::VectorXcd ev = linalg::eigenvalues(C);
   std::vector<std::complex<double>> roots;
-  for (int i = 0; i < 4; ++i) roots.push_back(es.eigenvalues()(i));
+  for (int i = 0; i < 4; ++i) roots.push_back(ev(i));
   std::sort(roots.begin(), roots.end(), [](const auto& a, const auto& b) {
     if (std::abs(a.real() - b.real()) > 1e-9 * (1.0 + std::abs(a.real()))) return a.real() > b.real();
     return a.imag() > b.imag();

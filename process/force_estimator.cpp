@@ -6,9 +6,9 @@
 #include <complex>
 #include <numbers>
 #include <string>
-#include <unsupported/Eigen/MatrixFunctions>
 
 #include "cam/error.hpp"
+#include "cam/linalg.hpp"
 
 namespace polarcam::process {
 namespace {
@@ -40,7 +40,7 @@ std::array<double, 4> torque_estimator(const FeedDrive& d) {
   Eigen::Matrix4d M = Eigen::Matrix4d::Zero();
   M.topLeftCorner<2, 2>() = A * d.T;
   M.topRightCorner<2, 2>() = Bv * d.T;
-  const Eigen::Matrix4d E = M.exp();
+  const Eigen::Matrix4d E = linalg::expm(M);
   const Eigen::Matrix2d Phi = E.topLeftCorner<2, 2>(), H = E.topRightCorner<2, 2>();
   const double det = H.determinant();
   if (!(std::isfinite(det) && std::abs(det) > 1e-300))

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "cam/error.hpp"
+#include "cam/linalg.hpp"
 
 namespace polarcam::process {
 
@@ -45,7 +46,7 @@ std::vector<std::complex<double>> poles(const TransferFunction& g) {
   Eigen::MatrixXd c = Eigen::MatrixXd::Zero(n, n);
   for (int i = 1; i < n; ++i) c(i, i - 1) = 1.0;
   for (int i = 0; i < n; ++i) c(i, n - 1) = -d[static_cast<size_t>(i)] / d[static_cast<size_t>(n)];
-  const Eigen::VectorXcd roots = Eigen::EigenSolver<Eigen::MatrixXd>(c, false).eigenvalues();
+  const Eigen::VectorXcd roots = linalg::eigenvalues(c);
   for (int i = 0; i < n; ++i) out.push_back(roots(i));
   return out;
 }

@@ -1,12 +1,12 @@
 #include "machine/servo/servo_axis.hpp"
 
 #include <Eigen/Dense>
-#include <unsupported/Eigen/MatrixFunctions>
 #include <cmath>
 #include <complex>
 #include <string>
 
 #include "cam/error.hpp"
+#include "cam/linalg.hpp"
 
 namespace polarcam::servo {
 namespace {
@@ -72,7 +72,7 @@ DiscreteModel discretise(const ServoParams& p) {
   Eigen::Matrix<double, 5, 5> M = Eigen::Matrix<double, 5, 5>::Zero();
   M.block<3, 3>(0, 0) = A * p.T;
   M.block<3, 2>(0, 3) = Bc * p.T;
-  const Eigen::Matrix<double, 5, 5> E = M.exp();
+  const Eigen::Matrix<double, 5, 5> E = linalg::expm(M);
   DiscreteModel m;
   for (int i = 0; i < 3; ++i) {
     for (int j = 0; j < 3; ++j) m.Phi[i][j] = E(i, j);
@@ -108,7 +108,7 @@ DiscreteModel discretise(const ServoParams& p) {
     for (int j = 0; j < n; ++j) m.G[i][j] = G(i, j);
     for (int j = 0; j < 2; ++j) m.Gamma[i][j] = Gam(i, j);
   }
-  const Eigen::VectorXcd ev = G.eigenvalues();
+  const Eigen::VectorXcd ev = linalg::eigenvalues(G);
   for (int i = 0; i < n; ++i) m.spectral_radius = std::max(m.spectral_radius, std::abs(ev(i)));
   if (!(m.spectral_radius < 1.0 - 1e-12))
     throw InputError("the position loop is unstable with these parameters (an eigenvalue of G has |z| = " +
