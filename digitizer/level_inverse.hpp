@@ -19,6 +19,7 @@
 // polynomial) the caller splits the interval or solves the crossings one by one (level_crossing.hpp).
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include "digitizer/chebyshev.hpp"
 #include "digitizer/level_crossing.hpp"
@@ -88,8 +89,18 @@ inline void eval_levels(const LevelInverse& inv, double n0, double dn, double hs
   for (; j < count; ++j) out[j] = inv(((n0 + dn * static_cast<double>(j)) + hs) - base);
 }
 
+// fit_inverse's samples at the n points t: y[i] = g(t[i]), v[K i + k] = v_k(t[i]). `sample` gives one point,
+// sample(t, y, v), or, where the caller can evaluate several at once, all of them, sample(t, n, y, v).
+template <int K, class Sample>
+inline void fit_samples(Sample& sample, const double* t, int n, double* y, double* v) {
+  if constexpr (std::is_invocable_v<Sample&, const double*, int, double*, double*>)
+    sample(t, n, y, v);
+  else
+    for (int i = 0; i < n; ++i) sample(t[i], y[i], v + K * i);
+}
+
 // The fit of K functions v_k(t) of a track piece as series of the abscissa y = g(t) on [ta, tb], where g is
-// strictly monotone: sample(t, y, v) gives g and the K values at t. The points (g(t_i), v_k(t_i)) at the
+// strictly monotone: `sample` gives g and the K values (fit_samples). The points (g(t_i), v_k(t_i)) at the
 // Chebyshev-Lobatto points of [ta, tb] lie on the graphs exactly (up to the rounding of the series), so each
 // interpolant is formed in barycentric form in z = (y - yc) ik and re-expanded as a Chebyshev series; it is
 // accepted under the tests above, function k to tol[k]. Every function shares yc and ik. With K = 1 this is
@@ -101,11 +112,12 @@ bool fit_inverse(Sample&& sample, double ta, double tb, const double* tol, doubl
   const auto& xm = cheb_midpoints();  // cos(pi (j + 1/2) / D), halfway between
   const double tm = 0.5 * (ta + tb), hw = 0.5 * (tb - ta);
   double y[D + 1], s[K][D + 1];
-  for (int i = 0; i <= D; ++i) {
-    const double t = i == 0 ? tb : (i == D ? ta : tm + hw * x[i]);
-    double v[K];
-    sample(t, y[i], v);
-    for (int k = 0; k < K; ++k) s[k][i] = v[k];
+  {
+    double t[D + 1], v[K * (D + 1)];
+    for (int i = 0; i <= D; ++i) t[i] = i == 0 ? tb : (i == D ? ta : tm + hw * x[i]);
+    fit_samples<K>(sample, t, D + 1, y, v);
+    for (int i = 0; i <= D; ++i)
+      for (int k = 0; k < K; ++k) s[k][i] = v[K * i + k];
   }
   const double span = y[0] - y[D];
   if (!(span != 0.0) || !std::isfinite(span)) return false;
@@ -131,17 +143,25 @@ bool fit_inverse(Sample&& sample, double ta, double tb, const double* tol, doubl
     }
     for (int k = 0; k < K; ++k) f[k] = num[k] / den;
   };
+  // the halfway points (in t) between the interpolation points: the outermost two first
+  double th[D], yh[D], vh[K * D];
+  for (int i = 0; i < D; ++i) th[i] = tm + hw * xm[i];
+  {
+    const double t2[2] = {th[0], th[D - 1]};
+    double y2[2], v2[2 * K];
+    fit_samples<K>(sample, t2, 2, y2, v2);
+    yh[0] = y2[0], yh[D - 1] = y2[1];
+    for (int k = 0; k < K; ++k) vh[k] = v2[k], vh[K * (D - 1) + k] = v2[K + k];
+  }
   // refused early at the outermost halfway points, where a turn of g at an end of the interval shows first (the
   // same test as below, on the interpolant before its re-expansion)
   for (int i : {0, D - 1}) {
-    const double t = tm + hw * xm[i];
-    double yy, v[K], f[K];
-    sample(t, yy, v);
-    const double zz = (yy - yc) * ik;
+    const double zz = (yh[i] - yc) * ik;
     if (!(zz > z[i + 1] && zz < z[i])) return false;
+    double f[K];
     bary(zz, f);
     for (int k = 0; k < K; ++k)
-      if (!(std::abs(f[k] - v[k]) <= 0.25 * tol[k])) return false;
+      if (!(std::abs(f[k] - vh[K * i + k]) <= 0.25 * tol[k])) return false;
   }
   // the interpolants at the Chebyshev-Lobatto points of z, then their Chebyshev series (DCT)
   double f[K][D + 1];
@@ -169,13 +189,11 @@ bool fit_inverse(Sample&& sample, double ta, double tb, const double* tol, doubl
     if (!(std::abs(out[k].c[D]) + std::abs(out[k].c[D - 1]) <= 0.1 * tol[k])) return false;
   }
   // halfway points: on the graphs, between the interpolation points
+  fit_samples<K>(sample, th + 1, D - 2, yh + 1, vh + K);
   for (int i = 0; i < D; ++i) {
-    const double t = tm + hw * xm[i];
-    double yy, v[K];
-    sample(t, yy, v);
-    const double zz = (yy - yc) * ik;
+    const double zz = (yh[i] - yc) * ik;
     for (int k = 0; k < K; ++k)
-      if (!(std::abs(out[k](zz) - v[k]) <= 0.25 * tol[k])) return false;
+      if (!(std::abs(out[k](zz) - vh[K * i + k]) <= 0.25 * tol[k])) return false;
   }
   for (int k = 0; k < K; ++k) cheb_chop(out[k], 0.05 * tol[k]);
   return true;

@@ -360,6 +360,8 @@ class StairAreaMeter {
   area_roots::PairSeries pair_series_;
   uint32_t quad_[4] = {kNoPiece, kNoPiece, kNoPiece, kNoPiece};  // the four pieces whose series quad_series_ holds
   area_roots::QuadSeries quad_series_;
+  size_t fit_piece_ = SIZE_MAX;  // the piece whose G, H and Astar fit_series_ holds (walk_fit's samples)
+  area_roots::QuadSeries fit_series_;
   StairAreaResult sres_;  // streamed: sectors measured so far
   // imply_nearest: on while its walk runs; failed when a decision was too near a level; walked when finish() finds
   // the walk done (visits and level strands); n the radial node at the last point; the margin in grid units

@@ -79,37 +79,44 @@ inline void prepare_pair(PairSeries& s, const Cheb& H0, const Cheb& H1, const Ch
 // additions), from the larger degree (a leading zero coefficient leaves the recurrences at exact zeros), so each
 // lane's values are bit for bit those of eval3. Two independent chains of dependent multiplies and adds take little
 // more time than one.
-inline void eval3_2(const PairSeries& s, Lane2 t, Lane2& f, Lane2& d1, Lane2& d2) {
-  Lane2 b1 = {0, 0}, b2 = b1, e1 = b1, e2 = b1, h1 = b1, h2 = b1;
-  const Lane2 tt = t + t;
+// S: PairSeries or QuadSeries, V: its lanes. Inlined always, so that the four-lane copy is compiled inside eval3_4
+// (with AVX).
+template <class S, class V>
+__attribute__((always_inline)) inline void eval3_lanes(const S& s, V t, V& f, V& d1, V& d2) {
+  V b1 = V{}, b2 = b1, e1 = b1, e2 = b1, h1 = b1, h2 = b1;
+  const V tt = t + t;
   for (int k = s.n; k >= 1; --k) {
-    const Lane2 b0 = (s.h[k] - b2) + tt * b1, e0 = ((b1 + b1) - e2) + tt * e1;
-    const Lane2 h0 = (((e1 + e1) + (e1 + e1)) - h2) + tt * h1;
+    const V b0 = (s.h[k] - b2) + tt * b1, e0 = ((b1 + b1) - e2) + tt * e1;
+    const V h0 = (((e1 + e1) + (e1 + e1)) - h2) + tt * h1;
     b2 = b1, b1 = b0, e2 = e1, e1 = e0, h2 = h1, h1 = h0;
   }
   f = (s.h[0] - b2) + t * b1;
   d1 = (b1 - e2) + t * e1;
   d2 = ((e1 + e1) - h2) + t * h1;
 }
+inline void eval3_2(const PairSeries& s, Lane2 t, Lane2& f, Lane2& d1, Lane2& d2) { eval3_lanes(s, t, f, d1, d2); }
 
 // eval_rA of the pair's G and Astar at two points: each lane bit for bit eval_rA's values (the same operations in
 // the same order; the loop runs from the larger top, whose leading zero coefficients leave the recurrences at
 // exact zeros, as eval_rA's own top does).
-inline void eval_rA2(const PairSeries& s, Lane2 t, Lane2& r, Lane2& a) {
-  const Lane2 two = {2.0, 2.0}, one = {1.0, 1.0};
-  const Lane2 y = two * t * t - one, yy = two * y;
-  Lane2 re1 = {0, 0}, re2 = re1, ro1 = re1, ro2 = re1, ae1 = re1, ae2 = re1, ao1 = re1, ao2 = re1;
+// S: PairSeries or QuadSeries, V: its lanes; inlined always, as eval3_lanes.
+template <class S, class V>
+__attribute__((always_inline)) inline void eval_rA_lanes(const S& s, V t, V& r, V& a) {
+  const V two = V{} + 2.0, one = V{} + 1.0;
+  const V y = two * t * t - one, yy = two * y;
+  V re1 = V{}, re2 = re1, ro1 = re1, ro2 = re1, ae1 = re1, ae2 = re1, ao1 = re1, ao2 = re1;
   for (int m = s.top; m >= 1; --m) {
-    const Lane2 re0 = (s.ge[m] - re2) + yy * re1, ro0 = (s.go[m] - ro2) + yy * ro1;
-    const Lane2 ae0 = (s.ae[m] - ae2) + yy * ae1, ao0 = (s.ao[m] - ao2) + yy * ao1;
+    const V re0 = (s.ge[m] - re2) + yy * re1, ro0 = (s.go[m] - ro2) + yy * ro1;
+    const V ae0 = (s.ae[m] - ae2) + yy * ae1, ao0 = (s.ao[m] - ao2) + yy * ao1;
     re2 = re1, re1 = re0, ro2 = ro1, ro1 = ro0, ae2 = ae1, ae1 = ae0, ao2 = ao1, ao1 = ao0;
   }
   // even: c_0 + y b_1 - b_2; odd: t (b_0 - b_1) with b_0 = c_1 + 2y b_1 - b_2
-  const Lane2 r_even = (s.ge[0] - re2) + y * re1, r_odd = t * ((s.go[0] - ro2) + (yy - one) * ro1);
-  const Lane2 a_even = (s.ae[0] - ae2) + y * ae1, a_odd = t * ((s.ao[0] - ao2) + (yy - one) * ao1);
+  const V r_even = (s.ge[0] - re2) + y * re1, r_odd = t * ((s.go[0] - ro2) + (yy - one) * ro1);
+  const V a_even = (s.ae[0] - ae2) + y * ae1, a_odd = t * ((s.ao[0] - ao2) + (yy - one) * ao1);
   r = r_even + r_odd;
   a = a_even + a_odd;
 }
+inline void eval_rA2(const PairSeries& s, Lane2 t, Lane2& r, Lane2& a) { eval_rA_lanes(s, t, r, a); }
 
 // Where h(t) = y on a part of a piece where h is monotone and y lies strictly between h(ta) - h_a and h(tb) - h_a
 // (ya, yb). The area split there is in error by h |dh/dg| dg^2 for a crossing misplaced by dg, so the crossing
@@ -246,32 +253,37 @@ inline bool has_avx() {
 
 // eval3_2 on four lanes.
 __attribute__((target("avx"))) inline void eval3_4(const QuadSeries& s, Lane4 t, Lane4& f, Lane4& d1, Lane4& d2) {
-  Lane4 b1 = {0, 0, 0, 0}, b2 = b1, e1 = b1, e2 = b1, h1 = b1, h2 = b1;
-  const Lane4 tt = t + t;
-  for (int k = s.n; k >= 1; --k) {
-    const Lane4 b0 = (s.h[k] - b2) + tt * b1, e0 = ((b1 + b1) - e2) + tt * e1;
-    const Lane4 h0 = (((e1 + e1) + (e1 + e1)) - h2) + tt * h1;
-    b2 = b1, b1 = b0, e2 = e1, e1 = e0, h2 = h1, h1 = h0;
-  }
-  f = (s.h[0] - b2) + t * b1;
-  d1 = (b1 - e2) + t * e1;
-  d2 = ((e1 + e1) - h2) + t * h1;
+  eval3_lanes(s, t, f, d1, d2);
 }
 
 // eval_rA2 on four lanes.
 __attribute__((target("avx"))) inline void eval_rA4(const QuadSeries& s, Lane4 t, Lane4& r, Lane4& a) {
-  const Lane4 two = {2.0, 2.0, 2.0, 2.0}, one = {1.0, 1.0, 1.0, 1.0};
-  const Lane4 y = two * t * t - one, yy = two * y;
-  Lane4 re1 = {0, 0, 0, 0}, re2 = re1, ro1 = re1, ro2 = re1, ae1 = re1, ae2 = re1, ao1 = re1, ao2 = re1;
-  for (int m = s.top; m >= 1; --m) {
-    const Lane4 re0 = (s.ge[m] - re2) + yy * re1, ro0 = (s.go[m] - ro2) + yy * ro1;
-    const Lane4 ae0 = (s.ae[m] - ae2) + yy * ae1, ao0 = (s.ao[m] - ao2) + yy * ao1;
-    re2 = re1, re1 = re0, ro2 = ro1, ro1 = ro0, ae2 = ae1, ae1 = ae0, ao2 = ao1, ao1 = ao0;
+  eval_rA_lanes(s, t, r, a);
+}
+
+// The samples of a fit of the walk (StairAreaMeter::walk_fit) four at a time: g = G(t) as Cheb::operator()
+// computes it, ((c_k + 2t b_{k+1}) - b_{k+2}), then ((c_0 + t b_1) - b_2), and r, a as eval_rA(R, A, t) computes
+// them, each lane those operations in the same order (no fused multiply-add), so the values are eval_rA's and
+// G's bit for bit. s is prepared by prepare_quad with the piece's G in the place of H and its R in the place of G
+// (s.h: G's coefficients; s.ge, s.go: R's), the same piece on every lane. The last group of four repeats the last
+// point.
+__attribute__((target("avx"))) inline void eval_g_rA4(const QuadSeries& s, const double* t, int n, double* g, double* r,
+                                                      double* a) {
+  for (int i = 0; i < n; i += 4) {
+    Lane4 tv;
+    for (int q = 0; q < 4; ++q) tv[q] = t[std::min(i + q, n - 1)];
+    const Lane4 tt = (Lane4{} + 2.0) * tv;
+    Lane4 b1 = Lane4{}, b2 = b1;
+    for (int k = s.n; k >= 1; --k) {
+      const Lane4 b0 = (s.h[k] + tt * b1) - b2;
+      b2 = b1;
+      b1 = b0;
+    }
+    const Lane4 gv = (s.h[0] + tv * b1) - b2;
+    Lane4 rv, av;
+    eval_rA_lanes(s, tv, rv, av);
+    for (int q = 0; q < 4 && i + q < n; ++q) g[i + q] = gv[q], r[i + q] = rv[q], a[i + q] = av[q];
   }
-  const Lane4 r_even = (s.ge[0] - re2) + y * re1, r_odd = t * ((s.go[0] - ro2) + (yy - one) * ro1);
-  const Lane4 a_even = (s.ae[0] - ae2) + y * ae1, a_odd = t * ((s.ao[0] - ao2) + (yy - one) * ao1);
-  r = r_even + r_odd;
-  a = a_even + a_odd;
 }
 
 // Four crossings side by side (each radius_crossing's, bit for bit): the lanes still searching step together, a
