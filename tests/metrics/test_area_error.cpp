@@ -232,6 +232,47 @@ TEST(AreaError, ManyPointSeriesAreBitForBitOneRecurrenceEach) {
   EXPECT_GT(checked, 2000);
 }
 
+// The walk's fit samples four at a time (where the processor has AVX): the abscissa's series G at t as the
+// Chebyshev recurrence written out here, the radius and Astar as eval_rA, bit for bit, for every degree of G and R,
+// Astar's degrees up to 64, and counts that are not a multiple of four.
+TEST(AreaError, FitSamplesFourAtATimeAreBitForBitTheSeries) {
+  using namespace polarcam::area_roots;
+  if (!has_avx()) GTEST_SKIP() << "this processor has no AVX: the walk samples its fits one point at a time";
+  RandomSeries rs{9090};
+  int checked = 0;
+  for (int trial = 0; trial < 150; ++trial) {
+    const Cheb G = rs.series(trial % (kChebMaxDegree + 1), 1.0 + 0.02 * trial);
+    const Cheb R = rs.series((trial * 7) % (kChebMaxDegree + 1), trial % 2 ? -1.5 : 2.0);
+    const LongCheb A = rs.long_series((trial * 11) % 65);
+    const Cheb* const g4[4] = {&G, &G, &G, &G};
+    const Cheb* const r4[4] = {&R, &R, &R, &R};
+    const LongCheb* const a4[4] = {&A, &A, &A, &A};
+    QuadSeries s;
+    prepare_quad(s, g4, r4, a4);  // G in the place of H, R in the place of G, as the walk prepares it
+    const int n = 1 + trial % 17;
+    double t[17], g[17], r[17], a[17];
+    for (int i = 0; i < n; ++i) t[i] = 2.0 * rs.uniform() - 1.0;
+    if (trial % 5 == 0) t[0] = -1.0, t[n - 1] = 1.0;  // the ends of the interval
+    eval_g_rA4(s, t, n, g, r, a);
+    for (int i = 0; i < n; ++i) {
+      double b1 = 0.0, b2 = 0.0;
+      for (int k = G.deg; k >= 1; --k) {
+        const double b0 = (G.c[static_cast<size_t>(k)] + (2.0 * t[i]) * b1) - b2;
+        b2 = b1;
+        b1 = b0;
+      }
+      const double want_g = (G.c[0] + t[i] * b1) - b2;
+      double want_r, want_a;
+      eval_rA(R, A, t[i], want_r, want_a);
+      EXPECT_EQ(std::bit_cast<uint64_t>(want_g), std::bit_cast<uint64_t>(g[i])) << trial << " point " << i;
+      EXPECT_EQ(std::bit_cast<uint64_t>(want_r), std::bit_cast<uint64_t>(r[i])) << trial << " point " << i;
+      EXPECT_EQ(std::bit_cast<uint64_t>(want_a), std::bit_cast<uint64_t>(a[i])) << trial << " point " << i;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 1000);
+}
+
 // The same for four crossings on the four lanes of an AVX vector (where the processor has AVX): each lane's
 // evaluations, crossing, abscissa and area there are bit for bit the one-at-a-time ones.
 TEST(AreaError, QuadCrossingsAreBitForBitTheSingleOnes) {
