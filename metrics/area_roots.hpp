@@ -82,7 +82,7 @@ inline void prepare_pair(PairSeries& s, const Cheb& H0, const Cheb& H1, const Ch
 // S: PairSeries or QuadSeries, V: its lanes. Inlined always, so that the four-lane copy is compiled inside eval3_4
 // (with AVX).
 template <class S, class V>
-__attribute__((always_inline)) inline void eval3_lanes(const S& s, V t, V& f, V& d1, V& d2) {
+__attribute__((always_inline)) inline void eval3_lanes(const S& s, const V& t, V& f, V& d1, V& d2) {
   V b1 = V{}, b2 = b1, e1 = b1, e2 = b1, h1 = b1, h2 = b1;
   const V tt = t + t;
   for (int k = s.n; k >= 1; --k) {
@@ -101,7 +101,7 @@ inline void eval3_2(const PairSeries& s, Lane2 t, Lane2& f, Lane2& d1, Lane2& d2
 // exact zeros, as eval_rA's own top does).
 // S: PairSeries or QuadSeries, V: its lanes; inlined always, as eval3_lanes.
 template <class S, class V>
-__attribute__((always_inline)) inline void eval_rA_lanes(const S& s, V t, V& r, V& a) {
+__attribute__((always_inline)) inline void eval_rA_lanes(const S& s, const V& t, V& r, V& a) {
   const V two = V{} + 2.0, one = V{} + 1.0;
   const V y = two * t * t - one, yy = two * y;
   V re1 = V{}, re2 = re1, ro1 = re1, ro2 = re1, ae1 = re1, ae2 = re1, ao1 = re1, ao2 = re1;
