@@ -299,10 +299,7 @@ bool StairAreaMeter::walk_fit(const Span& s) {
   // the fit's samples: four at a time where the processor has AVX (eval_g_rA4: the same values)
   const bool avx = area_roots::has_avx();
   if (avx && fit_piece_ != w.piece) {
-    const Cheb* const g4[4] = {&G, &G, &G, &G};
-    const Cheb* const h4[4] = {&H, &H, &H, &H};
-    const LongCheb* const a4[4] = {&A, &A, &A, &A};
-    area_roots::prepare_quad(fit_series_, g4, h4, a4);  // G in the place of H, H in the place of G
+    area_roots::prepare_fit(fit_series_, G, H, A);
     fit_piece_ = w.piece;
   }
   auto sample = [&](const double* t, int n, double* y, double* v) {

@@ -264,9 +264,16 @@ __attribute__((target("avx"))) inline void eval_rA4(const QuadSeries& s, Lane4 t
 // The samples of a fit of the walk (StairAreaMeter::walk_fit) four at a time: g = G(t) as Cheb::operator()
 // computes it, ((c_k + 2t b_{k+1}) - b_{k+2}), then ((c_0 + t b_1) - b_2), and r, a as eval_rA(R, A, t) computes
 // them, each lane those operations in the same order (no fused multiply-add), so the values are eval_rA's and
-// G's bit for bit. s is prepared by prepare_quad with the piece's G in the place of H and its R in the place of G
-// (s.h: G's coefficients; s.ge, s.go: R's), the same piece on every lane. The last group of four repeats the last
-// point.
+// G's bit for bit. s is prepared by prepare_fit. The last group of four repeats the last point.
+// eval_g_rA4's series: one piece's G, R and Astar on every lane (prepare_quad with G in the place of H and R in the
+// place of G: s.h holds G's coefficients, s.ge and s.go R's).
+inline void prepare_fit(QuadSeries& s, const Cheb& G, const Cheb& R, const LongCheb& A) {
+  const Cheb* const g4[4] = {&G, &G, &G, &G};
+  const Cheb* const r4[4] = {&R, &R, &R, &R};
+  const LongCheb* const a4[4] = {&A, &A, &A, &A};
+  prepare_quad(s, g4, r4, a4);
+}
+
 __attribute__((target("avx"))) inline void eval_g_rA4(const QuadSeries& s, const double* t, int n, double* g, double* r,
                                                       double* a) {
   for (int i = 0; i < n; i += 4) {

@@ -244,11 +244,8 @@ TEST(AreaError, FitSamplesFourAtATimeAreBitForBitTheSeries) {
     const Cheb G = rs.series(trial % (kChebMaxDegree + 1), 1.0 + 0.02 * trial);
     const Cheb R = rs.series((trial * 7) % (kChebMaxDegree + 1), trial % 2 ? -1.5 : 2.0);
     const LongCheb A = rs.long_series((trial * 11) % 65);
-    const Cheb* const g4[4] = {&G, &G, &G, &G};
-    const Cheb* const r4[4] = {&R, &R, &R, &R};
-    const LongCheb* const a4[4] = {&A, &A, &A, &A};
     QuadSeries s;
-    prepare_quad(s, g4, r4, a4);  // G in the place of H, R in the place of G, as the walk prepares it
+    prepare_fit(s, G, R, A);  // as the walk prepares it
     const int n = 1 + trial % 17;
     double t[17], g[17], r[17], a[17];
     for (int i = 0; i < n; ++i) t[i] = 2.0 * rs.uniform() - 1.0;
