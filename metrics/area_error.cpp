@@ -383,10 +383,46 @@ bool StairAreaMeter::walk_fit(const Span& s) {
     return true;
   }
   const double dr = grid_.height, inv = imp_.inv_height;
-  const uint32_t piece = static_cast<uint32_t>(w.piece);
   // each column is crossed from ray to ray: l runs from 0 to 1 going up, from 1 to 0 going down (walk_emit's clamps
   // of exact levels)
   const double l0 = w.dir > 0 ? 0.0 : 1.0, l1 = 1.0 - l0;
+  // The columns that cross their level: the crossing on the fits (fit_crossings8), eight at a time, the fits'
+  // coefficients laid out for the vectors at the stretch's first crossing; the part split there (crossed_part's
+  // sum).
+  struct Column {
+    uint32_t key;
+    double jd, rho, A0, A1;
+  };
+  Column xc[area_roots::FitCrossings::kMax];
+  area_roots::FitCrossings& xf = imp_.cross;
+  size_t nx = 0;
+  bool prepared = false;
+  auto crossings = [&] {
+    if (nx == 0) return;
+    xf.n = static_cast<int>(nx);
+    for (size_t q = nx; q < area_roots::FitCrossings::kMax; ++q) {  // spare lanes repeat the last column
+      xf.z0[q] = xf.z0[nx - 1], xf.z1[q] = xf.z1[nx - 1], xf.h0[q] = xf.h0[nx - 1], xf.h1[q] = xf.h1[nx - 1];
+      xf.y[q] = xf.y[nx - 1];
+    }
+    if (avx) {
+      if (!prepared) area_roots::prepare_fit_crossings(imp_.fit4, f[1], f[2]);
+      area_roots::fit_crossings8(imp_.fit4, xf);
+    } else {
+      if (!prepared) area_roots::prepare_fit_crossings(imp_.fit2, f[1], f[2]);
+      area_roots::fit_crossings8(imp_.fit2, xf);
+    }
+    prepared = true;
+    for (size_t q = 0; q < nx; ++q) {
+      const Column& x = xc[q];
+      // l between the column's edges, linear in z as the abscissa is: not from the abscissa itself, whose
+      // rounding (some 1e-16 rad of an angle of several radians) would be a large part of a step's width
+      const double dz = xf.z1[q] - xf.z0[q];
+      const double l = dz != 0.0 ? l0 + ((xf.z[q] - xf.z0[q]) / dz) * (l1 - l0) : 0.5, ax = ab + xf.a[q];
+      const double k = level_factor(p.h_a, x.rho);
+      imp_.part[x.key] = std::abs(ax - x.A0 + k * (l - l0)) + std::abs(x.A1 - ax + k * (l1 - l));
+    }
+    nx = 0;
+  };
   WalkPt a = edge(0);
   w.buf.push_back(a);
   for (size_t i = 0; i + 1 < cnt; ++i) {
@@ -397,12 +433,17 @@ bool StairAreaMeter::walk_fit(const Span& s) {
     const double jd = static_cast<double>(j);
     const double rho = static_cast<double>((n - imp_.h0) + imp_.h0) * dr;
     const uint32_t key_j = key(j);
-    if (crosses(a.h, b.h, rho))
-      dense_crossing(Sub{piece, a.t, b.t, l0, l1, a.h, b.h, a.A, b.A}, rho, jd, key_j);
-    else
+    if (crosses(a.h, b.h, rho)) {
+      xf.z0[nx] = ez[i], xf.z1[nx] = ez[i + 1], xf.h0[nx] = r1[i], xf.h1[nx] = r1[i + 1];
+      xf.y[nx] = (rho - p.h_a) - hb;
+      xc[nx] = Column{key_j, jd, rho, a.A, b.A};
+      if (++nx == area_roots::FitCrossings::kMax) crossings();
+    } else {
       imp_.part[key_j] = one_side(a.A, b.A, level_factor(p.h_a, rho), l1 - l0);
+    }
     a = b;
   }
+  crossings();
   // each column an angular step of the staircase, and a sub of the walk
   const int64_t ncol = static_cast<int64_t>(cnt) - 1;
   m_ += w.dir * ncol;
@@ -507,7 +548,7 @@ bool StairAreaMeter::imply_nearest(int64_t h0, int64_t g0, double margin) {
   imp_.arcs.clear();
   imp_.head = 0;
   imp_.open = false;
-  dense_crossings_.clear();
+  dense_n_ = 0;
   if (imp_.dense) imp_.part.assign(static_cast<size_t>(nkeys_), std::numeric_limits<double>::quiet_NaN());
   walk_start();
   if (nr_ != 0) imp_.failed = true;  // the path's start is not on the start node
@@ -750,19 +791,19 @@ size_t StairAreaMeter::crossing_batch() {
   return area_roots::has_avx() ? 4 : 2;  // four at a time where the processor has AVX (the same values either way)
 }
 
-void StairAreaMeter::crossing_parts(const std::vector<Crossing>& x, double part[4]) {
+void StairAreaMeter::crossing_parts(const Crossing* x, size_t count, double part[4]) {
   size_t i = 0;
-  if (x.size() == 4) {
-    crossing_quad(x.data(), part);
+  if (count == 4) {
+    crossing_quad(x, part);
     i = 4;
   }
-  for (; i + 2 <= x.size(); i += 2) crossing_pair(x[i], x[i + 1], part + i);
-  if (i < x.size()) part[i] = sub_part(x[i].b, x[i].rho, x[i].jd);
+  for (; i + 2 <= count; i += 2) crossing_pair(x[i], x[i + 1], part + i);
+  if (i < count) part[i] = sub_part(x[i].b, x[i].rho, x[i].jd);
 }
 
 void StairAreaMeter::flush_pending() {
   double part[4] = {0.0, 0.0, 0.0, 0.0};
-  crossing_parts(crossings_, part);
+  crossing_parts(crossings_.data(), crossings_.size(), part);
   for (const Pending& e : pending_) total_.add(e.crossing >= 0 ? part[e.crossing] : e.value);
   pending_.clear();
   crossings_.clear();
@@ -1302,13 +1343,23 @@ StairAreaResult StairAreaMeter::finish(int64_t n0, int64_t m0) {
   SectorIn& in = sector_in_;
   in.subs = &subs_;
   const bool dense = !imp_.part.empty();
+  const double* const dpart = imp_.part.data();
   for (size_t k = 0; k < nk; ++k) {
-    if (dense && !std::isnan(imp_.part[k])) {
-      // measured by the walk (imply_nearest): the sector's only visit and level strand
-      if (visit_head_[k] >= 0 || arc_head_[k] >= 0 || extra_head_[k] >= 0)
-        throw std::logic_error("internal error: a sector measured by the walk has other strands");
-      ++res.sectors;
-      add_total(imp_.part[k]);
+    if (dense && !std::isnan(dpart[k])) {
+      // measured by the walk (imply_nearest): the sector's only visit and level strand. A run of such sectors is
+      // added as add_total would add them one by one (nothing waits: the crossings before are measured first),
+      // in a local sum the compiler can keep in registers (total_ may alias the parts' doubles)
+      flush_pending();
+      Neumaier sum = total_;
+      uint64_t count = 0;
+      for (; k < nk && !std::isnan(dpart[k]); ++k, ++count) {
+        if (visit_head_[k] >= 0 || arc_head_[k] >= 0 || extra_head_[k] >= 0)
+          throw std::logic_error("internal error: a sector measured by the walk has other strands");
+        sum.add(dpart[k]);
+      }
+      total_ = sum;
+      res.sectors += count;
+      --k;  // the loop's increment steps onto the key that ended the run
       continue;
     }
     if (visit_head_[k] < 0 && arc_head_[k] < 0 && extra_head_[k] < 0) continue;
@@ -1419,8 +1470,8 @@ void StairAreaMeter::dense_part(const Sub* subs, size_t count, const Implied::Ar
 }
 
 void StairAreaMeter::dense_crossing(const Sub& b, double rho, double jd, uint32_t k) {
-  dense_crossings_.push_back({b, rho, jd, k});
-  if (dense_crossings_.size() == crossing_batch()) dense_flush();
+  dense_x_[dense_n_++] = Crossing{b, rho, jd, k};
+  if (dense_n_ == crossing_batch()) dense_flush();
 }
 
 void StairAreaMeter::crossing_quad(const Crossing* x, double part[4]) {
@@ -1447,9 +1498,9 @@ void StairAreaMeter::crossing_quad(const Crossing* x, double part[4]) {
 
 void StairAreaMeter::dense_flush() {
   double part[4] = {0.0, 0.0, 0.0, 0.0};
-  crossing_parts(dense_crossings_, part);
-  for (size_t i = 0; i < dense_crossings_.size(); ++i) imp_.part[dense_crossings_[i].key] = part[i];
-  dense_crossings_.clear();
+  crossing_parts(dense_x_, dense_n_, part);
+  for (size_t i = 0; i < dense_n_; ++i) imp_.part[dense_x_[i].key] = part[i];
+  dense_n_ = 0;
 }
 
 void StairAreaMeter::prepare_recorded() {

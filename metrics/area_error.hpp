@@ -347,7 +347,9 @@ class StairAreaMeter {
     double rho, jd;
     uint32_t key = 0;  // dense_crossing: the sector's key
   };
-  std::vector<Crossing> dense_crossings_;
+  // dense_crossing's batch (at most crossing_batch(), four)
+  Crossing dense_x_[4];
+  size_t dense_n_ = 0;
   struct Pending {
     double value;
     int32_t crossing;  // >= 0: the value is that crossing's part
@@ -386,6 +388,10 @@ class StairAreaMeter {
     double hmin = 0, hmax = 0;
     std::vector<Sub> subs;
     std::vector<double> part;  // by key: the dense sectors' parts (NaN: none)
+    // walk_fit's fits of the radius and Astar laid out for its crossings (with AVX, and without)
+    area_roots::FitCrossingSeries<area_roots::Lane4> fit4;
+    area_roots::FitCrossingSeries<Lane2> fit2;
+    area_roots::FitCrossings cross;  // walk_fit's batch of crossings
   };
   Implied imp_;
   // imply_nearest's test for the dense walk: the path's direction in angle, 0 where it turns back or may visit a
@@ -406,7 +412,7 @@ class StairAreaMeter {
   // the same for four, on the four lanes of an AVX vector (dense_flush, where area_roots::has_avx())
   void crossing_quad(const Crossing* x, double part[4]);
   // the parts of up to four crossings (a batch of flush_pending or dense_flush): four side by side, pairs, then one
-  void crossing_parts(const std::vector<Crossing>& x, double part[4]);
+  void crossing_parts(const Crossing* x, size_t count, double part[4]);
   static size_t crossing_batch();  // crossings gathered before they are found together: 4 with AVX, else 2
   void prepare_recorded();  // finish()'s state for the recorded mode (range, heads, lists)
 

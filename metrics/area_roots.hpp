@@ -123,12 +123,15 @@ inline void eval_rA2(const PairSeries& s, Lane2 t, Lane2& r, Lane2& a) { eval_rA
 // need not be found to rounding: Newton from the interpolated guess stops once the error left after its step,
 // |R''/(2 R')| dt^2, is below 1e-12 (t on [-1, 1]; far inside the rounding of the area). The search's state, one
 // step at a time: radius_crossing runs it on one series, radius_crossing2 on two side by side.
+// Its fields are set by start() alone (no initializers: an array of four of them would be zeroed at every batch
+// of crossings, a string store that costed as much as a fifth of the batch's own work).
 struct RadiusCrossing {
-  double lo = 0, hi = 0, t = 0, y = 0;
-  bool up = false;
-  int it = 0;
+  double lo, hi, t, y;
+  bool up;
+  int it;
   void start(double y_, double ta, double tb, double ya, double yb) {
     y = y_;
+    it = 0;
     lo = std::min(ta, tb), hi = std::max(ta, tb);
     const double chord = (yb - ya) / (tb - ta);
     t = ta + (y - ya) / chord;
@@ -307,6 +310,146 @@ __attribute__((target("avx"))) inline void radius_crossing4(const QuadSeries& s,
   Lane4 gv, av;
   eval_rA4(s, Lane4{c[0].t, c[1].t, c[2].t, c[3].t}, gv, av);
   for (int q = 0; q < 4; ++q) g[q] = gv[q], a[q] = av[q];
+}
+
+// The crossings of a stretch of the walk (StairAreaMeter::walk_fit) found on the stretch's fits: where the fit of
+// the radius H (a series in the fit's variable z) reaches each column's level, each lane RadiusCrossing's search on
+// H (c[q] started on the column's ends in z); then the fit of Astar, A, at each crossing, into a[q]. Every lane
+// performs its own operations in the same order whatever the other lanes hold, so a value is the same however the
+// columns are grouped, and with vectors of two lanes or four. The fits are within a few units of rounding of the
+// piece's series (StairAreaMeter::walk_piece_start), and an error dz in a crossing moves the area by a term in dz^2
+// only, so these parts are as exact as those from the series.
+// The two fits' coefficients on every lane of a vector V, prepared once for a stretch.
+template <class V>
+struct FitCrossingSeries {
+  int n = 0, na = 0;
+  V h[kChebMaxDegree + 1], a[kChebMaxDegree + 1];
+};
+template <class V>
+inline void prepare_fit_crossings(FitCrossingSeries<V>& s, const Cheb& H, const Cheb& A) {
+  s.n = H.deg;
+  s.na = A.deg;
+  for (int k = 0; k <= H.deg; ++k)
+    for (size_t q = 0; q < sizeof(V) / sizeof(double); ++q) s.h[k][q] = H.c[static_cast<size_t>(k)];
+  for (int k = 0; k <= A.deg; ++k)
+    for (size_t q = 0; q < sizeof(V) / sizeof(double); ++q) s.a[k][q] = A.c[static_cast<size_t>(k)];
+}
+// The columns' crossings, eight at a time (FitCrossings::n of them; the spare lanes repeat the last): column q
+// runs from z0[q] to z1[q] in the fit's variable, where the fit of the radius is h0[q] and h1[q], and y[q] is its
+// level (between the two). The search is RadiusCrossing's, on every lane at once with no branch on a lane's own
+// state (a bracketing interval, Newton's step where it stays inside, halving otherwise; done once the error left
+// after a step, |H''/(2 H')| dz^2, is below 1e-12, or the interval is below 1e-15): the processor cannot guess which
+// way a lane goes. Out: z[q], the crossing, and a[q], the fit of Astar there.
+struct FitCrossings {
+  static constexpr int kMax = 8;
+  alignas(32) double z0[kMax], z1[kMax], h0[kMax], h1[kMax], y[kMax], z[kMax], a[kMax];
+  int n = 0;
+};
+// NV vectors of W lanes side by side. Inlined always, so that the four-lane copy is compiled inside fit_crossings8
+// (with AVX).
+// The lanes' masks: a comparison of two vectors of doubles gives one of 64-bit integers, all ones where true.
+typedef long long Mask2 __attribute__((vector_size(16)));
+typedef long long Mask4 __attribute__((vector_size(32)));
+template <class V>
+struct MaskOf;
+template <>
+struct MaskOf<Lane2> {
+  typedef Mask2 type;
+};
+template <>
+struct MaskOf<Lane4> {
+  typedef Mask4 type;
+};
+// (the lanes of a where m is set, of b elsewhere; |a|): written out where used, since a helper taking or returning
+// a 256-bit vector by value outside an AVX function is refused by clang)
+#define POLARCAM_PICK(m, a, b) ((V)((((M)(a)) & (m)) | (((M)(b)) & ~(m))))
+#define POLARCAM_ABS(a) ((V)(((M)(a)) & ~sign))
+
+template <class V, int W, int NV>
+__attribute__((always_inline)) inline void fit_crossings_lanes(const FitCrossingSeries<V>& s, FitCrossings& x) {
+  typedef typename MaskOf<V>::type M;
+  const M sign = (M)(-V{});  // -0.0: the sign bit alone
+  const V half = V{} + 0.5;
+  V t[NV], lo[NV], hi[NV], y[NV];
+  M up[NV], done[NV];
+  for (int v = 0; v < NV; ++v) {
+    V ta, tb, ya, yb;
+    __builtin_memcpy(&ta, x.z0 + W * v, sizeof(V));
+    __builtin_memcpy(&tb, x.z1 + W * v, sizeof(V));
+    __builtin_memcpy(&ya, x.h0 + W * v, sizeof(V));
+    __builtin_memcpy(&yb, x.h1 + W * v, sizeof(V));
+    __builtin_memcpy(&y[v], x.y + W * v, sizeof(V));
+    const M less = ta < tb;
+    lo[v] = POLARCAM_PICK(less, ta, tb);
+    hi[v] = POLARCAM_PICK(less, tb, ta);
+    const V chord = (yb - ya) / (tb - ta), t0 = ta + (y[v] - ya) / chord;
+    t[v] = POLARCAM_PICK((t0 > lo[v]) & (t0 < hi[v]), t0, half * (lo[v] + hi[v]));
+    up[v] = chord > V{};
+    done[v] = M{};
+  }
+  for (int it = 0; it < 100; ++it) {
+    V b1[NV], b2[NV], e1[NV], e2[NV], h1[NV], h2[NV], tt[NV];
+    for (int v = 0; v < NV; ++v) {
+      tt[v] = t[v] + t[v];
+      b1[v] = b2[v] = e1[v] = e2[v] = h1[v] = h2[v] = V{};
+    }
+    for (int k = s.n; k >= 1; --k)
+      for (int v = 0; v < NV; ++v) {
+        const V b0 = (s.h[k] - b2[v]) + tt[v] * b1[v], e0 = ((b1[v] + b1[v]) - e2[v]) + tt[v] * e1[v];
+        const V h0 = (((e1[v] + e1[v]) + (e1[v] + e1[v])) - h2[v]) + tt[v] * h1[v];
+        b2[v] = b1[v], b1[v] = b0, e2[v] = e1[v], e1[v] = e0, h2[v] = h1[v], h1[v] = h0;
+      }
+    M all = ~M{};
+    for (int v = 0; v < NV; ++v) {
+      const V f = ((s.h[0] - b2[v]) + t[v] * b1[v]) - y[v], d1 = (b1[v] - e2[v]) + t[v] * e1[v];
+      const V d2 = ((e1[v] + e1[v]) - h2[v]) + t[v] * h1[v];
+      const M zero = f == V{}, above = ~((f > V{}) ^ up[v]);
+      const V nlo = POLARCAM_PICK(above, lo[v], t[v]), nhi = POLARCAM_PICK(above, t[v], hi[v]);
+      const V tn = t[v] - f / d1, dt = tn - t[v];
+      const M inside = (tn > nlo) & (tn < nhi);
+      const M conv = inside & ((POLARCAM_ABS(d2) * dt * dt <= (V{} + 2e-12) * POLARCAM_ABS(d1)) | (nhi - nlo <= V{} + 1e-15));
+      const M move = ~done[v] & ~zero;
+      t[v] = POLARCAM_PICK(move, POLARCAM_PICK(inside, tn, half * (nlo + nhi)), t[v]);
+      lo[v] = POLARCAM_PICK(move, nlo, lo[v]);
+      hi[v] = POLARCAM_PICK(move, nhi, hi[v]);
+      done[v] = done[v] | zero | conv;
+      all = all & done[v];
+    }
+    bool finished = true;
+    for (int q = 0; q < W; ++q) finished = finished && all[q] != 0;
+    if (finished) break;
+  }
+  for (int v = 0; v < NV; ++v) {
+    V b1 = V{}, b2 = V{};
+    const V tt = t[v] + t[v];
+    for (int k = s.na; k >= 1; --k) {
+      const V b0 = (s.a[k] - b2) + tt * b1;
+      b2 = b1;
+      b1 = b0;
+    }
+    const V av = (s.a[0] - b2) + t[v] * b1;
+    __builtin_memcpy(x.z + W * v, &t[v], sizeof(V));
+    __builtin_memcpy(x.a + W * v, &av, sizeof(V));
+  }
+}
+#undef POLARCAM_PICK
+#undef POLARCAM_ABS
+
+// The batch's crossings: eight on four vectors of two lanes, or on two of four where the processor has AVX (the
+// same values); a batch of four or fewer on half as many vectors (the lanes from the fifth on are then left as
+// they were).
+inline void fit_crossings8(const FitCrossingSeries<Lane2>& s, FitCrossings& x) {
+  if (x.n <= 4)
+    fit_crossings_lanes<Lane2, 2, 2>(s, x);
+  else
+    fit_crossings_lanes<Lane2, 2, 4>(s, x);
+}
+
+__attribute__((target("avx"))) inline void fit_crossings8(const FitCrossingSeries<Lane4>& s, FitCrossings& x) {
+  if (x.n <= 4)
+    fit_crossings_lanes<Lane4, 4, 1>(s, x);
+  else
+    fit_crossings_lanes<Lane4, 4, 2>(s, x);
 }
 
 // The series c (degree n) at the points z[0..cnt), into out. Each lane of a vector performs the operations of one
