@@ -332,15 +332,22 @@ bool StairAreaMeter::walk_fit(const Span& s) {
   auto& ez = w.z;
   ez.resize(cnt);
   for (size_t i = 0; i < cnt; ++i) ez[i] = z_of(static_cast<double>(walk_level(s.j0 + static_cast<int64_t>(i))));
-  for (int k = 0; k < 3; ++k) clenshaw_many(c[k], f[k].deg, ez, cnt, w.r[k]);
-  const double *r0 = w.r[0].data(), *r1 = w.r[1].data(), *r2 = w.r[2].data();
-  auto edge = [&](size_t i) __attribute__((always_inline)) -> WalkPt {
+  // the radius and Astar at every edge; t (the first series) at every edge where the walk takes the edges one by
+  // one (all_edges), at the first and the last alone where the stretch's columns are measured here (end_edge: the
+  // same operations for one point, the same values)
+  for (int k = 1; k < 3; ++k) clenshaw_many(c[k], f[k].deg, ez, cnt, w.r[k]);
+  const double *r1 = w.r[1].data(), *r2 = w.r[2].data();
+  auto edge_at = [&](size_t i, double r0) -> WalkPt {
     const int64_t q = s.j0 + static_cast<int64_t>(i);
-    const double t = std::clamp(s.ta + r0[i], s.ta, s.tb);
-    return {t, static_cast<double>(walk_level(q)), p.h_a + (hb + r1[i]), ab + r2[i]};
+    return {std::clamp(s.ta + r0, s.ta, s.tb), static_cast<double>(walk_level(q)), p.h_a + (hb + r1[i]), ab + r2[i]};
   };
+  auto all_edges = [&] {
+    clenshaw_many(c[0], f[0].deg, ez, cnt, w.r[0]);
+    for (size_t i = 0; i < cnt; ++i) w.buf.push_back(edge_at(i, w.r[0][i]));
+  };
+  auto end_edge = [&](size_t i) { return edge_at(i, area_roots::clenshaw_one(c[0], f[0].deg, ez[i])); };
   if (!imp_.on) {
-    for (size_t i = 0; i < cnt; ++i) w.buf.push_back(edge(i));
+    all_edges();
     return true;
   }
   // the radius at the half levels from the same fit
@@ -379,7 +386,7 @@ bool StairAreaMeter::walk_fit(const Span& s) {
   }
   if (k0 >= nl) {
     for (; done < nl; ++done) imply_arc(hl[done]);
-    for (size_t i = 0; i < cnt; ++i) w.buf.push_back(edge(i));
+    all_edges();
     return true;
   }
   const double dr = grid_.height, inv = imp_.inv_height;
@@ -423,25 +430,24 @@ bool StairAreaMeter::walk_fit(const Span& s) {
     }
     nx = 0;
   };
-  WalkPt a = edge(0);
-  w.buf.push_back(a);
+  w.buf.push_back(end_edge(0));
   for (size_t i = 0; i + 1 < cnt; ++i) {
-    const WalkPt b = edge(i + 1);
+    // the column from edge i to edge i + 1: their radii and Astar
+    const double ha = p.h_a + (hb + r1[i]), hb1 = p.h_a + (hb + r1[i + 1]), Aa = ab + r2[i], Ab = ab + r2[i + 1];
     int64_t n = 0;
     if (!nearest_node(hl[k0 + i] * inv, n)) imp_.failed = true;  // discarded: the digitizer measures this pole
     const int64_t j = column(i);
     const double jd = static_cast<double>(j);
     const double rho = static_cast<double>((n - imp_.h0) + imp_.h0) * dr;
     const uint32_t key_j = key(j);
-    if (crosses(a.h, b.h, rho)) {
+    if (crosses(ha, hb1, rho)) {
       xf.z0[nx] = ez[i], xf.z1[nx] = ez[i + 1], xf.h0[nx] = r1[i], xf.h1[nx] = r1[i + 1];
       xf.y[nx] = (rho - p.h_a) - hb;
-      xc[nx] = Column{key_j, jd, rho, a.A, b.A};
+      xc[nx] = Column{key_j, jd, rho, Aa, Ab};
       if (++nx == area_roots::FitCrossings::kMax) crossings();
     } else {
-      imp_.part[key_j] = one_side(a.A, b.A, level_factor(p.h_a, rho), l1 - l0);
+      imp_.part[key_j] = one_side(Aa, Ab, level_factor(p.h_a, rho), l1 - l0);
     }
-    a = b;
   }
   crossings();
   // each column an angular step of the staircase, and a sub of the walk
@@ -449,7 +455,7 @@ bool StairAreaMeter::walk_fit(const Span& s) {
   m_ += w.dir * ncol;
   nrun_ += static_cast<uint64_t>(ncol);
   subs_out_ += static_cast<uint64_t>(ncol);
-  w.buf.push_back(a);
+  w.buf.push_back(end_edge(cnt - 1));
   w.jump = 1;
   w.jump_q = ncol;
   for (done = k0 + cnt - 1; done < nl; ++done) imply_arc(hl[done]);

@@ -124,7 +124,7 @@ inline void eval_rA2(const PairSeries& s, Lane2 t, Lane2& r, Lane2& a) { eval_rA
 // |R''/(2 R')| dt^2, is below 1e-12 (t on [-1, 1]; far inside the rounding of the area). The search's state, one
 // step at a time: radius_crossing runs it on one series, radius_crossing2 on two side by side.
 // Its fields are set by start() alone (no initializers: an array of four of them would be zeroed at every batch
-// of crossings, a string store that costed as much as a fifth of the batch's own work).
+// of crossings, a string store that cost as much as a fifth of the batch's own work).
 struct RadiusCrossing {
   double lo, hi, t, y;
   bool up;
@@ -313,12 +313,11 @@ __attribute__((target("avx"))) inline void radius_crossing4(const QuadSeries& s,
 }
 
 // The crossings of a stretch of the walk (StairAreaMeter::walk_fit) found on the stretch's fits: where the fit of
-// the radius H (a series in the fit's variable z) reaches each column's level, each lane RadiusCrossing's search on
-// H (c[q] started on the column's ends in z); then the fit of Astar, A, at each crossing, into a[q]. Every lane
-// performs its own operations in the same order whatever the other lanes hold, so a value is the same however the
-// columns are grouped, and with vectors of two lanes or four. The fits are within a few units of rounding of the
-// piece's series (StairAreaMeter::walk_piece_start), and an error dz in a crossing moves the area by a term in dz^2
-// only, so these parts are as exact as those from the series.
+// the radius H (a series in the fit's variable z) reaches each column's level, then the fit of Astar, A, there.
+// Every lane performs its own operations in the same order whatever the other lanes hold, so a value is the same
+// however the columns are grouped, and with vectors of two lanes or four. The fits are within a few units of
+// rounding of the piece's series (StairAreaMeter::walk_piece_start), and an error dz in a crossing moves the area by
+// a term in dz^2 only.
 // The two fits' coefficients on every lane of a vector V, prepared once for a stretch.
 template <class V>
 struct FitCrossingSeries {
@@ -345,8 +344,6 @@ struct FitCrossings {
   alignas(32) double z0[kMax], z1[kMax], h0[kMax], h1[kMax], y[kMax], z[kMax], a[kMax];
   int n = 0;
 };
-// NV vectors of W lanes side by side. Inlined always, so that the four-lane copy is compiled inside fit_crossings8
-// (with AVX).
 // The lanes' masks: a comparison of two vectors of doubles gives one of 64-bit integers, all ones where true.
 typedef long long Mask2 __attribute__((vector_size(16)));
 typedef long long Mask4 __attribute__((vector_size(32)));
@@ -365,6 +362,8 @@ struct MaskOf<Lane4> {
 #define POLARCAM_PICK(m, a, b) ((V)((((M)(a)) & (m)) | (((M)(b)) & ~(m))))
 #define POLARCAM_ABS(a) ((V)(((M)(a)) & ~sign))
 
+// NV vectors of W lanes side by side. Inlined always, so that the four-lane copy is compiled inside fit_crossings8
+// (with AVX).
 template <class V, int W, int NV>
 __attribute__((always_inline)) inline void fit_crossings_lanes(const FitCrossingSeries<V>& s, FitCrossings& x) {
   typedef typename MaskOf<V>::type M;
@@ -407,7 +406,8 @@ __attribute__((always_inline)) inline void fit_crossings_lanes(const FitCrossing
       const V nlo = POLARCAM_PICK(above, lo[v], t[v]), nhi = POLARCAM_PICK(above, t[v], hi[v]);
       const V tn = t[v] - f / d1, dt = tn - t[v];
       const M inside = (tn > nlo) & (tn < nhi);
-      const M conv = inside & ((POLARCAM_ABS(d2) * dt * dt <= (V{} + 2e-12) * POLARCAM_ABS(d1)) | (nhi - nlo <= V{} + 1e-15));
+      const M conv =
+          inside & ((POLARCAM_ABS(d2) * dt * dt <= (V{} + 2e-12) * POLARCAM_ABS(d1)) | (nhi - nlo <= V{} + 1e-15));
       const M move = ~done[v] & ~zero;
       t[v] = POLARCAM_PICK(move, POLARCAM_PICK(inside, tn, half * (nlo + nhi)), t[v]);
       lo[v] = POLARCAM_PICK(move, nlo, lo[v]);
@@ -483,6 +483,18 @@ __attribute__((always_inline)) inline void clenshaw_lanes(const double* c, int n
       for (int q = 0; q < W; ++q) out[j + W * v + q] = r[q];
     }
   }
+}
+
+// clenshaw_lanes's operations for one point z: the same value as the lane that holds z.
+inline double clenshaw_one(const double* c, int n, double z) {
+  const double t2 = z + z;
+  double b1 = 0.0, b2 = 0.0;
+  for (int i = n; i >= 1; --i) {
+    const double b0 = (c[i] - b2) + t2 * b1;
+    b2 = b1;
+    b1 = b0;
+  }
+  return (c[0] - b2) + z * b1;
 }
 
 inline void clenshaw_many2(const double* c, int n, const double* z, size_t cnt, double* out) {
