@@ -29,6 +29,12 @@ inline bool crosses(double h0, double h1, double rho) { return (h0 - rho) * (h1 
 // sub's run dl in l (k: level_factor).
 inline double one_side(double A0, double A1, double k, double dl) { return std::abs(A1 - A0 + k * dl); }
 
+// The part of a sub that crosses its level strand at (l, a), l its coordinate from l0 to l1 and a its Astar: the
+// two sides, each one_side's measure.
+inline double two_sides(double A0, double A1, double k, double l0, double l1, double l, double a) {
+  return std::abs(a - A0 + k * (l - l0)) + std::abs(A1 - a + k * (l1 - l));
+}
+
 }  // namespace
 
 void StairAreaMeter::SlotIndex::clear() {
@@ -401,22 +407,20 @@ bool StairAreaMeter::walk_fit(const Span& s) {
     double jd, rho, A0, A1;
   };
   Column xc[area_roots::FitCrossings::kMax];
-  area_roots::FitCrossings& xf = imp_.cross;
+  area_roots::FitCrossings xf;
+  area_roots::FitCrossingSeries<area_roots::Lane4> fit4;
+  area_roots::FitCrossingSeries<Lane2> fit2;
   size_t nx = 0;
   bool prepared = false;
   auto crossings = [&] {
     if (nx == 0) return;
     xf.n = static_cast<int>(nx);
-    for (size_t q = nx; q < area_roots::FitCrossings::kMax; ++q) {  // spare lanes repeat the last column
-      xf.z0[q] = xf.z0[nx - 1], xf.z1[q] = xf.z1[nx - 1], xf.h0[q] = xf.h0[nx - 1], xf.h1[q] = xf.h1[nx - 1];
-      xf.y[q] = xf.y[nx - 1];
-    }
     if (avx) {
-      if (!prepared) area_roots::prepare_fit_crossings(imp_.fit4, f[1], f[2]);
-      area_roots::fit_crossings8(imp_.fit4, xf);
+      if (!prepared) area_roots::prepare_fit_crossings(fit4, f[1], f[2]);
+      area_roots::fit_crossings8(fit4, xf);
     } else {
-      if (!prepared) area_roots::prepare_fit_crossings(imp_.fit2, f[1], f[2]);
-      area_roots::fit_crossings8(imp_.fit2, xf);
+      if (!prepared) area_roots::prepare_fit_crossings(fit2, f[1], f[2]);
+      area_roots::fit_crossings8(fit2, xf);
     }
     prepared = true;
     for (size_t q = 0; q < nx; ++q) {
@@ -424,9 +428,8 @@ bool StairAreaMeter::walk_fit(const Span& s) {
       // l between the column's edges, linear in z as the abscissa is: not from the abscissa itself, whose
       // rounding (some 1e-16 rad of an angle of several radians) would be a large part of a step's width
       const double dz = xf.z1[q] - xf.z0[q];
-      const double l = dz != 0.0 ? l0 + ((xf.z[q] - xf.z0[q]) / dz) * (l1 - l0) : 0.5, ax = ab + xf.a[q];
-      const double k = level_factor(p.h_a, x.rho);
-      imp_.part[x.key] = std::abs(ax - x.A0 + k * (l - l0)) + std::abs(x.A1 - ax + k * (l1 - l));
+      const double l = dz != 0.0 ? l0 + ((xf.z[q] - xf.z0[q]) / dz) * (l1 - l0) : 0.5;
+      imp_.part[x.key] = two_sides(x.A0, x.A1, level_factor(p.h_a, x.rho), l0, l1, l, ab + xf.a[q]);
     }
     nx = 0;
   };
@@ -765,7 +768,7 @@ double StairAreaMeter::crossed_part(const Sub& b, double rho, double jd, double 
   const sweep::PieceView& p = track_.pieces[b.piece];
   const double k = level_factor(p.h_a, rho);
   const double l = (p.g_a + g + shift_) / grid_.width - jd;
-  return std::abs(a - b.A0 + k * (l - b.l0)) + std::abs(b.A1 - a + k * (b.l1 - l));
+  return two_sides(b.A0, b.A1, k, b.l0, b.l1, l, a);
 }
 
 inline void StairAreaMeter::add_total(double x) {

@@ -388,10 +388,6 @@ class StairAreaMeter {
     double hmin = 0, hmax = 0;
     std::vector<Sub> subs;
     std::vector<double> part;  // by key: the dense sectors' parts (NaN: none)
-    // walk_fit's fits of the radius and Astar laid out for its crossings (with AVX, and without)
-    area_roots::FitCrossingSeries<area_roots::Lane4> fit4;
-    area_roots::FitCrossingSeries<Lane2> fit2;
-    area_roots::FitCrossings cross;  // walk_fit's batch of crossings
   };
   Implied imp_;
   // imply_nearest's test for the dense walk: the path's direction in angle, 0 where it turns back or may visit a

@@ -333,7 +333,8 @@ inline void prepare_fit_crossings(FitCrossingSeries<V>& s, const Cheb& H, const 
   for (int k = 0; k <= A.deg; ++k)
     for (size_t q = 0; q < sizeof(V) / sizeof(double); ++q) s.a[k][q] = A.c[static_cast<size_t>(k)];
 }
-// The columns' crossings, eight at a time (FitCrossings::n of them; the spare lanes repeat the last): column q
+// The columns' crossings, eight at a time (FitCrossings::n of them, at least one; fit_crossings8 fills the spare
+// lanes with the last): column q
 // runs from z0[q] to z1[q] in the fit's variable, where the fit of the radius is h0[q] and h1[q], and y[q] is its
 // level (between the two). The search is RadiusCrossing's, on every lane at once with no branch on a lane's own
 // state (a bracketing interval, Newton's step where it stays inside, halving otherwise; done once the error left
@@ -435,10 +436,19 @@ __attribute__((always_inline)) inline void fit_crossings_lanes(const FitCrossing
 #undef POLARCAM_PICK
 #undef POLARCAM_ABS
 
+// The lanes after the batch's last column repeat it, so that no lane works on values that were never set.
+inline void pad_crossings(FitCrossings& x) {
+  for (int q = x.n; q < FitCrossings::kMax; ++q) {
+    x.z0[q] = x.z0[x.n - 1], x.z1[q] = x.z1[x.n - 1], x.h0[q] = x.h0[x.n - 1], x.h1[q] = x.h1[x.n - 1];
+    x.y[q] = x.y[x.n - 1];
+  }
+}
+
 // The batch's crossings: eight on four vectors of two lanes, or on two of four where the processor has AVX (the
 // same values); a batch of four or fewer on half as many vectors (the lanes from the fifth on are then left as
 // they were).
 inline void fit_crossings8(const FitCrossingSeries<Lane2>& s, FitCrossings& x) {
+  pad_crossings(x);
   if (x.n <= 4)
     fit_crossings_lanes<Lane2, 2, 2>(s, x);
   else
@@ -446,6 +456,7 @@ inline void fit_crossings8(const FitCrossingSeries<Lane2>& s, FitCrossings& x) {
 }
 
 __attribute__((target("avx"))) inline void fit_crossings8(const FitCrossingSeries<Lane4>& s, FitCrossings& x) {
+  pad_crossings(x);
   if (x.n <= 4)
     fit_crossings_lanes<Lane4, 4, 1>(s, x);
   else

@@ -283,29 +283,24 @@ TEST(AreaError, FitCrossingsAreTheRootsOnTwoOrFourLanes) {
   for (int trial = 0; trial < 300; ++trial) {
     const Cheb H = rs.series(1 + trial % kChebMaxDegree, trial % 2 ? -2.0 : 2.5);  // monotone: |H'| >= 0.5
     const Cheb A = rs.series(trial % (kChebMaxDegree + 1), 0.7);
-    FitCrossings x2, x4;
+    FitCrossings x2{}, x4;
     double want[FitCrossings::kMax];
     const int n = 1 + trial % FitCrossings::kMax;
-    for (int q = 0; q < FitCrossings::kMax; ++q) {
-      const int i = std::min(q, n - 1);  // the spare lanes repeat the last column, as the walk fills them
-      if (q == i) {
-        const double w = 1e-3 * (1.0 + 50.0 * (0.5 + 0.5 * rs.uniform()));  // the column's width in z
-        const double za = 0.9 * rs.uniform(), zb = (q % 3 == 0) ? za - w : za + w;  // either direction
-        const double u = 0.05 + 0.9 * (0.5 + 0.5 * rs.uniform());
-        x2.z0[q] = za, x2.z1[q] = zb, x2.h0[q] = H(za), x2.h1[q] = H(zb);
-        x2.y[q] = x2.h0[q] + u * (x2.h1[q] - x2.h0[q]);
-        // the root by bisection, to the last bit
-        double lo = std::min(za, zb), hi = std::max(za, zb);
-        const bool up = H(hi) > H(lo);
-        for (int it = 0; it < 200 && lo < hi; ++it) {
-          const double mid = 0.5 * (lo + hi);
-          if (mid == lo || mid == hi) break;
-          ((H(mid) > x2.y[q]) == up ? hi : lo) = mid;
-        }
-        want[q] = 0.5 * (lo + hi);
-      } else {
-        x2.z0[q] = x2.z0[i], x2.z1[q] = x2.z1[i], x2.h0[q] = x2.h0[i], x2.h1[q] = x2.h1[i], x2.y[q] = x2.y[i];
+    for (int q = 0; q < n; ++q) {  // fit_crossings8 fills the spare lanes
+      const double w = 1e-3 * (1.0 + 50.0 * (0.5 + 0.5 * rs.uniform()));  // the column's width in z
+      const double za = 0.9 * rs.uniform(), zb = (q % 3 == 0) ? za - w : za + w;  // either direction
+      const double u = 0.05 + 0.9 * (0.5 + 0.5 * rs.uniform());
+      x2.z0[q] = za, x2.z1[q] = zb, x2.h0[q] = H(za), x2.h1[q] = H(zb);
+      x2.y[q] = x2.h0[q] + u * (x2.h1[q] - x2.h0[q]);
+      // the root by bisection, to the last bit
+      double lo = std::min(za, zb), hi = std::max(za, zb);
+      const bool up = H(hi) > H(lo);
+      for (int it = 0; it < 200 && lo < hi; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        if (mid == lo || mid == hi) break;
+        ((H(mid) > x2.y[q]) == up ? hi : lo) = mid;
       }
+      want[q] = 0.5 * (lo + hi);
     }
     x2.n = n;  // four or fewer: on half the vectors
     x4 = x2;
