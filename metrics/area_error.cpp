@@ -399,12 +399,12 @@ bool StairAreaMeter::walk_fit(const Span& s) {
   // each column is crossed from ray to ray: l runs from 0 to 1 going up, from 1 to 0 going down (walk_emit's clamps
   // of exact levels)
   const double l0 = w.dir > 0 ? 0.0 : 1.0, l1 = 1.0 - l0;
-  // The columns that cross their level: the crossing on the fits (fit_crossings8), eight at a time, the fits'
+  // The columns that cross their level: the crossing on the fits (fit_crossings), sixteen at a time, the fits'
   // coefficients laid out for the vectors at the stretch's first crossing; the part split there (crossed_part's
   // sum).
   struct Column {
     uint32_t key;
-    double jd, rho, A0, A1;
+    double rho, A0, A1;
   };
   Column xc[area_roots::FitCrossings::kMax];
   area_roots::FitCrossings xf;
@@ -417,10 +417,10 @@ bool StairAreaMeter::walk_fit(const Span& s) {
     xf.n = static_cast<int>(nx);
     if (avx) {
       if (!prepared) area_roots::prepare_fit_crossings(fit4, f[1], f[2]);
-      area_roots::fit_crossings8(fit4, xf);
+      area_roots::fit_crossings(fit4, xf);
     } else {
       if (!prepared) area_roots::prepare_fit_crossings(fit2, f[1], f[2]);
-      area_roots::fit_crossings8(fit2, xf);
+      area_roots::fit_crossings(fit2, xf);
     }
     prepared = true;
     for (size_t q = 0; q < nx; ++q) {
@@ -434,19 +434,22 @@ bool StairAreaMeter::walk_fit(const Span& s) {
     nx = 0;
   };
   w.buf.push_back(end_edge(0));
+  // each column's level (nearest_node's, all at once); where one is too near a rounding boundary, the staircase is
+  // discarded and the digitizer measures this pole
+  auto& levels = imp_.rho;
+  levels.resize(cnt - 1);
+  if (!(avx ? area_roots::nearest_levels_avx : area_roots::nearest_levels)(hl.data() + k0, cnt - 1, inv,
+                                                                          imp_.margin, dr, levels.data()))
+    imp_.failed = true;
   for (size_t i = 0; i + 1 < cnt; ++i) {
     // the column from edge i to edge i + 1: their radii and Astar
     const double ha = p.h_a + (hb + r1[i]), hb1 = p.h_a + (hb + r1[i + 1]), Aa = ab + r2[i], Ab = ab + r2[i + 1];
-    int64_t n = 0;
-    if (!nearest_node(hl[k0 + i] * inv, n)) imp_.failed = true;  // discarded: the digitizer measures this pole
-    const int64_t j = column(i);
-    const double jd = static_cast<double>(j);
-    const double rho = static_cast<double>((n - imp_.h0) + imp_.h0) * dr;
-    const uint32_t key_j = key(j);
+    const double rho = levels[i];
+    const uint32_t key_j = key(column(i));
     if (crosses(ha, hb1, rho)) {
       xf.z0[nx] = ez[i], xf.z1[nx] = ez[i + 1], xf.h0[nx] = r1[i], xf.h1[nx] = r1[i + 1];
       xf.y[nx] = (rho - p.h_a) - hb;
-      xc[nx] = Column{key_j, jd, rho, Aa, Ab};
+      xc[nx] = Column{key_j, rho, Aa, Ab};
       if (++nx == area_roots::FitCrossings::kMax) crossings();
     } else {
       imp_.part[key_j] = one_side(Aa, Ab, level_factor(p.h_a, rho), l1 - l0);
@@ -1359,16 +1362,17 @@ StairAreaResult StairAreaMeter::finish(int64_t n0, int64_t m0) {
       // added as add_total would add them one by one (nothing waits: the crossings before are measured first),
       // in a local sum the compiler can keep in registers (total_ may alias the parts' doubles)
       flush_pending();
+      size_t e = k;
+      while (e < nk && !std::isnan(dpart[e])) ++e;
+      // none of the run's sectors has another strand: no head is set (each is -1, or a strand's index, >= 0)
+      int32_t others = 0;
+      for (size_t i = k; i < e; ++i) others |= ~visit_head_[i] | ~arc_head_[i] | ~extra_head_[i];
+      if (others < 0) throw std::logic_error("internal error: a sector measured by the walk has other strands");
       Neumaier sum = total_;
-      uint64_t count = 0;
-      for (; k < nk && !std::isnan(dpart[k]); ++k, ++count) {
-        if (visit_head_[k] >= 0 || arc_head_[k] >= 0 || extra_head_[k] >= 0)
-          throw std::logic_error("internal error: a sector measured by the walk has other strands");
-        sum.add(dpart[k]);
-      }
+      for (size_t i = k; i < e; ++i) sum.add(dpart[i]);
       total_ = sum;
-      res.sectors += count;
-      --k;  // the loop's increment steps onto the key that ended the run
+      res.sectors += e - k;
+      k = e - 1;  // the loop's increment steps onto the key that ended the run
       continue;
     }
     if (visit_head_[k] < 0 && arc_head_[k] < 0 && extra_head_[k] < 0) continue;

@@ -372,6 +372,7 @@ class StairAreaMeter {
     int64_t n = 0, h0 = 0, g0 = 0;
     double margin = 0.0, inv_height = 0.0;
     std::vector<double> L, z, h;  // a stretch's half levels, their z, their radii
+    std::vector<double> rho;      // the levels of a dense stretch's columns
     // dense: the path's angle is monotone and no sector is visited twice, so a sector's one full visit and its one
     // level strand are measured as the walk leaves it (dense_close), not listed for finish()
     bool dense = false;

@@ -333,15 +333,15 @@ inline void prepare_fit_crossings(FitCrossingSeries<V>& s, const Cheb& H, const 
   for (int k = 0; k <= A.deg; ++k)
     for (size_t q = 0; q < sizeof(V) / sizeof(double); ++q) s.a[k][q] = A.c[static_cast<size_t>(k)];
 }
-// The columns' crossings, eight at a time (FitCrossings::n of them, at least one; fit_crossings8 fills the spare
-// lanes with the last): column q
+// The columns' crossings, up to sixteen at a time (FitCrossings::n of them, at least one; fit_crossings fills the
+// spare lanes of its last vector with the last column): column q
 // runs from z0[q] to z1[q] in the fit's variable, where the fit of the radius is h0[q] and h1[q], and y[q] is its
 // level (between the two). The search is RadiusCrossing's, on every lane at once with no branch on a lane's own
 // state (a bracketing interval, Newton's step where it stays inside, halving otherwise; done once the error left
 // after a step, |H''/(2 H')| dz^2, is below 1e-12, or the interval is below 1e-15): the processor cannot guess which
 // way a lane goes. Out: z[q], the crossing, and a[q], the fit of Astar there.
 struct FitCrossings {
-  static constexpr int kMax = 8;
+  static constexpr int kMax = 16;
   alignas(32) double z0[kMax], z1[kMax], h0[kMax], h1[kMax], y[kMax], z[kMax], a[kMax];
   int n = 0;
 };
@@ -363,10 +363,10 @@ struct MaskOf<Lane4> {
 #define POLARCAM_PICK(m, a, b) ((V)((((M)(a)) & (m)) | (((M)(b)) & ~(m))))
 #define POLARCAM_ABS(a) ((V)(((M)(a)) & ~sign))
 
-// NV vectors of W lanes side by side. Inlined always, so that the four-lane copy is compiled inside fit_crossings8
-// (with AVX).
+// The search on NV vectors of W lanes side by side, from lane W * v0 on: the crossings into x.z. Inlined always, so
+// that the four-lane copy is compiled inside fit_crossings (with AVX).
 template <class V, int W, int NV>
-__attribute__((always_inline)) inline void fit_crossings_lanes(const FitCrossingSeries<V>& s, FitCrossings& x) {
+__attribute__((always_inline)) inline void fit_search_lanes(const FitCrossingSeries<V>& s, FitCrossings& x, int v0) {
   typedef typename MaskOf<V>::type M;
   const M sign = (M)(-V{});  // -0.0: the sign bit alone
   const V half = V{} + 0.5;
@@ -374,11 +374,11 @@ __attribute__((always_inline)) inline void fit_crossings_lanes(const FitCrossing
   M up[NV], done[NV];
   for (int v = 0; v < NV; ++v) {
     V ta, tb, ya, yb;
-    __builtin_memcpy(&ta, x.z0 + W * v, sizeof(V));
-    __builtin_memcpy(&tb, x.z1 + W * v, sizeof(V));
-    __builtin_memcpy(&ya, x.h0 + W * v, sizeof(V));
-    __builtin_memcpy(&yb, x.h1 + W * v, sizeof(V));
-    __builtin_memcpy(&y[v], x.y + W * v, sizeof(V));
+    __builtin_memcpy(&ta, x.z0 + W * (v0 + v), sizeof(V));
+    __builtin_memcpy(&tb, x.z1 + W * (v0 + v), sizeof(V));
+    __builtin_memcpy(&ya, x.h0 + W * (v0 + v), sizeof(V));
+    __builtin_memcpy(&yb, x.h1 + W * (v0 + v), sizeof(V));
+    __builtin_memcpy(&y[v], x.y + W * (v0 + v), sizeof(V));
     const M less = ta < tb;
     lo[v] = POLARCAM_PICK(less, ta, tb);
     hi[v] = POLARCAM_PICK(less, tb, ta);
@@ -420,47 +420,77 @@ __attribute__((always_inline)) inline void fit_crossings_lanes(const FitCrossing
     for (int q = 0; q < W; ++q) finished = finished && all[q] != 0;
     if (finished) break;
   }
+  for (int v = 0; v < NV; ++v) __builtin_memcpy(x.z + W * (v0 + v), &t[v], sizeof(V));
+}
+// Astar's fit at the crossings x.z on NV vectors of W lanes side by side, into x.a.
+template <class V, int W, int NV>
+__attribute__((always_inline)) inline void fit_area_lanes(const FitCrossingSeries<V>& s, FitCrossings& x) {
+  V t[NV], tt[NV], b1[NV], b2[NV];
   for (int v = 0; v < NV; ++v) {
-    V b1 = V{}, b2 = V{};
-    const V tt = t[v] + t[v];
-    for (int k = s.na; k >= 1; --k) {
-      const V b0 = (s.a[k] - b2) + tt * b1;
-      b2 = b1;
-      b1 = b0;
+    __builtin_memcpy(&t[v], x.z + W * v, sizeof(V));
+    tt[v] = t[v] + t[v];
+    b1[v] = b2[v] = V{};
+  }
+  for (int k = s.na; k >= 1; --k)
+    for (int v = 0; v < NV; ++v) {
+      const V b0 = (s.a[k] - b2[v]) + tt[v] * b1[v];
+      b2[v] = b1[v];
+      b1[v] = b0;
     }
-    const V av = (s.a[0] - b2) + t[v] * b1;
-    __builtin_memcpy(x.z + W * v, &t[v], sizeof(V));
+  for (int v = 0; v < NV; ++v) {
+    const V av = (s.a[0] - b2[v]) + t[v] * b1[v];
     __builtin_memcpy(x.a + W * v, &av, sizeof(V));
   }
+}
+// The search on pairs of vectors (more side by side would not fit the processor's registers), then Astar on all NV.
+template <class V, int W, int NV>
+__attribute__((always_inline)) inline void fit_crossings_lanes(const FitCrossingSeries<V>& s, FitCrossings& x) {
+  int v = 0;
+  for (; v + 2 <= NV; v += 2) fit_search_lanes<V, W, 2>(s, x, v);
+  if (v < NV) fit_search_lanes<V, W, 1>(s, x, v);
+  fit_area_lanes<V, W, NV>(s, x);
 }
 #undef POLARCAM_PICK
 #undef POLARCAM_ABS
 
-// The lanes after the batch's last column repeat it, so that no lane works on values that were never set.
-inline void pad_crossings(FitCrossings& x) {
-  for (int q = x.n; q < FitCrossings::kMax; ++q) {
+// The lanes after the batch's last column, up to the end of its last vector of W lanes, repeat it, so that no lane
+// works on values that were never set.
+inline void pad_crossings(FitCrossings& x, int W) {
+  const int end = (x.n + W - 1) / W * W;
+  for (int q = x.n; q < end; ++q) {
     x.z0[q] = x.z0[x.n - 1], x.z1[q] = x.z1[x.n - 1], x.h0[q] = x.h0[x.n - 1], x.h1[q] = x.h1[x.n - 1];
     x.y[q] = x.y[x.n - 1];
   }
 }
 
-// The batch's crossings: eight on four vectors of two lanes, or on two of four where the processor has AVX (the
-// same values); a batch of four or fewer on half as many vectors (the lanes from the fifth on are then left as
-// they were).
-inline void fit_crossings8(const FitCrossingSeries<Lane2>& s, FitCrossings& x) {
-  pad_crossings(x);
+// The batch's crossings on as many vectors as it fills: of two lanes, or of four where the processor has AVX (the
+// same values). Four vectors or more side by side keep the processor's multipliers busy through the recurrences'
+// chains; the lanes after the last vector are left as they were.
+inline void fit_crossings(const FitCrossingSeries<Lane2>& s, FitCrossings& x) {
+  pad_crossings(x, 2);
   if (x.n <= 4)
     fit_crossings_lanes<Lane2, 2, 2>(s, x);
-  else
+  else if (x.n <= 8)
     fit_crossings_lanes<Lane2, 2, 4>(s, x);
+  else
+    fit_crossings_lanes<Lane2, 2, 8>(s, x);
 }
 
-__attribute__((target("avx"))) inline void fit_crossings8(const FitCrossingSeries<Lane4>& s, FitCrossings& x) {
-  pad_crossings(x);
-  if (x.n <= 4)
-    fit_crossings_lanes<Lane4, 4, 1>(s, x);
-  else
-    fit_crossings_lanes<Lane4, 4, 2>(s, x);
+__attribute__((target("avx"))) inline void fit_crossings(const FitCrossingSeries<Lane4>& s, FitCrossings& x) {
+  pad_crossings(x, 4);
+  switch ((x.n + 3) / 4) {
+    case 1:
+      fit_crossings_lanes<Lane4, 4, 1>(s, x);
+      break;
+    case 2:
+      fit_crossings_lanes<Lane4, 4, 2>(s, x);
+      break;
+    case 3:
+      fit_crossings_lanes<Lane4, 4, 3>(s, x);
+      break;
+    default:
+      fit_crossings_lanes<Lane4, 4, 4>(s, x);
+  }
 }
 
 // The series c (degree n) at the points z[0..cnt), into out. Each lane of a vector performs the operations of one
@@ -515,6 +545,42 @@ inline void clenshaw_many2(const double* c, int n, const double* z, size_t cnt, 
 __attribute__((target("avx"))) inline void clenshaw_many4(const double* c, int n, const double* z, size_t cnt,
                                                           double* out) {
   clenshaw_lanes<Lane4, 4>(c, n, z, cnt, out);
+}
+
+// The nearest level of each of n radii h[i]: f = h[i] inv in units of the level spacing dr = 1 / inv, and rho[i] =
+// floor(f + 1/2) dr. True where every f is clear of a rounding boundary by margin + 1e-13 |f|
+// (StairAreaMeter::nearest_node's test and values); false otherwise, and then rho is not to be used.
+inline bool nearest_level(double h, double inv, double margin, double dr, double& rho) {
+  const double f = h * inv, u = f + 0.5, fl = std::floor(u), d = u - fl, m = margin + 1e-13 * std::abs(f);
+  rho = fl * dr;
+  return (std::abs(fl) < 4e18) & (d >= m) & (1.0 - d >= m);
+}
+inline bool nearest_levels(const double* h, size_t n, double inv, double margin, double dr, double* rho) {
+  bool ok = true;
+  for (size_t i = 0; i < n; ++i) ok &= nearest_level(h[i], inv, margin, dr, rho[i]);
+  return ok;
+}
+// The same, four at a time with no branch where the processor has AVX (the same values: floor is exact, and no
+// operation is fused).
+__attribute__((target("avx"))) inline bool nearest_levels_avx(const double* h, size_t n, double inv, double margin,
+                                                              double dr, double* rho) {
+  typedef Lane4 V;
+  typedef Mask4 M;
+  const M sign = (M)(-V{});
+  M bad = M{};
+  size_t i = 0;
+  for (; i + 4 <= n; i += 4) {
+    V hv;
+    __builtin_memcpy(&hv, h + i, sizeof(V));
+    const V f = hv * inv, u = f + 0.5, fl = __builtin_ia32_roundpd256(u, 1 /* toward minus infinity */), d = u - fl;
+    const V af = (V)((M)f & ~sign), afl = (V)((M)fl & ~sign), m = margin + 1e-13 * af;
+    bad |= ~((afl < 4e18) & (d >= m) & (1.0 - d >= m));
+    const V r = fl * dr;
+    __builtin_memcpy(rho + i, &r, sizeof(V));
+  }
+  bool ok = !(bad[0] | bad[1] | bad[2] | bad[3]);
+  for (; i < n; ++i) ok &= nearest_level(h[i], inv, margin, dr, rho[i]);
+  return ok;
 }
 
 }  // namespace polarcam::area_roots

@@ -272,10 +272,10 @@ TEST(AreaError, FitSamplesFourAtATimeAreBitForBitTheSeries) {
   EXPECT_GT(checked, 1000);
 }
 
-// The crossings of the dense walk's columns on its fits (fit_crossings8): each is the root of the radius's fit in
+// The crossings of the dense walk's columns on its fits (fit_crossings): each is the root of the radius's fit in
 // its column to within 2e-12 in z (the search stops once its estimate of the error left is below 1e-12; an error
 // dz moves the area by a term in dz^2), Astar's fit is evaluated there, and the values are the same bytes on
-// vectors of two lanes and of four.
+// vectors of two lanes and of four, in batches of one to sixteen columns, and for a column alone.
 TEST(AreaError, FitCrossingsAreTheRootsOnTwoOrFourLanes) {
   using namespace polarcam::area_roots;
   RandomSeries rs{4242};
@@ -286,7 +286,7 @@ TEST(AreaError, FitCrossingsAreTheRootsOnTwoOrFourLanes) {
     FitCrossings x2{}, x4;
     double want[FitCrossings::kMax];
     const int n = 1 + trial % FitCrossings::kMax;
-    for (int q = 0; q < n; ++q) {  // fit_crossings8 fills the spare lanes
+    for (int q = 0; q < n; ++q) {  // fit_crossings fills the spare lanes
       const double w = 1e-3 * (1.0 + 50.0 * (0.5 + 0.5 * rs.uniform()));  // the column's width in z
       const double za = 0.9 * rs.uniform(), zb = (q % 3 == 0) ? za - w : za + w;  // either direction
       const double u = 0.05 + 0.9 * (0.5 + 0.5 * rs.uniform());
@@ -302,17 +302,27 @@ TEST(AreaError, FitCrossingsAreTheRootsOnTwoOrFourLanes) {
       }
       want[q] = 0.5 * (lo + hi);
     }
-    x2.n = n;  // four or fewer: on half the vectors
+    x2.n = n;  // on as many vectors as the batch fills
     x4 = x2;
     FitCrossingSeries<Lane2> s2;
     prepare_fit_crossings(s2, H, A);
-    fit_crossings8(s2, x2);
+    fit_crossings(s2, x2);
+    FitCrossingSeries<Lane4> s4;
     if (has_avx()) {
-      FitCrossingSeries<Lane4> s4;
       prepare_fit_crossings(s4, H, A);
-      fit_crossings8(s4, x4);
+      fit_crossings(s4, x4);
     }
     for (int q = 0; q < n; ++q) {
+      // the column alone, in the first lane of a batch of one
+      FitCrossings one{};
+      one.z0[0] = x2.z0[q], one.z1[0] = x2.z1[q], one.h0[0] = x2.h0[q], one.h1[0] = x2.h1[q], one.y[0] = x2.y[q];
+      one.n = 1;
+      if (has_avx())
+        fit_crossings(s4, one);
+      else
+        fit_crossings(s2, one);
+      EXPECT_EQ(std::bit_cast<uint64_t>(one.z[0]), std::bit_cast<uint64_t>(x2.z[q])) << trial << " lane " << q;
+      EXPECT_EQ(std::bit_cast<uint64_t>(one.a[0]), std::bit_cast<uint64_t>(x2.a[q])) << trial << " lane " << q;
       const double w = std::abs(x2.z1[q] - x2.z0[q]);
       EXPECT_NEAR(x2.z[q], want[q], 2e-12) << trial << " lane " << q << " of a column " << w << " wide";
       EXPECT_NEAR(x2.a[q], A(x2.z[q]), 1e-14) << trial << " lane " << q;
@@ -324,6 +334,37 @@ TEST(AreaError, FitCrossingsAreTheRootsOnTwoOrFourLanes) {
     }
   }
   EXPECT_GT(checked, 1000);
+}
+
+// The levels of a dense stretch's columns (nearest_levels): a radius a fraction d of a level above level n (|d| below
+// one half) has level n, on vectors or not; one radius within the margin of a half level refuses the whole stretch.
+TEST(AreaError, NearestLevelsRoundToTheLevelAndRefuseNearHalves) {
+  using namespace polarcam::area_roots;
+  RandomSeries rs{99};
+  const double dr = 2.5e-5, inv = 1.0 / dr, margin = 1e-6;
+  for (int trial = 0; trial < 200; ++trial) {
+    const size_t n = 1 + static_cast<size_t>(trial) % 37;
+    std::vector<double> h(n), want(n), rho(n, -1.0), rho4(n, -1.0);
+    for (size_t i = 0; i < n; ++i) {
+      const int64_t level = static_cast<int64_t>(4000.0 * rs.uniform());
+      const double d = 0.49 * rs.uniform();  // clear of a half by 0.01 at least
+      h[i] = (static_cast<double>(level) + d) * dr;
+      want[i] = static_cast<double>(level) * dr;
+    }
+    const bool near = trial % 4 == 3;  // one radius 1e-9 of a level short of a half level
+    if (near) {
+      const size_t i = static_cast<size_t>(trial) % n;
+      h[i] = (std::floor(h[i] * inv) + 0.5 - 1e-9) * dr;
+    }
+    EXPECT_EQ(nearest_levels(h.data(), n, inv, margin, dr, rho.data()), !near) << trial;
+    if (near) continue;
+    for (size_t i = 0; i < n; ++i) EXPECT_NEAR(rho[i], want[i], 1e-12 * dr) << trial << " column " << i;
+    if (has_avx()) {
+      EXPECT_TRUE(nearest_levels_avx(h.data(), n, inv, margin, dr, rho4.data())) << trial;
+      for (size_t i = 0; i < n; ++i)
+        EXPECT_EQ(std::bit_cast<uint64_t>(rho4[i]), std::bit_cast<uint64_t>(rho[i])) << trial << " column " << i;
+    }
+  }
 }
 
 // The same for four crossings on the four lanes of an AVX vector (where the processor has AVX): each lane's
