@@ -1,19 +1,22 @@
 #include "report/pole_map.hpp"
 
+#include <charconv>
 #include <cmath>
-#include <cstdio>
 #include <numbers>
 
 namespace polarcam {
 
 std::string map_csv(const ObjectiveMap& m, PoleObjective objective) {
   std::string out = "x_mm,y_mm,C_mm,beta_rad,feasible,objective,area_error_mm2,margin_mm\n";
-  char line[256];
-  auto num = [](double v, double scale) -> std::string {
-    if (!std::isfinite(v)) return "";
-    char b[32];
-    std::snprintf(b, sizeof b, "%.9g", v * scale);
-    return b;
+  // nine significant digits, printf's %.9g (std::to_chars with a precision is specified to write the same
+  // characters, without the locale and a few times faster: a 401 x 401 map writes over a million numbers)
+  auto put = [&out](double v) {
+    char b[40];
+    const auto r = std::to_chars(b, b + sizeof b, v, std::chars_format::general, 9);
+    out.append(b, r.ptr);
+  };
+  auto num = [&](double v, double scale) {  // empty where there is no value
+    if (std::isfinite(v)) put(v * scale);
   };
   const double oscale = objective == PoleObjective::area ? 1e6 : 1.0;
   // a torque objective's search value of 1e3 or more stands for an infinite objective (torque_search_value)
@@ -25,10 +28,20 @@ std::string map_csv(const ObjectiveMap& m, PoleObjective objective) {
       const double y = m.box.y0 + (m.box.y1 - m.box.y0) * iy / (m.ny - 1);
       double beta = std::atan2(y, x);
       if (beta < 0) beta += 2.0 * std::numbers::pi;
-      std::snprintf(line, sizeof line, "%.9g,%.9g,%.9g,%.9g,%d,%s,%s,%s\n", x * 1e3, y * 1e3, std::hypot(x, y) * 1e3,
-                    beta, std::isfinite(m.value[i]) ? 1 : 0, num(value(m.value[i]), oscale).c_str(),
-                    num(m.area[i], 1e6).c_str(), num(m.margin[i], 1e3).c_str());
-      out += line;
+      put(x * 1e3);
+      out += ',';
+      put(y * 1e3);
+      out += ',';
+      put(std::hypot(x, y) * 1e3);
+      out += ',';
+      put(beta);
+      out += std::isfinite(m.value[i]) ? ",1," : ",0,";
+      num(value(m.value[i]), oscale);
+      out += ',';
+      num(m.area[i], 1e6);
+      out += ',';
+      num(m.margin[i], 1e3);
+      out += '\n';
     }
   return out;
 }
