@@ -471,11 +471,11 @@ bool StairAreaMeter::walk_fit(const Span& s) {
 // ---- the nearest staircase without the digitizer (imply_nearest)
 
 bool StairAreaMeter::nearest_node(double f, int64_t& n) const {
-  const double u = f + 0.5, fl = std::floor(u), d = u - fl;
+  double fl;
+  const bool clear = area_roots::nearest_clear(f, imp_.margin, fl);
   if (!(std::abs(fl) < 4e18)) return false;  // not a node (or not finite)
   n = static_cast<int64_t>(fl);
-  const double m = imp_.margin + 1e-13 * std::abs(f);
-  return d >= m && 1.0 - d >= m;
+  return clear;
 }
 
 const std::vector<double>& StairAreaMeter::half_levels(const Span& s) {

@@ -464,8 +464,8 @@ inline void pad_crossings(FitCrossings& x, int W) {
 }
 
 // The batch's crossings on as many vectors as it fills: of two lanes, or of four where the processor has AVX (the
-// same values). Four vectors or more side by side keep the processor's multipliers busy through the recurrences'
-// chains; the lanes after the last vector are left as they were.
+// same values); the lanes after the last vector are left as they were. Astar's fit runs on all the batch's vectors
+// side by side, which keeps the multipliers busy through its one chain of dependent steps.
 inline void fit_crossings(const FitCrossingSeries<Lane2>& s, FitCrossings& x) {
   pad_crossings(x, 2);
   if (x.n <= 4)
@@ -547,13 +547,22 @@ __attribute__((target("avx"))) inline void clenshaw_many4(const double* c, int n
   clenshaw_lanes<Lane4, 4>(c, n, z, cnt, out);
 }
 
-// The nearest level of each of n radii h[i]: f = h[i] inv in units of the level spacing dr = 1 / inv, and rho[i] =
-// floor(f + 1/2) dr. True where every f is clear of a rounding boundary by margin + 1e-13 |f|
-// (StairAreaMeter::nearest_node's test and values); false otherwise, and then rho is not to be used.
-inline bool nearest_level(double h, double inv, double margin, double dr, double& rho) {
-  const double f = h * inv, u = f + 0.5, fl = std::floor(u), d = u - fl, m = margin + 1e-13 * std::abs(f);
-  rho = fl * dr;
+// The nearest node to f (in units of the level spacing), fl = floor(f + 1/2); true where f is clear of a rounding
+// boundary by margin + 1e-13 |f| and fl is a node (below 4e18 in magnitude). The nearest rule's test of the
+// staircase read off the walk (StairAreaMeter::nearest_node, nearest_levels).
+inline bool nearest_clear(double f, double margin, double& fl) {
+  const double u = f + 0.5, m = margin + 1e-13 * std::abs(f);
+  fl = std::floor(u);
+  const double d = u - fl;
   return (std::abs(fl) < 4e18) & (d >= m) & (1.0 - d >= m);
+}
+// The nearest level of each of n radii h[i]: f = h[i] inv in units of the level spacing dr = 1 / inv, and rho[i] =
+// floor(f + 1/2) dr. True where every f is clear (nearest_clear); false otherwise, and then rho is not to be used.
+inline bool nearest_level(double h, double inv, double margin, double dr, double& rho) {
+  double fl;
+  const bool clear = nearest_clear(h * inv, margin, fl);
+  rho = fl * dr;
+  return clear;
 }
 inline bool nearest_levels(const double* h, size_t n, double inv, double margin, double dr, double* rho) {
   bool ok = true;
