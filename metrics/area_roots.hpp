@@ -312,6 +312,64 @@ __attribute__((target("avx"))) inline void radius_crossing4(const QuadSeries& s,
   for (int q = 0; q < 4; ++q) g[q] = gv[q], a[q] = av[q];
 }
 
+// The series c (degree n) at the points z[0..cnt), into out. Each lane of a vector performs the operations of one
+// Clenshaw recurrence, (c_i - b_{i+2}) + 2z b_{i+1}, then (c_0 - b_2) + z b_1, in that order (no fused multiply-add),
+// so a value is the same whichever points share its vector and however wide the vectors are: sixteen points at a
+// time on four vectors of four lanes where the processor has AVX, eight on four vectors of two lanes otherwise;
+// four recurrences are in flight either way. cnt is rounded up to a multiple of eight (sixteen): z and out must
+// have room for as many.
+// V: a vector of W lanes. Inlined always, so that the four-lane copy is compiled inside clenshaw_many4 (with AVX).
+// The recurrences of NV vectors side by side: the series cc (its coefficients on every lane, degree n) at the W NV
+// points z, into out.
+template <class V, int W, int NV>
+__attribute__((always_inline)) inline void clenshaw_vectors(const V* cc, int n, const double* z, double* out) {
+  V zz[NV], t2[NV], b1[NV], b2[NV];
+  for (int v = 0; v < NV; ++v) {
+    for (int q = 0; q < W; ++q) zz[v][q] = z[W * v + q];
+    t2[v] = zz[v] + zz[v];
+    b1[v] = b2[v] = V{};
+  }
+  for (int i = n; i >= 1; --i)
+    for (int v = 0; v < NV; ++v) {
+      const V b0 = (cc[i] - b2[v]) + t2[v] * b1[v];
+      b2[v] = b1[v];
+      b1[v] = b0;
+    }
+  for (int v = 0; v < NV; ++v) {
+    const V r = (cc[0] - b2[v]) + zz[v] * b1[v];
+    for (int q = 0; q < W; ++q) out[W * v + q] = r[q];
+  }
+}
+template <class V, int W>
+__attribute__((always_inline)) inline void clenshaw_lanes(const double* c, int n, const double* z, size_t cnt,
+                                                          double* out) {
+  V cc[kChebMaxDegree + 1];
+  for (int i = 0; i <= n; ++i)
+    for (int q = 0; q < W; ++q) cc[i][q] = c[i];
+  for (size_t j = 0; j < cnt; j += 4 * W) clenshaw_vectors<V, W, 4>(cc, n, z + j, out + j);
+}
+
+// clenshaw_lanes's operations for one point z: the same value as the lane that holds z.
+inline double clenshaw_one(const double* c, int n, double z) {
+  const double t2 = z + z;
+  double b1 = 0.0, b2 = 0.0;
+  for (int i = n; i >= 1; --i) {
+    const double b0 = (c[i] - b2) + t2 * b1;
+    b2 = b1;
+    b1 = b0;
+  }
+  return (c[0] - b2) + z * b1;
+}
+
+inline void clenshaw_many2(const double* c, int n, const double* z, size_t cnt, double* out) {
+  clenshaw_lanes<Lane2, 2>(c, n, z, cnt, out);
+}
+
+__attribute__((target("avx"))) inline void clenshaw_many4(const double* c, int n, const double* z, size_t cnt,
+                                                          double* out) {
+  clenshaw_lanes<Lane4, 4>(c, n, z, cnt, out);
+}
+
 // The crossings of a stretch of the walk (StairAreaMeter::walk_fit) found on the stretch's fits: where the fit of
 // the radius H (a series in the fit's variable z) reaches each column's level, then the fit of Astar, A, there.
 // Every lane performs its own operations in the same order whatever the other lanes hold, so a value is the same
@@ -422,33 +480,14 @@ __attribute__((always_inline)) inline void fit_search_lanes(const FitCrossingSer
   }
   for (int v = 0; v < NV; ++v) __builtin_memcpy(x.z + W * (v0 + v), &t[v], sizeof(V));
 }
-// Astar's fit at the crossings x.z on NV vectors of W lanes side by side, into x.a.
-template <class V, int W, int NV>
-__attribute__((always_inline)) inline void fit_area_lanes(const FitCrossingSeries<V>& s, FitCrossings& x) {
-  V t[NV], tt[NV], b1[NV], b2[NV];
-  for (int v = 0; v < NV; ++v) {
-    __builtin_memcpy(&t[v], x.z + W * v, sizeof(V));
-    tt[v] = t[v] + t[v];
-    b1[v] = b2[v] = V{};
-  }
-  for (int k = s.na; k >= 1; --k)
-    for (int v = 0; v < NV; ++v) {
-      const V b0 = (s.a[k] - b2[v]) + tt[v] * b1[v];
-      b2[v] = b1[v];
-      b1[v] = b0;
-    }
-  for (int v = 0; v < NV; ++v) {
-    const V av = (s.a[0] - b2[v]) + t[v] * b1[v];
-    __builtin_memcpy(x.a + W * v, &av, sizeof(V));
-  }
-}
-// The search on pairs of vectors (more side by side would not fit the processor's registers), then Astar on all NV.
+// The search on pairs of vectors (more side by side would not fit the processor's registers), then Astar's fit at
+// the crossings on all NV vectors side by side (clenshaw_vectors).
 template <class V, int W, int NV>
 __attribute__((always_inline)) inline void fit_crossings_lanes(const FitCrossingSeries<V>& s, FitCrossings& x) {
   int v = 0;
   for (; v + 2 <= NV; v += 2) fit_search_lanes<V, W, 2>(s, x, v);
   if (v < NV) fit_search_lanes<V, W, 1>(s, x, v);
-  fit_area_lanes<V, W, NV>(s, x);
+  clenshaw_vectors<V, W, NV>(s.a, s.na, x.z, x.a);
 }
 #undef POLARCAM_PICK
 #undef POLARCAM_ABS
@@ -491,60 +530,6 @@ __attribute__((target("avx"))) inline void fit_crossings(const FitCrossingSeries
     default:
       fit_crossings_lanes<Lane4, 4, 4>(s, x);
   }
-}
-
-// The series c (degree n) at the points z[0..cnt), into out. Each lane of a vector performs the operations of one
-// Clenshaw recurrence, (c_i - b_{i+2}) + 2z b_{i+1}, then (c_0 - b_2) + z b_1, in that order (no fused multiply-add),
-// so a value is the same whichever points share its vector and however wide the vectors are: sixteen points at a
-// time on four vectors of four lanes where the processor has AVX, eight on four vectors of two lanes otherwise;
-// four recurrences are in flight either way. cnt is rounded up to a multiple of eight (sixteen): z and out must
-// have room for as many.
-// V: a vector of W lanes. Inlined always, so that the four-lane copy is compiled inside clenshaw_many4 (with AVX).
-template <class V, int W>
-__attribute__((always_inline)) inline void clenshaw_lanes(const double* c, int n, const double* z, size_t cnt,
-                                                          double* out) {
-  V cc[kChebMaxDegree + 1];
-  for (int i = 0; i <= n; ++i)
-    for (int q = 0; q < W; ++q) cc[i][q] = c[i];
-  for (size_t j = 0; j < cnt; j += 4 * W) {
-    V zz[4], t2[4], b1[4], b2[4];
-    for (int v = 0; v < 4; ++v) {
-      for (int q = 0; q < W; ++q) zz[v][q] = z[j + W * v + q];
-      t2[v] = zz[v] + zz[v];
-      b1[v] = b2[v] = V{};
-    }
-    for (int i = n; i >= 1; --i)
-      for (int v = 0; v < 4; ++v) {
-        const V b0 = (cc[i] - b2[v]) + t2[v] * b1[v];
-        b2[v] = b1[v];
-        b1[v] = b0;
-      }
-    for (int v = 0; v < 4; ++v) {
-      const V r = (cc[0] - b2[v]) + zz[v] * b1[v];
-      for (int q = 0; q < W; ++q) out[j + W * v + q] = r[q];
-    }
-  }
-}
-
-// clenshaw_lanes's operations for one point z: the same value as the lane that holds z.
-inline double clenshaw_one(const double* c, int n, double z) {
-  const double t2 = z + z;
-  double b1 = 0.0, b2 = 0.0;
-  for (int i = n; i >= 1; --i) {
-    const double b0 = (c[i] - b2) + t2 * b1;
-    b2 = b1;
-    b1 = b0;
-  }
-  return (c[0] - b2) + z * b1;
-}
-
-inline void clenshaw_many2(const double* c, int n, const double* z, size_t cnt, double* out) {
-  clenshaw_lanes<Lane2, 2>(c, n, z, cnt, out);
-}
-
-__attribute__((target("avx"))) inline void clenshaw_many4(const double* c, int n, const double* z, size_t cnt,
-                                                          double* out) {
-  clenshaw_lanes<Lane4, 4>(c, n, z, cnt, out);
 }
 
 // The nearest node to f (in units of the level spacing), fl = floor(f + 1/2); true where f is clear of a rounding
