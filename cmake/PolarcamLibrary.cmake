@@ -1,9 +1,21 @@
-# polarcam_library(NAME SOURCES a.cpp ... [PUBLIC deps ...] [PRIVATE deps ...])
+# polarcam_library(NAME [UNITY] SOURCES a.cpp ... [UNITY_SKIP b.cpp ...] [PUBLIC deps ...] [PRIVATE deps ...])
 # One library of the pipeline: its headers are included as "folder/file.hpp" from the source root, the project's
-# warnings (and sanitizers) apply, and it links what it names.
+# warnings (and sanitizers) apply, and it links what it names. UNITY compiles its files in unity batches of eight
+# when POLARCAM_UNITY_BUILD is on: the libraries whose files mostly parse, check and format (files, commands'
+# studies, reports, machines' protocols) spend most of their compile time on the same library headers (the
+# standard library, json, TOML, fmt, Eigen). The numerical libraries of the hot paths (digitizer, metrics,
+# optimize, the Cartesian DDA) compile each file alone, so their code is optimised as it always was. UNITY_SKIP names
+# the files (among SOURCES or added later) that compile alone even so: each has a helper of its own in an anonymous
+# namespace (a formatter, a constant) under the same name as another file's of the library.
 function(polarcam_library name)
-  cmake_parse_arguments(L "" "" "SOURCES;PUBLIC;PRIVATE" ${ARGN})
+  cmake_parse_arguments(L "UNITY" "" "SOURCES;UNITY_SKIP;PUBLIC;PRIVATE" ${ARGN})
   add_library(${name} ${L_SOURCES})
+  if(L_UNITY)
+    set_target_properties(${name} PROPERTIES UNITY_BUILD ${POLARCAM_UNITY_BUILD} UNITY_BUILD_BATCH_SIZE 8)
+    if(L_UNITY_SKIP)
+      set_source_files_properties(${L_UNITY_SKIP} PROPERTIES SKIP_UNITY_BUILD_INCLUSION ON)
+    endif()
+  endif()
   target_include_directories(${name} PUBLIC ${PROJECT_SOURCE_DIR})
   target_link_libraries(${name} PUBLIC ${L_PUBLIC} polarcam_options PRIVATE ${L_PRIVATE})
   if(POLARCAM_FUZZ)  # libFuzzer's coverage in the libraries (the parsers); the harnesses link the fuzzer (fuzz/)
