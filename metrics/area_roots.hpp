@@ -81,18 +81,31 @@ inline void prepare_pair(PairSeries& s, const Cheb& H0, const Cheb& H1, const Ch
 // more time than one.
 // S: PairSeries or QuadSeries, V: its lanes. Inlined always, so that the four-lane copy is compiled inside eval3_4
 // (with AVX).
+// The recurrence itself, on NV vectors side by side (h: the coefficients already on every lane): the value and the
+// two derivatives at t[v] into f[v], d1[v], d2[v]. The radius's crossings on the fits (fit_search_lanes) run it on
+// pairs of vectors, eval3_lanes on one.
+template <class V, int NV>
+__attribute__((always_inline)) inline void eval3_vectors(const V* h, int n, const V* t, V* f, V* d1, V* d2) {
+  V b1[NV], b2[NV], e1[NV], e2[NV], h1[NV], h2[NV], tt[NV];
+  for (int v = 0; v < NV; ++v) {
+    tt[v] = t[v] + t[v];
+    b1[v] = b2[v] = e1[v] = e2[v] = h1[v] = h2[v] = V{};
+  }
+  for (int k = n; k >= 1; --k)
+    for (int v = 0; v < NV; ++v) {
+      const V b0 = (h[k] - b2[v]) + tt[v] * b1[v], e0 = ((b1[v] + b1[v]) - e2[v]) + tt[v] * e1[v];
+      const V h0 = (((e1[v] + e1[v]) + (e1[v] + e1[v])) - h2[v]) + tt[v] * h1[v];
+      b2[v] = b1[v], b1[v] = b0, e2[v] = e1[v], e1[v] = e0, h2[v] = h1[v], h1[v] = h0;
+    }
+  for (int v = 0; v < NV; ++v) {
+    f[v] = (h[0] - b2[v]) + t[v] * b1[v];
+    d1[v] = (b1[v] - e2[v]) + t[v] * e1[v];
+    d2[v] = ((e1[v] + e1[v]) - h2[v]) + t[v] * h1[v];
+  }
+}
 template <class S, class V>
 __attribute__((always_inline)) inline void eval3_lanes(const S& s, const V& t, V& f, V& d1, V& d2) {
-  V b1 = V{}, b2 = b1, e1 = b1, e2 = b1, h1 = b1, h2 = b1;
-  const V tt = t + t;
-  for (int k = s.n; k >= 1; --k) {
-    const V b0 = (s.h[k] - b2) + tt * b1, e0 = ((b1 + b1) - e2) + tt * e1;
-    const V h0 = (((e1 + e1) + (e1 + e1)) - h2) + tt * h1;
-    b2 = b1, b1 = b0, e2 = e1, e1 = e0, h2 = h1, h1 = h0;
-  }
-  f = (s.h[0] - b2) + t * b1;
-  d1 = (b1 - e2) + t * e1;
-  d2 = ((e1 + e1) - h2) + t * h1;
+  eval3_vectors<V, 1>(s.h, s.n, &t, &f, &d1, &d2);
 }
 inline void eval3_2(const PairSeries& s, Lane2 t, Lane2& f, Lane2& d1, Lane2& d2) { eval3_lanes(s, t, f, d1, d2); }
 
@@ -446,21 +459,11 @@ __attribute__((always_inline)) inline void fit_search_lanes(const FitCrossingSer
     done[v] = M{};
   }
   for (int it = 0; it < 100; ++it) {
-    V b1[NV], b2[NV], e1[NV], e2[NV], h1[NV], h2[NV], tt[NV];
-    for (int v = 0; v < NV; ++v) {
-      tt[v] = t[v] + t[v];
-      b1[v] = b2[v] = e1[v] = e2[v] = h1[v] = h2[v] = V{};
-    }
-    for (int k = s.n; k >= 1; --k)
-      for (int v = 0; v < NV; ++v) {
-        const V b0 = (s.h[k] - b2[v]) + tt[v] * b1[v], e0 = ((b1[v] + b1[v]) - e2[v]) + tt[v] * e1[v];
-        const V h0 = (((e1[v] + e1[v]) + (e1[v] + e1[v])) - h2[v]) + tt[v] * h1[v];
-        b2[v] = b1[v], b1[v] = b0, e2[v] = e1[v], e1[v] = e0, h2[v] = h1[v], h1[v] = h0;
-      }
+    V fv[NV], d1v[NV], d2v[NV];
+    eval3_vectors<V, NV>(s.h, s.n, t, fv, d1v, d2v);
     M all = ~M{};
     for (int v = 0; v < NV; ++v) {
-      const V f = ((s.h[0] - b2[v]) + t[v] * b1[v]) - y[v], d1 = (b1[v] - e2[v]) + t[v] * e1[v];
-      const V d2 = ((e1[v] + e1[v]) - h2[v]) + t[v] * h1[v];
+      const V f = fv[v] - y[v], d1 = d1v[v], d2 = d2v[v];
       const M zero = f == V{}, above = ~((f > V{}) ^ up[v]);
       const V nlo = POLARCAM_PICK(above, lo[v], t[v]), nhi = POLARCAM_PICK(above, t[v], hi[v]);
       const V tn = t[v] - f / d1, dt = tn - t[v];
