@@ -16,7 +16,7 @@ namespace {
 constexpr int kStartPieces = 16;   // a piece starts as up to this many chords,
 constexpr int kStartBudget = 4096; // and the whole curve as about this many (a polyline of 10^5 pieces: one each)
 constexpr int kChecks = 15;        // interior points checked against each chord
-constexpr int kMaxDepth = 30;
+constexpr int kMaxRefine = 30;
 
 double dist_to_chord(Vec2 p, Vec2 a, Vec2 b) {
   const Vec2 d = b - a;
@@ -27,7 +27,7 @@ double dist_to_chord(Vec2 p, Vec2 a, Vec2 b) {
 
 void refine(const Curve& c, double ua, Vec2 pa, double ub, Vec2 pb, double tol, int depth, std::vector<Vec2>& out) {
   bool ok = true;
-  if (depth < kMaxDepth) {
+  if (depth < kMaxRefine) {
     const Vec2 ta = c.eval(ua, 1).d1, tb = c.eval(ub, 1).d1;
     // more than a sixteenth of a turn between the ends' tangents: split (a loop may return near its start)
     if (norm(ta) > 0.0 && norm(tb) > 0.0 && dot(ta, tb) < std::cos(std::numbers::pi / 8) * norm(ta) * norm(tb)) ok = false;
@@ -48,7 +48,7 @@ void refine(const Curve& c, double ua, Vec2 pa, double ub, Vec2 pb, double tol, 
 }
 
 // "12.3450" in mm from metres, fixed decimals, never "-0.0000".
-std::string mm(double m) {
+std::string mm_fixed(double m) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.4f", m * 1e3);
   std::string s(buf);
@@ -60,7 +60,7 @@ void polyline(std::ostream& s, const std::vector<Vec2>& pts) {
   s << "    <polyline points=\"";
   for (size_t i = 0; i < pts.size(); ++i) {
     if (i > 0) s << ((i % 8 == 0) ? "\n      " : " ");
-    s << mm(pts[i].x) << ',' << mm(pts[i].y);
+    s << mm_fixed(pts[i].x) << ',' << mm_fixed(pts[i].y);
   }
   s << "\"/>\n";
 }
@@ -113,22 +113,22 @@ void write_svg_document(std::ostream& s, const std::vector<SvgPolyline>& lines, 
   const double stroke = std::max(size * 1.5e-3, 1e-5);  // m
   s << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
   // y up: the content is drawn in a group flipped about the x axis, so the viewBox spans -y1 .. -y0
-  s << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + mm(x1 - x0) + "mm\" height=\"" + mm(y1 - y0) +
-       "mm\" viewBox=\"" + mm(x0) + " " + mm(-y1) + " " + mm(x1 - x0) + " " + mm(y1 - y0) + "\">\n";
+  s << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + mm_fixed(x1 - x0) + "mm\" height=\"" + mm_fixed(y1 - y0) +
+       "mm\" viewBox=\"" + mm_fixed(x0) + " " + mm_fixed(-y1) + " " + mm_fixed(x1 - x0) + " " + mm_fixed(y1 - y0) + "\">\n";
   if (!o.title.empty()) s << "  <title>" + xml_escape(o.title) + "</title>\n";
   s << "  <g transform=\"scale(1,-1)\" fill=\"none\" stroke-linecap=\"round\" stroke-linejoin=\"round\">\n";
-  s << "  <g id=\"work-area\" stroke=\"#9e9e9e\" stroke-width=\"" + mm(stroke) + "\">\n";
-  if (o.work_radius) s << "    <circle cx=\"0\" cy=\"0\" r=\"" + mm(*o.work_radius) + "\"/>\n";
-  if (o.work_radius_min > 0.0) s << "    <circle cx=\"0\" cy=\"0\" r=\"" + mm(o.work_radius_min) + "\"/>\n";
-  const std::string c = mm(4 * stroke), mc = mm(-4 * stroke);
+  s << "  <g id=\"work-area\" stroke=\"#9e9e9e\" stroke-width=\"" + mm_fixed(stroke) + "\">\n";
+  if (o.work_radius) s << "    <circle cx=\"0\" cy=\"0\" r=\"" + mm_fixed(*o.work_radius) + "\"/>\n";
+  if (o.work_radius_min > 0.0) s << "    <circle cx=\"0\" cy=\"0\" r=\"" + mm_fixed(o.work_radius_min) + "\"/>\n";
+  const std::string c = mm_fixed(4 * stroke), mc = mm_fixed(-4 * stroke);
   s << "    <path d=\"M " + mc + ",0 H " + c + " M 0," + mc + " V " + c + "\"/>\n";
   s << "  </g>\n";
-  s << "  <g id=\"connecting\" stroke=\"#e65100\" stroke-width=\"" + mm(stroke) + "\" stroke-dasharray=\"" +
-       mm(4 * stroke) + " " + mm(3 * stroke) + "\">\n";
+  s << "  <g id=\"connecting\" stroke=\"#e65100\" stroke-width=\"" + mm_fixed(stroke) + "\" stroke-dasharray=\"" +
+       mm_fixed(4 * stroke) + " " + mm_fixed(3 * stroke) + "\">\n";
   for (const SvgPolyline& l : lines)
     if (!l.drawn && l.points.size() >= 2) polyline(s, l.points);
   s << "  </g>\n";
-  s << "  <g id=\"path\" stroke=\"#0d47a1\" stroke-width=\"" + mm(2 * stroke) + "\">\n";
+  s << "  <g id=\"path\" stroke=\"#0d47a1\" stroke-width=\"" + mm_fixed(2 * stroke) + "\">\n";
   const SvgPolyline* first = nullptr;
   const SvgPolyline* last = nullptr;
   for (const SvgPolyline& l : lines)
@@ -141,9 +141,9 @@ void write_svg_document(std::ostream& s, const std::vector<SvgPolyline>& lines, 
   s << "  <g id=\"markers\" stroke=\"none\">\n";
   if (first) {
     const Vec2 a = first->points.front(), b = last->points.back();
-    s << "    <circle id=\"start\" fill=\"#2e7d32\" cx=\"" + mm(a.x) + "\" cy=\"" + mm(a.y) + "\" r=\"" + mm(4 * stroke) + "\"/>\n";
-    s << "    <rect id=\"end\" fill=\"#c62828\" x=\"" + mm(b.x - 3 * stroke) + "\" y=\"" + mm(b.y - 3 * stroke) +
-         "\" width=\"" + mm(6 * stroke) + "\" height=\"" + mm(6 * stroke) + "\"/>\n";
+    s << "    <circle id=\"start\" fill=\"#2e7d32\" cx=\"" + mm_fixed(a.x) + "\" cy=\"" + mm_fixed(a.y) + "\" r=\"" + mm_fixed(4 * stroke) + "\"/>\n";
+    s << "    <rect id=\"end\" fill=\"#c62828\" x=\"" + mm_fixed(b.x - 3 * stroke) + "\" y=\"" + mm_fixed(b.y - 3 * stroke) +
+         "\" width=\"" + mm_fixed(6 * stroke) + "\" height=\"" + mm_fixed(6 * stroke) + "\"/>\n";
   }
   s << "  </g>\n";
   s << "  </g>\n";

@@ -9,13 +9,11 @@
 namespace polarcam {
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
-
 bool same_place(const ThetaRho& a, const ThetaRho& b) {
   if (std::abs(a.rho - b.rho) > 1e-12) return false;
   if (a.rho <= 1e-12 && b.rho <= 1e-12) return true;
-  const double turns = (b.theta - a.theta) / kTwoPi;
-  return std::abs(turns - std::round(turns)) * kTwoPi <= 1e-9;
+  const double turns = (b.theta - a.theta) / (2.0 * std::numbers::pi);
+  return std::abs(turns - std::round(turns)) * (2.0 * std::numbers::pi) <= 1e-9;
 }
 
 }  // namespace

@@ -13,13 +13,13 @@ namespace polarcam {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-constexpr double kTwoPi = 2.0 * kPi;
+constexpr double kTurn = 2.0 * kPi;
 constexpr int kScan = 64;                  // points per piece scanned for pole crossings
-constexpr int kSamples = 32;               // sample intervals of each side of the distance measure
+constexpr int kSideSamples = 32;               // sample intervals of each side of the distance measure
 constexpr double kAccept = 0.98;           // a segment is kept at this fraction of the tolerance
 constexpr double kMaxTurn = kPi / 2;       // largest arm turn of one segment
 constexpr double kUnwrapStep = kPi / 4;    // largest angle between neighbouring unwrapping samples
-constexpr int kMaxDepth = 48;              // bisection depth (a 2^-48 part of a piece is kept as it is)
+constexpr int kMaxBisection = 48;              // bisection depth (a 2^-48 part of a piece is kept as it is)
 
 std::string at_u(double u) {
   std::ostringstream os;
@@ -38,7 +38,7 @@ double angle(Vec2 p) { return std::atan2(p.y, p.x); }
 
 // The value of `a` + 2 pi k nearest to `ref`; a half turn either way (within 1e-6 rad) is taken counter-clockwise.
 double unwrap(double a, double ref) {
-  double d = std::remainder(a - ref, kTwoPi);  // in [-pi, pi]
+  double d = std::remainder(a - ref, kTurn);  // in [-pi, pi]
   if (std::abs(d) > kPi - 1e-6) d = kPi;
   return ref + d;
 }
@@ -89,17 +89,17 @@ double nearest_distance(const F& f, Vec2 p, double lo, double hi, double t, doub
 // The largest distance from the points `from` to the path `f` sampled as `to` at parameters `tt`, raised into
 // `worst`; false as soon as it exceeds `limit`.
 template <class F>
-bool one_way(const std::array<Vec2, kSamples + 1>& from, const std::array<Vec2, kSamples + 1>& to,
-             const std::array<double, kSamples + 1>& tt, const F& f, double limit, double& worst) {
-  for (int k = 0; k <= kSamples; ++k) {
+bool one_way(const std::array<Vec2, kSideSamples + 1>& from, const std::array<Vec2, kSideSamples + 1>& to,
+             const std::array<double, kSideSamples + 1>& tt, const F& f, double limit, double& worst) {
+  for (int k = 0; k <= kSideSamples; ++k) {
     int j = 0;
     double d0 = norm(from[k] - to[0]);
-    for (int i = 1; i <= kSamples; ++i) {
+    for (int i = 1; i <= kSideSamples; ++i) {
       const double d = norm(from[k] - to[i]);
       if (d < d0) d0 = d, j = i;
     }
     if (d0 <= worst) continue;  // the refined distance is at most d0
-    const double d = nearest_distance(f, from[k], tt[std::max(j - 1, 0)], tt[std::min(j + 1, kSamples)], tt[j], d0);
+    const double d = nearest_distance(f, from[k], tt[std::max(j - 1, 0)], tt[std::min(j + 1, kSideSamples)], tt[j], d0);
     worst = std::max(worst, d);
     if (worst > limit) return false;
   }
@@ -109,11 +109,11 @@ bool one_way(const std::array<Vec2, kSamples + 1>& from, const std::array<Vec2, 
 // The distance between the spiral segment s and the curve piece [ua, ub], measured both ways (see the header);
 // a value above `limit` as soon as it is known to exceed it.
 double piece_distance(const Curve& c, double ua, double ub, const Spiral& s, double limit) {
-  std::array<Vec2, kSamples + 1> pc, ps;
-  std::array<double, kSamples + 1> uc, fs;
-  for (int k = 0; k <= kSamples; ++k) {
-    uc[k] = k == kSamples ? ub : ua + (ub - ua) * k / kSamples;
-    fs[k] = static_cast<double>(k) / kSamples;
+  std::array<Vec2, kSideSamples + 1> pc, ps;
+  std::array<double, kSideSamples + 1> uc, fs;
+  for (int k = 0; k <= kSideSamples; ++k) {
+    uc[k] = k == kSideSamples ? ub : ua + (ub - ua) * k / kSideSamples;
+    fs[k] = static_cast<double>(k) / kSideSamples;
     pc[k] = point(c, uc[k]);
     ps[k] = s.eval(fs[k]).p;
   }
@@ -190,9 +190,9 @@ class PieceWriter {
     // unwrapping samples: the start, 31 inside, the end
     samples_.clear();
     samples_.push_back({ua, va.theta});
-    for (int k = 1; k <= kSamples; ++k) {
-      const double u = k == kSamples ? ub : ua + (ub - ua) * k / kSamples;
-      const double raw = (k == kSamples && pole_b) ? pole_angle(c_, ub, -1, ua, ub) : angle(point(c_, u));
+    for (int k = 1; k <= kSideSamples; ++k) {
+      const double u = k == kSideSamples ? ub : ua + (ub - ua) * k / kSideSamples;
+      const double raw = (k == kSideSamples && pole_b) ? pole_angle(c_, ub, -1, ua, ub) : angle(point(c_, u));
       add_sample(u, raw, 0);
     }
     ThetaRho vb{samples_.back().theta, pole_b ? 0.0 : norm(point(c_, ub))};
@@ -224,7 +224,7 @@ class PieceWriter {
     const double limit = kAccept * tol_;
     bool keep = std::abs(vb.theta - va.theta) <= kMaxTurn * (1.0 + 1e-12) &&
                 piece_distance(c_, ua, ub, Spiral{va, vb}, limit) <= limit;
-    if (keep || depth >= kMaxDepth) {
+    if (keep || depth >= kMaxBisection) {
       if (vb.theta != out.back().theta || vb.rho != out.back().rho) out.push_back(vb);
       return;
     }

@@ -38,7 +38,7 @@ std::vector<std::string> split(const std::string& line) {
   return out;
 }
 
-std::string list_names(const std::vector<std::string>& names) {
+std::string column_list(const std::vector<std::string>& names) {
   std::string s;
   for (size_t i = 0; i < names.size() && i < 12; ++i) s += (i ? ", " : "") + names[i];
   if (names.size() > 12) s += ", ...";
@@ -107,7 +107,7 @@ CsvLevelReader::CsvLevelReader(std::istream& in, std::string file, const std::ve
   auto col = [&](const std::string& name) {
     auto it = std::find(head.begin(), head.end(), name);
     if (it == head.end())
-      throw InputError("no column '" + name + "' (the columns are " + list_names(head) +
+      throw InputError("no column '" + name + "' (the columns are " + column_list(head) +
                            "): the first row names the columns, time_s and the levels; map a level with --signals " +
                            (name == "time_s" ? std::string("r_a=COLUMN") : name + "=COLUMN"),
                        place(line_));

@@ -1,25 +1,21 @@
-# polarcam_library(NAME [UNITY] [FUZZED] SOURCES a.cpp ... [UNITY_SKIP b.cpp ...] [FUZZED_SOURCES c.cpp ...]
-#                  [PUBLIC deps ...] [PRIVATE deps ...])
+# polarcam_library(NAME [UNITY] [FUZZED] SOURCES a.cpp ... [FUZZED_SOURCES c.cpp ...] [PUBLIC deps ...]
+#                  [PRIVATE deps ...])
 # One library of the pipeline: its headers are included as "folder/file.hpp" from the source root, the project's
 # warnings (and sanitizers) apply, and it links what it names. UNITY compiles its files in unity batches of eight
 # when POLARCAM_UNITY_BUILD is on: the libraries whose files mostly parse, check and format (files, commands'
 # studies, reports, machines' protocols) spend most of their compile time on the same library headers (the
 # standard library, json, TOML, fmt, Eigen). The numerical libraries of the hot paths (digitizer, metrics,
-# optimize, the Cartesian DDA) compile each file alone, so their code is optimised as it always was. UNITY_SKIP names
-# the files (among SOURCES or added later) that compile alone even so: each has a helper of its own in an anonymous
-# namespace (a formatter, a constant) under the same name as another file's of the library.
+# optimize, the Cartesian DDA) compile each file alone, so their code is optimised as it always was. A batched file's
+# helpers in its unnamed namespace must not share a name with another file's of its library (they meet in one unit).
 # FUZZED: the library holds parsers that the libFuzzer harnesses (fuzz/) feed, and gets the fuzzer's coverage
 # instrumentation when POLARCAM_FUZZ is on; FUZZED_SOURCES: only these files of it do. The other libraries (the
 # metrics, the searches, the pipeline, the reports, the dynamics) are not reached by any harness, and the coverage
 # callbacks (every edge and every comparison) would only slow the sanitized test suite, which shares the build.
 function(polarcam_library name)
-  cmake_parse_arguments(L "UNITY;FUZZED" "" "SOURCES;UNITY_SKIP;FUZZED_SOURCES;PUBLIC;PRIVATE" ${ARGN})
+  cmake_parse_arguments(L "UNITY;FUZZED" "" "SOURCES;FUZZED_SOURCES;PUBLIC;PRIVATE" ${ARGN})
   add_library(${name} ${L_SOURCES})
   if(L_UNITY)
     set_target_properties(${name} PROPERTIES UNITY_BUILD ${POLARCAM_UNITY_BUILD} UNITY_BUILD_BATCH_SIZE 8)
-    if(L_UNITY_SKIP)
-      set_source_files_properties(${L_UNITY_SKIP} PROPERTIES SKIP_UNITY_BUILD_INCLUSION ON)
-    endif()
   endif()
   target_include_directories(${name} PUBLIC ${PROJECT_SOURCE_DIR})
   target_link_libraries(${name} PUBLIC ${L_PUBLIC} polarcam_options PRIVATE ${L_PRIVATE})

@@ -34,6 +34,8 @@ struct MotionSpec {
   double speed = 0.0;                    // m/s, tangential speed of the tool centre (template: V_t, on straight parts)
   std::optional<double> accel;           // m/s^2: ramp from rest and back to rest
   std::vector<SpeedStation> table;       // V(s) stations (overrides speed when given)
+  // the speed a run is named by: `speed`, or the table's first station's
+  double nominal_speed() const { return table.empty() ? speed : table.front().v; }
   std::optional<TemplateRollers> rollers;  // the template digitizer's speed, v = V_t v*(rho / H) (Eq. 3.3)
   // speed_profile = "time-optimal": the fastest schedule within the torque ratios 1/SF, the machine's step rates,
   // max_angular_speed and max_acceleration, from rest to rest, never above `speed` (docs/time-optimal.md)

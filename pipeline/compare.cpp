@@ -78,8 +78,6 @@ std::string fixed(double v, int dec) {
 std::string mm(double m, int prec = 4) { return fmt(m * 1e3, prec) + " mm"; }
 std::string mmps(double v, int prec = 4) { return fmt(v * 1e3, prec) + " mm/s"; }
 
-double nominal_speed(const Job& job) { return job.motion.table.empty() ? job.motion.speed : job.motion.table.front().v; }
-
 // The staircase's runs inside a window, in the contour frame: a sink that follows the nodes.
 class WindowCollector final : public StepSink {
  public:
@@ -190,7 +188,7 @@ void polar_side(const Job& job, const CompareOptions& opt, Comparison& c, const 
                            ? "r Δθ at the path's largest radius, r = " + mm(rmax, 5)
                            : "ΔR (the path stays within r = ΔR / Δθ, where r Δθ <= ΔR)";
 
-  const double V = nominal_speed(job);
+  const double V = job.motion.nominal_speed();
   if (opt.figures) s.trace.emplace(600, s.duration_s);
   s.speed = measure_tape_speed(tape.path(), V, 1.0, opt.figures ? &*s.trace : nullptr);
 
@@ -281,7 +279,7 @@ void cartesian_side(const Job& job, const CompareOptions& opt, Comparison& c, co
   s.resolution_worst_m = blu;
   s.resolution_where = "the BLU, the same everywhere";
 
-  const double V = nominal_speed(job);
+  const double V = job.motion.nominal_speed();
   if (opt.figures) s.trace.emplace(600, s.duration_s);
   s.speed = measure_tape_speed(tape.path(), V, 1.0, opt.figures ? &*s.trace : nullptr);
 
@@ -575,7 +573,7 @@ Comparison compare_job(const Job& job, const CompareOptions& opt, const Progress
   Comparison c;
   c.job_file = job.file;
   c.contour = job.contour->name();
-  c.nominal_speed = nominal_speed(job);
+  c.nominal_speed = job.motion.nominal_speed();
   const ToolPathPtr cpath = make_cartesian_job_path(job);
   const CartesianTrack track = in_file(job.file, [&] { return CartesianTrack::build(*cpath); });
   c.closed = cpath->closed();

@@ -17,11 +17,6 @@
 #endif
 
 namespace polarcam {
-namespace {
-
-double nominal_speed(const Job& job) { return job.motion.table.empty() ? job.motion.speed : job.motion.table.front().v; }
-
-}  // namespace
 
 const char* to_string(CartesianMethod m) { return m == CartesianMethod::dda ? "dda" : "exact"; }
 
@@ -44,7 +39,7 @@ TapeHeader cartesian_tape_header(const Job& job, CartesianMethod m, double inter
   h.axes = TapeAxes::cartesian;
   h.rule = m == CartesianMethod::dda ? TapeRule::dda : TapeRule::exact_cartesian;
   h.res[0] = h.res[1] = job.cartesian.resolution;
-  h.speed_mps = nominal_speed(job);
+  h.speed_mps = job.motion.nominal_speed();
   nlohmann::ordered_json c;
   c["method"] = to_string(m);
   c["resolution_m"] = job.cartesian.resolution;
@@ -77,7 +72,7 @@ CartesianRun run_cartesian_job(const Job& job, CartesianMethod m, double interru
   CartesianRun run;
   run.method = m;
   run.blu = job.cartesian.resolution;
-  run.nominal_speed = nominal_speed(job);
+  run.nominal_speed = job.motion.nominal_speed();
   run.interrupt_rate = interrupt_rate;
   run.path = make_cartesian_job_path(job);
   try {

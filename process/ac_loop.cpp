@@ -8,6 +8,7 @@
 
 #include "cam/error.hpp"
 #include "cam/linalg.hpp"
+#include "process/checks.hpp"
 
 namespace polarcam::process {
 namespace {
@@ -15,7 +16,6 @@ namespace {
 void require(bool ok, const char* message, const char* key) {
   if (!ok) throw InputError(message, key);
 }
-bool pos(double v) { return std::isfinite(v) && v > 0.0; }
 
 // The servo's state matrices for a loop gain divided by `div`; `open` true: the drive's speed command held at
 // zero (strategy B), the motor coasting down on its own pole p1 + p2.
@@ -55,21 +55,21 @@ Discrete discretise_zoh(const std::vector<double>& A, const std::vector<double>&
 }
 
 void check(const AcLoopSettings& s) {
-  require(pos(s.servo.gain) && pos(s.servo.pole1) && pos(s.servo.pole2), "must be positive", "servo");
-  require(pos(s.dda_rate_hz) && s.dda_rate_hz <= 1e6, "must be a rate above 0 and at most 1 MHz", "dda.rate");
-  require(pos(s.blu_m) && s.blu_m < 1e-2, "must be a length above 0 and below 10 mm", "dda.blu");
+  require(positive(s.servo.gain) && positive(s.servo.pole1) && positive(s.servo.pole2), "must be positive", "servo");
+  require(positive(s.dda_rate_hz) && s.dda_rate_hz <= 1e6, "must be a rate above 0 and at most 1 MHz", "dda.rate");
+  require(positive(s.blu_m) && s.blu_m < 1e-2, "must be a length above 0 and below 10 mm", "dda.blu");
   const double dt = 1.0 / s.dda_rate_hz;
   const double ticks = s.control_period_s / dt;
-  require(pos(s.control_period_s) && std::abs(ticks - std::round(ticks)) < 1e-6 && std::round(ticks) >= 1.0,
+  require(positive(s.control_period_s) && std::abs(ticks - std::round(ticks)) < 1e-6 && std::round(ticks) >= 1.0,
           "must be a whole number (1 or more) of DDA interrupt periods", "control.period");
   require(std::isfinite(s.K_ac) && s.K_ac >= 0.0, "must be 0 or more (mm/s^2)", "control.K_ac");
   require(std::isfinite(s.B) && s.B >= 0.0, "must be 0 or more (mm/s)", "control.B");
-  require(pos(s.F_nom), "must be a positive force", "control.F_nom");
-  require(pos(s.rapid_feed), "must be a positive speed", "control.rapid_feed");
+  require(positive(s.F_nom), "must be a positive force", "control.F_nom");
+  require(positive(s.rapid_feed), "must be a positive speed", "control.rapid_feed");
   require(s.rapid_feed <= s.blu_m * s.dda_rate_hz * (1.0 + 1e-12),
           "is faster than the DDA can pulse (one basic length unit per interrupt): lower it or raise dda.rate",
           "control.rapid_feed");
-  require(pos(s.impact_threshold), "must be a positive force", "control.impact_threshold");
+  require(positive(s.impact_threshold), "must be a positive force", "control.impact_threshold");
   require(std::isfinite(s.slow_feed) && s.slow_feed >= 0.0 && s.slow_feed <= s.rapid_feed,
           "must be a speed from 0 to the rapid feed", "control.slow_feed");
   require(std::isfinite(s.slow_time) && s.slow_time >= 0.0, "must be a time of 0 or more", "control.slow_time");
@@ -77,12 +77,12 @@ void check(const AcLoopSettings& s) {
   require(std::isfinite(s.reduced_gain_time) && s.reduced_gain_time >= 0.0, "must be a time of 0 or more",
           "control.reduced_gain_time");
   require(s.teeth >= 1 && s.teeth <= 100, "must be 1 to 100", "cut.teeth");
-  require(pos(s.spindle_speed_rad_s), "must be a positive spindle speed", "cut.spindle_speed");
-  require(pos(s.cutting_stiffness), "must be a positive stiffness (N/mm)", "cut.cutting_stiffness");
-  if (s.spindle_stiffness) require(pos(*s.spindle_stiffness), "must be a positive stiffness (N/mm)", "cut.spindle_stiffness");
+  require(positive(s.spindle_speed_rad_s), "must be a positive spindle speed", "cut.spindle_speed");
+  require(positive(s.cutting_stiffness), "must be a positive stiffness (N/mm)", "cut.cutting_stiffness");
+  if (s.spindle_stiffness) require(positive(*s.spindle_stiffness), "must be a positive stiffness (N/mm)", "cut.spindle_stiffness");
   require(std::isfinite(s.entry_distance) && s.entry_distance >= 0.0 && s.entry_distance < 10.0,
           "must be a length from 0 to 10 m", "cut.entry_distance");
-  require(pos(s.duration_s), "must be a positive time", "simulation.duration");
+  require(positive(s.duration_s), "must be a positive time", "simulation.duration");
   require(s.duration_s * s.dda_rate_hz <= 5e6, "is too long: at most 5 million DDA interrupts", "simulation.duration");
 }
 
@@ -199,8 +199,8 @@ AcResult simulate_ac_loop(const AcLoopSettings& s) {
 }
 
 std::vector<std::complex<double>> closed_loop_poles(const Eq521& e) {
-  if (!(pos(e.K_S) && pos(e.K_C_rate) && pos(e.F_nom) && pos(e.B) && std::isfinite(e.K_ac) && e.K_ac >= 0.0 &&
-        pos(e.servo.gain) && pos(e.servo.pole1) && pos(e.servo.pole2)))
+  if (!(positive(e.K_S) && positive(e.K_C_rate) && positive(e.F_nom) && positive(e.B) && std::isfinite(e.K_ac) && e.K_ac >= 0.0 &&
+        positive(e.servo.gain) && positive(e.servo.pole1) && positive(e.servo.pole2)))
     throw InputError("Eq. 5.21 needs positive K_S, K'_C, F_nom, B, servo constants and K_ac of 0 or more",
                      "closed_loop_poles");
   // s (s + c)(s + p1)(s + p2) + k s + k K_ac/B, c = K_S/K'_C

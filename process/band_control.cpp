@@ -6,11 +6,11 @@
 
 #include "cam/error.hpp"
 #include "process/ac_loop.hpp"
+#include "process/checks.hpp"
 
 namespace polarcam::process {
 namespace {
 
-bool pos(double v) { return std::isfinite(v) && v > 0.0; }
 void require(bool ok, const std::string& message, const std::string& key) {
   if (!ok) throw InputError(message, key);
 }
@@ -51,38 +51,38 @@ void check(const BandSettings& s) {
   for (const Band& b : s.bands) {
     const std::string k = "band." + b.event;
     require(std::isfinite(b.lower) && b.lower >= 0.0, "must be 0 or more", k + ".lower");
-    require(pos(b.upper) && b.upper > b.lower, "must be above the band's lower limit", k + ".upper");
-    if (b.hard_limit) require(pos(*b.hard_limit), "must be positive", k + ".hard_limit");
+    require(positive(b.upper) && b.upper > b.lower, "must be above the band's lower limit", k + ".upper");
+    if (b.hard_limit) require(positive(*b.hard_limit), "must be positive", k + ".hard_limit");
   }
-  require(pos(s.rate_hz) && s.rate_hz <= 1e4, "must be a rate above 0 and at most 10 kHz", "controller.rate");
-  require(pos(s.step_fraction) && s.step_fraction <= 1.0, "must be a fraction above 0 and at most 1 (100 %)",
+  require(positive(s.rate_hz) && s.rate_hz <= 1e4, "must be a rate above 0 and at most 10 kHz", "controller.rate");
+  require(positive(s.step_fraction) && s.step_fraction <= 1.0, "must be a fraction above 0 and at most 1 (100 %)",
           "controller.step");
-  require(pos(s.programmed_feed), "must be a positive speed", "controller.programmed_feed");
-  require(pos(s.max_override) && s.max_override <= 10.0, "must be above 0 and at most 10 (1000 %)",
+  require(positive(s.programmed_feed), "must be a positive speed", "controller.programmed_feed");
+  require(positive(s.max_override) && s.max_override <= 10.0, "must be above 0 and at most 10 (1000 %)",
           "controller.max_override");
   require(std::isfinite(s.initial_override) && s.initial_override >= 0.0 && s.initial_override <= s.max_override,
           "must be from 0 to controller.max_override", "controller.initial_override");
-  require(pos(s.drive_time_constant) && s.drive_time_constant < 100.0, "must be a positive time below 100 s",
+  require(positive(s.drive_time_constant) && s.drive_time_constant < 100.0, "must be a positive time below 100 s",
           "plant.drive_time_constant");
   if (s.filter_cutoff_hz)
-    require(pos(*s.filter_cutoff_hz) && *s.filter_cutoff_hz < s.sim_rate_hz / 4,
+    require(positive(*s.filter_cutoff_hz) && *s.filter_cutoff_hz < s.sim_rate_hz / 4,
             "must be a positive frequency below a quarter of plant.rate", "plant.filter_cutoff");
-  require(pos(s.sim_rate_hz) && s.sim_rate_hz <= 1e6, "must be a rate above 0 and at most 1 MHz", "plant.rate");
+  require(positive(s.sim_rate_hz) && s.sim_rate_hz <= 1e6, "must be a rate above 0 and at most 1 MHz", "plant.rate");
   const double ratio = s.sim_rate_hz / s.rate_hz;
   require(std::abs(ratio - std::round(ratio)) < 1e-6 && std::round(ratio) >= 1.0,
           "must be a whole multiple of controller.rate", "plant.rate");
-  require(pos(s.duration_s) && s.duration_s * s.sim_rate_hz <= 5e6,
+  require(positive(s.duration_s) && s.duration_s * s.sim_rate_hz <= 5e6,
           "must be a positive time of at most 5 million plant steps", "simulation.duration");
   const BandCut& c = s.cut;
   require(c.teeth >= 1 && c.teeth <= 100, "must be 1 to 100", "cut.teeth");
-  require(pos(c.spindle_speed_rad_s), "must be a positive spindle speed", "cut.spindle_speed");
-  require(pos(c.specific_force), "must be a positive specific force (N/mm^3)", "cut.specific_force");
-  require(pos(c.radial_depth) && c.radial_depth < 10.0, "must be a positive length below 10 m", "cut.radial_depth");
-  require(pos(c.axial_depth) && c.axial_depth < 10.0, "must be a positive length below 10 m", "cut.axial_depth");
+  require(positive(c.spindle_speed_rad_s), "must be a positive spindle speed", "cut.spindle_speed");
+  require(positive(c.specific_force), "must be a positive specific force (N/mm^3)", "cut.specific_force");
+  require(positive(c.radial_depth) && c.radial_depth < 10.0, "must be a positive length below 10 m", "cut.radial_depth");
+  require(positive(c.axial_depth) && c.axial_depth < 10.0, "must be a positive length below 10 m", "cut.axial_depth");
   if (c.step_time) {
     require(std::isfinite(*c.step_time) && *c.step_time > 0.0 && *c.step_time < s.duration_s,
             "must be a time within the simulation", "cut.step_time");
-    require(pos(c.step_axial_depth) && c.step_axial_depth < 10.0, "must be a positive length below 10 m",
+    require(positive(c.step_axial_depth) && c.step_axial_depth < 10.0, "must be a positive length below 10 m",
             "cut.step_axial_depth");
   }
   require(std::isfinite(c.perpendicular_ratio) && c.perpendicular_ratio >= 0.0 && c.perpendicular_ratio <= 1.0,

@@ -11,7 +11,6 @@
 namespace polarcam::process {
 
 namespace {
-constexpr double kPi = std::numbers::pi;
 
 // Whether the path's centre of curvature lies on the material's side: the contour is convex towards the tool.
 bool convex(double kappa_c, bool material_left) { return (kappa_c > 0.0) == material_left; }
@@ -27,7 +26,7 @@ double engaged_angle(double R, double a, double kappa_c, bool material_left) {
     c = (rc * rc + R * R - (rho + a) * (rho + a)) / (2.0 * rc * R);
   } else {
     const double rho = rc + R;
-    if (a >= rho) return kPi;
+    if (a >= rho) return std::numbers::pi;
     c = ((rho - a) * (rho - a) - rc * rc - R * R) / (2.0 * rc * R);
   }
   return std::acos(std::clamp(c, -1.0, 1.0));
@@ -109,11 +108,11 @@ MillingPath::MillingPath(const Curve& path, const MillingPathSpec& spec) : spec_
 }
 
 double MillingPath::feed_per_tooth(double V) const {
-  return V * 2.0 * kPi / (spec_.cutter.teeth * spec_.spindle_speed_rad_s);
+  return V * 2.0 * std::numbers::pi / (spec_.cutter.teeth * spec_.spindle_speed_rad_s);
 }
 
 double MillingPath::speed_for_feed_per_tooth(double f_t) const {
-  return f_t * spec_.cutter.teeth * spec_.spindle_speed_rad_s / (2.0 * kPi);
+  return f_t * spec_.cutter.teeth * spec_.spindle_speed_rad_s / (2.0 * std::numbers::pi);
 }
 
 MillingForceAt MillingPath::from(const CutterForce& mean, const ForcePeaks& peaks, double engaged, double V) const {

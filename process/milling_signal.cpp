@@ -9,11 +9,11 @@
 #include <vector>
 
 #include "cam/error.hpp"
+#include "process/checks.hpp"
 
 namespace polarcam::process {
 namespace {
 
-bool positive(double v) { return std::isfinite(v) && v > 0.0; }
 bool non_negative(double v) { return std::isfinite(v) && v >= 0.0; }
 
 // Standard normal deviates by Box-Muller from the generator's raw 64-bit words (not std::normal_distribution,

@@ -10,12 +10,11 @@
 
 #include "cam/error.hpp"
 #include "cam/format.hpp"
+#include "process/checks.hpp"
 #include "process/force_estimator.hpp"
 
 namespace polarcam::process {
 namespace {
-
-bool positive(double v) { return std::isfinite(v) && v > 0.0; }
 
 // Appends an exceedance to `events`, merged into the last event of its kind when that one's last exceedance
 // ended no more than `gap` seconds before this one starts.

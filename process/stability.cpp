@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <limits>
 
 #include "cam/error.hpp"
@@ -9,14 +10,12 @@
 namespace polarcam::process {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 // The frequencies searched: an even grid fine against H's period and the frequency range, refined geometrically
 // around every mode (a lightly damped mode turns G's phase by pi within a few sigma of omega_d).
 std::vector<double> frequency_grid(const TransferFunction& g, double period, double w_max, int per_period) {
   const std::vector<Mode> ms = modes(g);
   double h = w_max / 20000.0;
-  if (period > 0.0) h = std::min(h, 2.0 * kPi / period / per_period);
+  if (period > 0.0) h = std::min(h, 2.0 * std::numbers::pi / period / per_period);
   std::vector<double> w;
   const auto n = static_cast<long>(std::ceil(w_max / h));
   w.reserve(static_cast<size_t>(n) + 400 * ms.size());

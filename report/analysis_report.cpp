@@ -8,15 +8,17 @@
 #include <limits>
 #include <map>
 
+#include "report/report_numbers.hpp"
+
 namespace polarcam::cli {
 namespace {
 
 using json = nlohmann::ordered_json;
 
-std::string g(double v, int prec = 4) { return fmt::format("{:.{}g}", v, prec); }
+using report_numbers::g;
 
 // JSON numbers are finite; an infinite ratio (no pull-out torque left) is null.
-json num(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+using report_numbers::num;
 
 Vec2 contour_point(const Job& job, const TorqueSample& x) {
   return Vec2{x.r * std::cos(x.theta), x.r * std::sin(x.theta)} + job.placement.pole();
@@ -27,7 +29,7 @@ json place_json(const Job& job, const TorqueSample& x) {
   return {{"theta_rad", x.theta}, {"r_m", x.r}, {"s_m", x.s}, {"t_s", x.t}, {"point_m", {p.x, p.y}}};
 }
 
-const char* axis_name(int a) { return a == 0 ? "radial" : "angular"; }
+using report_numbers::axis_name;
 
 json axis_json(const AxisExtremes& e, const AxisVerdict& v, const StepperMotor& motor,
                const AxisDemand TorqueSample::*d, const Job& job) {

@@ -5,14 +5,15 @@
 #include <cmath>
 
 #include "cam/format.hpp"
+#include "report/report_numbers.hpp"
 
 namespace polarcam::cli {
 namespace {
 
 using json = nlohmann::ordered_json;
 
-std::string g(double v, int prec = 4) { return fmt::format("{:.{}g}", v, prec); }
-json num(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+using report_numbers::g;
+using report_numbers::num;
 
 const char* load_key(LoadMeasure m) {
   switch (m) {

@@ -8,15 +8,14 @@
 #include <sstream>
 
 #include "cam/format.hpp"
+#include "report/report_numbers.hpp"
 
 namespace polarcam {
 namespace {
 
 constexpr double kRpm = 60.0;  // rev/s to rev/min
 
-nlohmann::ordered_json optional_number(const std::optional<double>& v) {
-  return v ? nlohmann::ordered_json(*v) : nlohmann::ordered_json();
-}
+using report_numbers::optional_number;
 
 }  // namespace
 

@@ -8,11 +8,12 @@
 #include <vector>
 
 #include "report/process_report.hpp"
+#include "report/report_numbers.hpp"
 
 namespace polarcam {
 
 namespace {
-std::string g(double v) { return fmt::format("{:.4g}", v); }
+using report_numbers::g;
 }  // namespace
 
 void add_cutting_section(html::Report& rep, const Job& job, const ProcessRun& r) {

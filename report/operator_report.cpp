@@ -25,9 +25,9 @@
 namespace polarcam::cli {
 namespace {
 
-std::string g(double v, int prec = 4) { return std::isfinite(v) ? fmt::format("{:.{}g}", v, prec) : "infinite"; }
-std::string mm(double m, int prec = 4) { return g(m * 1e3, prec) + " mm"; }
-std::string cms(double v, int prec = 4) { return g(v * 1e2, prec) + " cm/s"; }
+std::string g_text(double v, int prec = 4) { return std::isfinite(v) ? fmt::format("{:.{}g}", v, prec) : "infinite"; }
+std::string mm_text(double m, int prec = 4) { return g_text(m * 1e3, prec) + " mm"; }
+std::string cms_text(double v, int prec = 4) { return g_text(v * 1e2, prec) + " cm/s"; }
 std::string pct(double v) { return share(v); }
 // A drive's margin (limit / ratio - 1): a percentage while it reads as one, else how many times the limit exceeds
 // what the drive needs ("59 times what it needs", never "5.76e+03 %").
@@ -37,7 +37,7 @@ std::string margin_text(double margin) {
 }
 
 std::string placement_text(const Placement& p) {
-  return fmt::format("C = {}, beta = {} rad", mm(p.C, 6), g(p.beta, 6));
+  return fmt::format("C = {}, beta = {} rad", mm_text(p.C, 6), g_text(p.beta, 6));
 }
 
 std::string load_text(const Job& job) {
@@ -45,33 +45,33 @@ std::string load_text(const Job& job) {
   std::string s;
   switch (l.kind) {
     case LoadKind::none: s = "none (the carriage and arm only)"; break;
-    case LoadKind::inertial: s = fmt::format("inertial: {} kg added to the carriage", g(l.mass)); break;
+    case LoadKind::inertial: s = fmt::format("inertial: {} kg added to the carriage", g_text(l.mass)); break;
     case LoadKind::grinding:
       s = fmt::format("grinding: depth of cut {}, width {}, wheel speed {} m/s, k_c {} N/m^2, c1 {}",
-                      mm(l.grinding.depth), mm(l.grinding.width), g(l.grinding.wheel_speed), g(l.grinding.k_c),
-                      g(l.grinding.c1));
+                      mm_text(l.grinding.depth), mm_text(l.grinding.width), g_text(l.grinding.wheel_speed), g_text(l.grinding.k_c),
+                      g_text(l.grinding.c1));
       break;
     case LoadKind::force:
-      s = fmt::format("a tool force of {} N against the travel and {} N off the material", g(l.force.tangential),
-                      g(l.force.normal));
+      s = fmt::format("a tool force of {} N against the travel and {} N off the material", g_text(l.force.tangential),
+                      g_text(l.force.normal));
       break;
     case LoadKind::milling:
       s = fmt::format("milling: axial depth {}, radial width {}, the slice model's mean force along the path",
-                      mm(l.milling.axial_depth), mm(l.milling.radial_width));
+                      mm_text(l.milling.axial_depth), mm_text(l.milling.radial_width));
       break;
   }
-  if (l.kind != LoadKind::inertial && l.mass > 0.0) s += fmt::format(", {} kg added to the carriage", g(l.mass));
+  if (l.kind != LoadKind::inertial && l.mass > 0.0) s += fmt::format(", {} kg added to the carriage", g_text(l.mass));
   return s;
 }
 
 std::vector<std::string> candidate_row(const Candidate& c, double limit) {
-  std::vector<std::string> r = {c.name, mm(c.placement.C, 6), g(c.placement.beta, 6),
-                                c.area >= 0.0 ? g(c.area * 1e6, 5) : "-"};
+  std::vector<std::string> r = {c.name, mm_text(c.placement.C, 6), g_text(c.placement.beta, 6),
+                                c.area >= 0.0 ? g_text(c.area * 1e6, 5) : "-"};
   if (c.dyn) {
     const TorqueAnalysis& a = c.dyn->analysis;
-    r.push_back(g(a.radial.ratio.value, 4));
-    r.push_back(g(a.angular.ratio.value, 4));
-    r.push_back(g(a.balanced.value, 4));
+    r.push_back(g_text(a.radial.ratio.value, 4));
+    r.push_back(g_text(a.angular.ratio.value, 4));
+    r.push_back(g_text(a.balanced.value, 4));
     const double w = worst_torque_ratio(a);
     r.push_back(c.dyn->verdict.go ? "GO" : (w > limit ? "NO-GO (torque)" : "NO-GO (step rate)"));
   } else {
@@ -118,9 +118,9 @@ OperatorReport operator_report(const Job& job, const JobStudy& study) {
   if (!detail.empty()) detail[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(detail[0])));
   rep.verdict(v.go, headline, detail);
   rep.table({"drive", "largest torque ratio", "limit", "share of the limit used", "margin"},
-            {{"radial (carriage along the arm)", g(v.radial.ratio), g(limit), pct(v.radial.ratio / limit),
+            {{"radial (carriage along the arm)", g_text(v.radial.ratio), g_text(limit), pct(v.radial.ratio / limit),
               margin_text(v.radial.margin)},
-             {"angular (arm about the pole)", g(v.angular.ratio), g(limit), pct(v.angular.ratio / limit),
+             {"angular (arm about the pole)", g_text(v.angular.ratio), g_text(limit), pct(v.angular.ratio / limit),
               margin_text(v.angular.margin)}},
             "Torque ratio = torque the drive needs / torque its motor can give at that speed (pull-out torque). "
             "The job passes when both stay within 1 / safety factor.");
@@ -130,8 +130,8 @@ OperatorReport operator_report(const Job& job, const JobStudy& study) {
     const char* unit = load_display_unit(cap.measure);
     if (!v.go) {
       if (fu && *fu < 1.0)
-        items.push_back(fmt::format("Lower the speed: run at {} or slower (now {}).", cms(*fu * cap.top_speed, 4),
-                                    cms(cap.top_speed, 4)));
+        items.push_back(fmt::format("Lower the speed: run at {} or slower (now {}).", cms_text(*fu * cap.top_speed, 4),
+                                    cms_text(cap.top_speed, 4)));
       else if (!fu)
         items.push_back("No lower speed helps: the load alone is too much for the drives.");
       if (study.limited) {
@@ -139,7 +139,7 @@ OperatorReport operator_report(const Job& job, const JobStudy& study) {
         items.push_back(fmt::format(
             "Or move the contour: put the machine pole at {} from the contour pole (area error {} mm^2, now {} "
             "mm^2); `polarcam optimize {} --objective area --torque-limit --write-job moved.toml` writes that job.",
-            placement_text(c.placement), g(c.area * 1e6, 4), g(cands.front().area * 1e6, 4), name));
+            placement_text(c.placement), g_text(c.area * 1e6, 4), g_text(cands.front().area * 1e6, 4), name));
       } else {
         items.push_back("No placement of the contour on the work area keeps every torque ratio within the limit at "
                         "this speed and load.");
@@ -147,8 +147,8 @@ OperatorReport operator_report(const Job& job, const JobStudy& study) {
       if (cap.measure != LoadMeasure::none) {
         if (cap.load_cap.value)
           items.push_back(fmt::format("Or reduce the {} to {} {} (now {} {}).", load_display_name(cap.measure),
-                                      g(load_display(job, cap.measure, *cap.load_cap.value), 4), unit,
-                                      g(load_display(job, cap.measure, cap.load_at_job), 4), unit));
+                                      g_text(load_display(job, cap.measure, *cap.load_cap.value), 4), unit,
+                                      g_text(load_display(job, cap.measure, cap.load_at_job), 4), unit));
         else
           items.push_back(fmt::format("No {} passes at this speed: lower the speed as well.",
                                       load_display_name(cap.measure)));
@@ -157,23 +157,23 @@ OperatorReport operator_report(const Job& job, const JobStudy& study) {
       if (study.study_speed)
         items.push_back(fmt::format("Speed: the time-optimal schedule already runs every stretch as fast as the "
                                     "limits allow. The capacity and the placements below are at the best constant "
-                                    "speed, {}.", cms(*study.study_speed, 4)));
+                                    "speed, {}.", cms_text(*study.study_speed, 4)));
       else if (fu)
-        items.push_back(fmt::format("Speed: the job still passes up to {}{} (now {}).", cms(*fu * cap.top_speed, 4),
-                                    cap.speed_cap.capped ? " or more" : "", cms(cap.top_speed, 4)));
+        items.push_back(fmt::format("Speed: the job still passes up to {}{} (now {}).", cms_text(*fu * cap.top_speed, 4),
+                                    cap.speed_cap.capped ? " or more" : "", cms_text(cap.top_speed, 4)));
       if (cap.measure != LoadMeasure::none && cap.load_cap.value) {
         if (const auto tf = theoretical_load_factor(job, cap))
           items.push_back(fmt::format("Load: the motors' torque would allow up to {} {} of {} at this speed{} (now {} "
                                       "{}), {} times the carriage's own mass: a theoretical limit of the motors only; "
                                       "the arm, screw and bearings are not modelled, check what they can hold.",
-                                      g(load_display(job, cap.measure, *cap.load_cap.value), 4), unit,
+                                      g_text(load_display(job, cap.measure, *cap.load_cap.value), 4), unit,
                                       load_display_name(cap.measure), cap.load_cap.capped ? " or more" : "",
-                                      g(load_display(job, cap.measure, cap.load_at_job), 4), unit, plain(*tf, 3)));
+                                      g_text(load_display(job, cap.measure, cap.load_at_job), 4), unit, plain(*tf, 3)));
         else
           items.push_back(fmt::format("Load: up to {} {} of {} at this speed{} (now {} {}).",
-                                      g(load_display(job, cap.measure, *cap.load_cap.value), 4), unit,
+                                      g_text(load_display(job, cap.measure, *cap.load_cap.value), 4), unit,
                                       load_display_name(cap.measure), cap.load_cap.capped ? " or more" : "",
-                                      g(load_display(job, cap.measure, cap.load_at_job), 4), unit));
+                                      g_text(load_display(job, cap.measure, cap.load_at_job), 4), unit));
       }
     }
     if (!dyn.analysis.corners.empty())
@@ -192,12 +192,12 @@ OperatorReport operator_report(const Job& job, const JobStudy& study) {
              {"contour", job.contour->name() + (job.contour->closed() ? " (closed)" : " (open)")},
              {"machine", job.machine.name.empty() ? "(unnamed)" : job.machine.name},
              {"placement", placement_text(job.placement) + " (the machine pole seen from the contour's own origin)"},
-             {"tool", fmt::format("radius {}, tool centre {} of the travel", mm(job.tool.radius), study.side > 0 ? "left" : "right")},
-             {"speed", dyn.speed ? cms(*dyn.speed)
-                                 : dyn.plan ? "time-optimal schedule, at most " + cms(job.motion.speed)
+             {"tool", fmt::format("radius {}, tool centre {} of the travel", mm_text(job.tool.radius), study.side > 0 ? "left" : "right")},
+             {"speed", dyn.speed ? cms_text(*dyn.speed)
+                                 : dyn.plan ? "time-optimal schedule, at most " + cms_text(job.motion.speed)
                                             : "speed table"},
              {"load", load_text(job)},
-             {"safety factor", fmt::format("{} (every torque ratio must stay within {})", g(job.safety_factor), g(limit))},
+             {"safety factor", fmt::format("{} (every torque ratio must stay within {})", g_text(job.safety_factor), g_text(limit))},
              {"stepping rule", to_string(job.motion.rule)}});
 
   // work area
@@ -220,30 +220,30 @@ OperatorReport operator_report(const Job& job, const JobStudy& study) {
             {{"steps (out + in / anticlockwise + clockwise)",
               fmt::format("{} ({} + {})", dig.radial.steps(), dig.radial.plus, dig.radial.minus),
               fmt::format("{} ({} + {})", dig.angular.steps(), dig.angular.plus, dig.angular.minus)},
-             {"resolution", mm(job.machine.grid.dr, 4), fmt::format("{} rad ({} steps per turn)", g(job.machine.grid.dtheta, 4),
+             {"resolution", mm_text(job.machine.grid.dr, 4), fmt::format("{} rad ({} steps per turn)", g_text(job.machine.grid.dtheta, 4),
                                                              job.machine.grid.steps_per_rev)},
-             {"mean tape step rate", g(static_cast<double>(dig.radial.steps()) / dig.duration_s, 4) + " steps/s",
-              g(static_cast<double>(dig.angular.steps()) / dig.duration_s, 4) + " steps/s"},
-             {"highest tape step rate", g(dig.radial.max_rate_hz, 4) + " steps/s", g(dig.angular.max_rate_hz, 4) + " steps/s"},
+             {"mean tape step rate", g_text(static_cast<double>(dig.radial.steps()) / dig.duration_s, 4) + " steps/s",
+              g_text(static_cast<double>(dig.angular.steps()) / dig.duration_s, 4) + " steps/s"},
+             {"highest tape step rate", g_text(dig.radial.max_rate_hz, 4) + " steps/s", g_text(dig.angular.max_rate_hz, 4) + " steps/s"},
              {"highest motor step rate (limit)",
-              fmt::format("{} Hz ({})", g(dyn.analysis.radial.step_rate.value, 4),
-                          mm_.radial.max_step_rate ? g(*mm_.radial.max_step_rate, 4) + " Hz" : "none given"),
-              fmt::format("{} Hz ({})", g(dyn.analysis.angular.step_rate.value, 4),
-                          mm_.angular.max_step_rate ? g(*mm_.angular.max_step_rate, 4) + " Hz" : "none given")}},
+              fmt::format("{} Hz ({})", g_text(dyn.analysis.radial.step_rate.value, 4),
+                          mm_.radial.max_step_rate ? g_text(*mm_.radial.max_step_rate, 4) + " Hz" : "none given"),
+              fmt::format("{} Hz ({})", g_text(dyn.analysis.angular.step_rate.value, 4),
+                          mm_.angular.max_step_rate ? g_text(*mm_.angular.max_step_rate, 4) + " Hz" : "none given")}},
             fmt::format("{} steps in all; the job takes {} s for {} of path.", dig.radial.steps() + dig.angular.steps(),
-                        g(dig.duration_s, 5), mm(dig.path_length_m, 5)));
+                        g_text(dig.duration_s, 5), mm_text(dig.path_length_m, 5)));
 
   // accuracy
   rep.heading(2, "Accuracy", "accuracy");
   rep.table({"measure", "value", "what it means"},
-            {{"area error", g(err.area.area_m2 * 1e6, 5) + " mm^2",
+            {{"area error", g_text(err.area.area_m2 * 1e6, 5) + " mm^2",
               "the area between the contour and the machine's staircase, summed over the whole path"},
-             {"largest deviation", mm(err.deviation_max_m, 4),
+             {"largest deviation", mm_text(err.deviation_max_m, 4),
               fmt::format("the farthest the staircase strays from the contour (at {}, {} from the machine pole)",
-                          mm(err.deviation_at.x, 5), mm(err.deviation_at.y, 5))},
-             {"bound of Eq. 4.1", mm(err.deviation_eq41_m, 4),
+                          mm_text(err.deviation_at.x, 5), mm_text(err.deviation_at.y, 5))},
+             {"bound of Eq. 4.1", mm_text(err.deviation_eq41_m, 4),
               "one angular step at the path's largest radius (or one radial step, whichever is larger)"},
-             {"F1 (thesis's surrogate)", g(err.f_counts.F1, 4), "smaller is better; compare placements only"}});
+             {"F1 (thesis's surrogate)", g_text(err.f_counts.F1, 4), "smaller is better; compare placements only"}});
 
   // torque
   rep.heading(2, "Torque needed and available", "torque");
@@ -257,10 +257,10 @@ OperatorReport operator_report(const Job& job, const JobStudy& study) {
     for (int a = 0; a < 2; ++a) {
       const AxisExtremes& e = a == 0 ? dyn.analysis.radial : dyn.analysis.angular;
       const AxisDemand& d = a == 0 ? e.ratio.at.radial : e.ratio.at.angular;
-      rows.push_back({a == 0 ? "radial" : "angular", g(e.ratio.value),
-                      fmt::format("{} along the path (t = {} s, theta = {} rad, r = {})", mm(e.ratio.at.s), g(e.ratio.at.t),
-                                  g(e.ratio.at.theta), mm(e.ratio.at.r)),
-                      g(std::abs(d.torque)) + " N m", g(d.pullout) + " N m", g(d.step_rate) + " Hz"});
+      rows.push_back({a == 0 ? "radial" : "angular", g_text(e.ratio.value),
+                      fmt::format("{} along the path (t = {} s, theta = {} rad, r = {})", mm_text(e.ratio.at.s), g_text(e.ratio.at.t),
+                                  g_text(e.ratio.at.theta), mm_text(e.ratio.at.r)),
+                      g_text(std::abs(d.torque)) + " N m", g_text(d.pullout) + " N m", g_text(d.step_rate) + " Hz"});
     }
     rep.table({"drive", "largest ratio", "where", "needed", "available", "motor step rate"}, rows);
   }
@@ -287,27 +287,27 @@ OperatorReport operator_report(const Job& job, const JobStudy& study) {
                       "factor of their pull-out torque and within their step rates, from rest to rest. The verdict "
                       "above stays that of the job's own speed.");
       std::vector<std::vector<std::string>> rows;
-      rows.push_back({"time-optimal schedule", g(pl.time(), 5) + " s", cms(top), g(pl.schedule.worst_ratio)});
+      rows.push_back({"time-optimal schedule", g_text(pl.time(), 5) + " s", cms_text(top), g_text(pl.schedule.worst_ratio)});
       if (pl.constant_speed)
-        rows.push_back({fmt::format("best constant speed at safety factor {}", g(job.safety_factor)),
-                        g(pl.constant_time, 5) + " s",
-                        cms(*pl.constant_speed) + (pl.constant_capped ? (pl.speed_cap ? " (the job's top speed)" : " or more") : ""),
-                        ss.constant ? g(worst_torque_ratio(*ss.constant)) : "-"});
+        rows.push_back({fmt::format("best constant speed at safety factor {}", g_text(job.safety_factor)),
+                        g_text(pl.constant_time, 5) + " s",
+                        cms_text(*pl.constant_speed) + (pl.constant_capped ? (pl.speed_cap ? " (the job's top speed)" : " or more") : ""),
+                        ss.constant ? g_text(worst_torque_ratio(*ss.constant)) : "-"});
       else
-        rows.push_back({fmt::format("best constant speed at safety factor {}", g(job.safety_factor)), "-",
+        rows.push_back({fmt::format("best constant speed at safety factor {}", g_text(job.safety_factor)), "-",
                         "no constant speed passes", "-"});
       if (!dyn.plan && dyn.speed)
-        rows.push_back({"this job", g(dig.duration_s, 5) + " s", cms(*dyn.speed), g(worst_torque_ratio(dyn.analysis))});
+        rows.push_back({"this job", g_text(dig.duration_s, 5) + " s", cms_text(*dyn.speed), g_text(worst_torque_ratio(dyn.analysis))});
       rep.table({"schedule", "time", "speed (top)", "largest torque ratio"}, rows,
-                fmt::format("Times of the path at each schedule; the limit of the torque ratios is {}.", g(limit)));
+                fmt::format("Times of the path at each schedule; the limit of the torque ratios is {}.", g_text(limit)));
       std::string saving;
       if (pl.constant_speed)
-        saving = fmt::format("The time-optimal schedule saves {} s ({}) against the best constant speed", g(pl.saving(), 4),
+        saving = fmt::format("The time-optimal schedule saves {} s ({}) against the best constant speed", g_text(pl.saving(), 4),
                              pct(pl.saving() / pl.constant_time));
       else
         saving = "No constant speed passes at this safety factor; the time-optimal schedule does";
       if (!dyn.plan && dyn.speed && dig.duration_s > 0.0)
-        saving += fmt::format(", and {} s ({}) against this job's speed", g(dig.duration_s - pl.time(), 4),
+        saving += fmt::format(", and {} s ({}) against this job's speed", g_text(dig.duration_s - pl.time(), 4),
                               pct((dig.duration_s - pl.time()) / dig.duration_s));
       if (dyn.plan)
         rep.paragraph(saving + " (`polarcam optimize-speed " + name + "` shows where each limit binds).");
@@ -329,12 +329,12 @@ OperatorReport operator_report(const Job& job, const JobStudy& study) {
     const SpeedCapacity& sc = cap.speed_cap;
     std::vector<std::vector<std::string>> rows;
     rows.push_back({"speed at which a torque ratio reaches the limit",
-                    sc.factor ? cms(*sc.factor * cap.top_speed, 5) + (sc.capped ? " or more" : "") : "none passes"});
+                    sc.factor ? cms_text(*sc.factor * cap.top_speed, 5) + (sc.capped ? " or more" : "") : "none passes"});
     rows.push_back({"speed at which a motor reaches its top step rate",
-                    sc.step_rate_factor ? cms(*sc.step_rate_factor * cap.top_speed, 5) : "no limit given"});
+                    sc.step_rate_factor ? cms_text(*sc.step_rate_factor * cap.top_speed, 5) : "no limit given"});
     if (cap.measure != LoadMeasure::none)
-      rows.push_back({fmt::format("largest {} at {}", load_display_name(cap.measure), cms(cap.load_speed)),
-                      cap.load_cap.value ? g(load_display(job, cap.measure, *cap.load_cap.value), 5) + " " +
+      rows.push_back({fmt::format("largest {} at {}", load_display_name(cap.measure), cms_text(cap.load_speed)),
+                      cap.load_cap.value ? g_text(load_display(job, cap.measure, *cap.load_cap.value), 5) + " " +
                                                load_display_unit(cap.measure) + (cap.load_cap.capped ? " or more" : "") +
                                                (theoretical_load_factor(job, cap)
                                                     ? " (a theoretical limit of the motors' torque only)"
@@ -344,7 +344,7 @@ OperatorReport operator_report(const Job& job, const JobStudy& study) {
               study.study_speed
                   ? fmt::format("At the job's placement, run at the best constant speed {} (a time-optimal schedule "
                                 "has no margin to report: it runs at the limits); the other quantity held at the "
-                                "job's value.", cms(*study.study_speed))
+                                "job's value.", cms_text(*study.study_speed))
                   : std::string("At the job's placement; the other quantity held at the job's value."));
     if (!cap.curve.empty())
       rep.figure(capacity_figure(job, cap),
@@ -365,7 +365,7 @@ OperatorReport operator_report(const Job& job, const JobStudy& study) {
       "coloured line is where the worst one equals it.");
   if (study.study_speed)
     rep.paragraph(fmt::format("This job runs a time-optimal schedule; the map and the placements compare the "
-                              "torques at the best constant speed, {}.", cms(*study.study_speed)));
+                              "torques at the best constant speed, {}.", cms_text(*study.study_speed)));
   std::vector<PoleMark> marks = {{job.placement.pole(), "this job", 1, 4}};
   if (cands.size() > 1) marks.push_back({cands[1].placement.pole(), "balanced torque", 2, 2});
   if (study.limited) marks.push_back({cands.back().placement.pole(), "least area within the limit", 0, 3});
@@ -401,7 +401,7 @@ OperatorReport operator_report(const Job& job, const JobStudy& study) {
       const ParetoPoint& x = front[i];
       const Placement pl{norm(x.pole), std::fmod(std::atan2(x.pole.y, x.pole.x) + 2.0 * std::numbers::pi,
                                                  2.0 * std::numbers::pi)};
-      rows.push_back({mm(pl.C, 6), g(pl.beta, 6), g(x.v.area_m2 * 1e6, 5), g(x.v.torque.worst, 4),
+      rows.push_back({mm_text(pl.C, 6), g_text(pl.beta, 6), g_text(x.v.area_m2 * 1e6, 5), g_text(x.v.torque.worst, 4),
                       x.v.torque.worst <= limit ? "within" : "over"});
     }
     rep.table({"C", "beta (rad)", "area error (mm^2)", "worst torque ratio", "torque limit"}, rows,
@@ -422,18 +422,18 @@ OperatorReport operator_report(const Job& job, const JobStudy& study) {
                   "surface the previous revolution left, and above a limiting cutting gain K_c (N/m of depth) the "
                   "vibration grows. The limit depends on the spindle speed: the lobes.");
     std::vector<std::vector<std::string>> rows;
-    rows.push_back({"spindle speed of the cut", g(60.0 / cut.revolution_period, 5) + " rev/min (overlap " +
-                                                    g(cut.overlap, 3) + ")"});
+    rows.push_back({"spindle speed of the cut", g_text(60.0 / cut.revolution_period, 5) + " rev/min (overlap " +
+                                                    g_text(cut.overlap, 3) + ")"});
     rows.push_back({"critical cutting gain (Nyquist)",
                     cs.nyquist.critical_gain
-                        ? fmt::format("{} N/m, chatter at {} rad/s", g(*cs.nyquist.critical_gain, 5),
-                                      g(cs.nyquist.chatter_frequency, 5))
+                        ? fmt::format("{} N/m, chatter at {} rad/s", g_text(*cs.nyquist.critical_gain, 5),
+                                      g_text(cs.nyquist.chatter_frequency, 5))
                         : std::string("no limit (the open loop never crosses the negative real axis)")});
     rows.push_back({"simple criterion (any spindle speed)",
-                    cs.simple.gain ? g(*cs.simple.gain, 5) + " N/m" : std::string("no limit")});
+                    cs.simple.gain ? g_text(*cs.simple.gain, 5) + " N/m" : std::string("no limit")});
     for (size_t i = 0; i < cs.modes.size(); ++i)
       rows.push_back({fmt::format("structural mode {}", i + 1),
-                      fmt::format("{} rad/s, damping ratio {}", g(cs.modes[i].omega_n, 5), g(cs.modes[i].zeta, 3))});
+                      fmt::format("{} rad/s, damping ratio {}", g_text(cs.modes[i].omega_n, 5), g_text(cs.modes[i].zeta, 3))});
     rep.table({"", "value"}, rows, "The cut is stable for a cutting gain below the critical gain.");
     ChatterAnalysis a;
     a.problem = cs.problem;

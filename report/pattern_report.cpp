@@ -9,19 +9,19 @@
 #include "io/output.hpp"
 #include "report/html.hpp"
 #include "report/preview_figure.hpp"
+#include "report/report_numbers.hpp"
 
 namespace polarcam::cli {
 namespace {
 
-std::string g(double v, int digits = 4) { return plain(v, digits); }
 
 std::string duration(double s) {
-  if (s < 120) return g(s, 4) + " s";
-  if (s < 7200) return g(s / 60, 4) + " min";
-  return g(s / 3600, 4) + " h";
+  if (s < 120) return plain(s, 4) + " s";
+  if (s < 7200) return plain(s / 60, 4) + " min";
+  return plain(s / 3600, 4) + " h";
 }
 
-const char* axis_name(int axis) { return axis == 0 ? "radial" : "angular"; }
+using report_numbers::axis_name;
 
 }  // namespace
 
@@ -36,8 +36,8 @@ OperatorReport pattern_report(const Job& job, const PatternStudy& st) {
   rep.heading(2, "Verdict", "verdict");
   if (st.go()) {
     rep.verdict(true, "GO: the machine can draw this pattern",
-                fmt::format("{} of path in {} at {} mm/s{}.", g(st.drawn_length_m * 1e3, 5) + " mm",
-                            duration(d.duration_s), g(st.speed_mps * 1e3), st.has_dynamics ? "" :
+                fmt::format("{} of path in {} at {} mm/s{}.", plain(st.drawn_length_m * 1e3, 5) + " mm",
+                            duration(d.duration_s), plain(st.speed_mps * 1e3, 4), st.has_dynamics ? "" :
                             " (no motor step-rate limit is known: the machine file describes no motors)"));
   } else {
     double factor = 1.0;
@@ -45,9 +45,9 @@ OperatorReport pattern_report(const Job& job, const PatternStudy& st) {
     for (const StepRateExcess& e : st.excess) {
       factor = std::min(factor, e.limit_hz / e.motor_rate_hz);
       detail += fmt::format("The {} motor would step at {} Hz, above its limit of {} Hz. ", axis_name(e.axis),
-                            g(e.motor_rate_hz), g(e.limit_hz));
+                            plain(e.motor_rate_hz, 4), plain(e.limit_hz, 4));
     }
-    detail += fmt::format("Run at {} mm/s or slower (now {} mm/s).", g(factor * st.speed_mps * 1e3, 3), g(st.speed_mps * 1e3));
+    detail += fmt::format("Run at {} mm/s or slower (now {} mm/s).", plain(factor * st.speed_mps * 1e3, 3), plain(st.speed_mps * 1e3, 4));
     rep.verdict(false, "NO-GO: a motor would have to step faster than it can", detail);
   }
 
@@ -61,13 +61,13 @@ OperatorReport pattern_report(const Job& job, const PatternStudy& st) {
   double lost_s = d.duration_s - st.rapid_time_s - st.nominal_time_s;
   if (lost_s < 1e-6) lost_s = 0.0;
   std::vector<std::vector<std::string>> rows = {
-      {"requested speed", g(st.speed_mps * 1e3) + " mm/s"},
-      {"path length as drawn", g(st.drawn_length_m * 1e3, 6) + " mm"},
+      {"requested speed", plain(st.speed_mps * 1e3, 4) + " mm/s"},
+      {"path length as drawn", plain(st.drawn_length_m * 1e3, 6) + " mm"},
       {"drawing time", duration(d.duration_s)},
       {"at the requested speed throughout", duration(st.nominal_time_s)},
-      {"rapid moves with the tool up", g(st.rapid_length_m * 1e3, 5) + " mm in " + duration(st.rapid_time_s)},
+      {"rapid moves with the tool up", plain(st.rapid_length_m * 1e3, 5) + " mm in " + duration(st.rapid_time_s)},
       {"time lost where the requested speed is not kept", duration(lost_s)},
-      {"drawn below 99 % of the requested speed", g(st.slowed_length_m * 1e3, 4) + " mm (" +
+      {"drawn below 99 % of the requested speed", plain(st.slowed_length_m * 1e3, 4) + " mm (" +
                                                       share(st.drawn_length_m > 0 ? st.slowed_length_m / st.drawn_length_m : 0.0) + ")"},
       {"contours", std::to_string(st.contours)}};
   rep.table({"", "value"}, rows,
@@ -76,8 +76,8 @@ OperatorReport pattern_report(const Job& job, const PatternStudy& st) {
 
   rep.heading(2, "The tape", "tape");
   auto axis_row = [&](const char* n, const AxisSummary& a) {
-    return std::vector<std::string>{n, thousands(a.plus), thousands(a.minus), g(a.max_rate_hz) + " Hz",
-                                    a.min_interval_ns >= 0 ? g(a.min_interval_ns * 1e-3) + " us" : "-"};
+    return std::vector<std::string>{n, thousands(a.plus), thousands(a.minus), plain(a.max_rate_hz, 4) + " Hz",
+                                    a.min_interval_ns >= 0 ? plain(a.min_interval_ns * 1e-3, 4) + " us" : "-"};
   };
   rep.table({"axis", "steps +", "steps -", "largest step rate", "shortest interval"},
             {axis_row("radial", d.radial), axis_row("angular", d.angular)},

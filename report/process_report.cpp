@@ -6,6 +6,8 @@
 #include <numbers>
 #include <sstream>
 
+#include "report/report_numbers.hpp"
+
 namespace polarcam {
 
 namespace {
@@ -15,7 +17,7 @@ constexpr double kDeg = 180.0 / std::numbers::pi;
 
 json opt(const std::optional<double>& v) { return v ? json(*v) : json(nullptr); }
 
-std::string g(double v) { return fmt::format("{:.4g}", v); }
+using report_numbers::g;
 
 }  // namespace
 

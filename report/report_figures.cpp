@@ -7,6 +7,8 @@
 #include <limits>
 #include <numbers>
 
+#include "report/report_numbers.hpp"
+
 namespace polarcam::cli {
 namespace {
 
@@ -48,7 +50,7 @@ plot::Panel::Legend emptiest_corner(plot::Panel& p) {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-std::string g(double v, int prec = 4) { return fmt::format("{:.{}g}", v, prec); }
+using report_numbers::g;
 
 void arc(plot::Series& s, double r, double a0, double a1, int n) {
   for (int i = 0; i <= n; ++i) {

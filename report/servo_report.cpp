@@ -9,7 +9,6 @@
 namespace polarcam {
 namespace {
 
-using cli::significant;
 
 bool rotary(const ServoAnalysis& a, int i) { return a.drives.axis[i].rotary; }
 

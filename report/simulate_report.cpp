@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "cam/format.hpp"
+#include "report/report_numbers.hpp"
 
 namespace polarcam {
 namespace {
@@ -15,9 +16,7 @@ constexpr double kIn = 1.0 / 0.0254;              // m to in
 constexpr double kLbf = 1.0 / 4.4482216152605;    // N to lbf
 constexpr double kMm = 1e3;
 
-nlohmann::ordered_json optional_number(const std::optional<double>& v) {
-  return v ? nlohmann::ordered_json(*v) : nlohmann::ordered_json();
-}
+using report_numbers::optional_number;
 
 const char* action_name(process::BandAction a) {
   switch (a) {

@@ -9,11 +9,9 @@
 namespace polarcam {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 double wrap(double g) {
-  g = std::fmod(g, 2.0 * kPi);
-  return g < 0.0 ? g + 2.0 * kPi : g;
+  g = std::fmod(g, 2.0 * std::numbers::pi);
+  return g < 0.0 ? g + 2.0 * std::numbers::pi : g;
 }
 
 const ElectricalMotor& electrical(const StepperMotor& m, const char* axis) {
@@ -55,7 +53,7 @@ RatioForms ratio_forms(const MachineModel& m, const ContourPoint& p, const Param
   RatioForms f;
   Lambdas& L = f.L;
   // electrical frequency per unit speed: omega_R = wR V, omega_theta = wT V (Eq. 5.18, 5.19 without its 2 pi)
-  const double wR = 2.0 * kPi * eR.rotor_teeth * mk.k_R * std::abs(cg);
+  const double wR = 2.0 * std::numbers::pi * eR.rotor_teeth * mk.k_R * std::abs(cg);
   const double wT = eT.rotor_teeth * mk.k_theta * std::abs(sg) / p.r;
 
   // radial: T_R = A1 V + A2 V^2 (Eq. 6.13 with the sign of a_cr corrected); ratio = T_R (R^2 + omega^2 L^2) /
@@ -100,7 +98,7 @@ RatioForms ratio_forms(const MachineModel& m, const ContourPoint& p, const Param
   return f;
 }
 
-double gamma_max_radial_inertial() { return kPi / 2.0; }
+double gamma_max_radial_inertial() { return std::numbers::pi / 2.0; }
 
 namespace {
 
@@ -113,7 +111,7 @@ double angular_inertial(const Mechanics& mk, const ContourPoint& p, double added
   for (double sg : {1.0, -1.0}) {
     const double s = b + sg * root;
     if (std::abs(s) > 1.0) continue;
-    for (double g : {std::asin(s), kPi - std::asin(s)}) {
+    for (double g : {std::asin(s), std::numbers::pi - std::asin(s)}) {
       // the two roots of one sign are twins (h(pi - gamma) = -h(gamma)): take the one where h > 0, so that the
       // choice does not depend on rounding
       const double hs = angular_h(mk, p, M, g), h = std::abs(hs);
@@ -155,7 +153,7 @@ double gamma_max_radial_grinding(const Mechanics& mk, const ContourPoint& p, con
 double gamma_max_angular_grinding(const Mechanics& mk, const ContourPoint& p, const ParametricLoad& l, double V) {
   need_force(l);
   const double w = angular_w(mk, p, l, V);
-  return kPi / 2.0 - std::atan(w);  // arccot in (0, pi)
+  return std::numbers::pi / 2.0 - std::atan(w);  // arccot in (0, pi)
 }
 
 double dgamma_angular_inertial_dmass(const Mechanics& mk, const ContourPoint& p, double added_mass) {

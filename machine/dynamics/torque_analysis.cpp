@@ -40,8 +40,6 @@ double quantity(const TorqueSample& x, int q) {
   }
 }
 
-std::string num(double v) { return significant(v, 6); }
-
 // Whether a sample is the end of a segment, evaluated as the limit from below (path geometry, acceleration of the
 // speed profile, friction before a reversal), so that a jump at the boundary shows on both sides; every other
 // sample, the segment's start included, is the limit from above.
@@ -75,8 +73,8 @@ class Evaluator {
       d = point_dynamics(st, x.s, *in_.machine, *in_.load, in_.side, mode);
     } catch (const OutsideCurveError& e) {
       if (!place) x.theta = in_.track->theta(piece, t) + in_.theta_shift;
-      throw OutsideCurveError(std::string(e.what()) + " at theta = " + num(x.theta) + " rad, r = " + num(x.r * 1e3) +
-                              " mm, " + num(x.s * 1e3) + " mm along the path");
+      throw OutsideCurveError(std::string(e.what()) + " at theta = " + significant(x.theta, 6) + " rad, r = " +
+                              significant(x.r * 1e3, 6) + " mm, " + significant(x.s * 1e3, 6) + " mm along the path");
     }
     x.st = SampleKinematics(d.st);
     x.force = d.force;
@@ -147,8 +145,9 @@ TorqueAnalysis analyze_torques(const DynamicsInput& in, const AnalysisOptions& o
                                std::max(2, opt.min_per_segment));
   constexpr double kMaxSamples = 5e7;
   if (!(h > 0.0) || tr.length() / h > kMaxSamples)
-    throw InputError("a sample spacing of " + num(h * 1e3) + " mm would need " + num(tr.length() / h) +
-                     " samples along the " + num(tr.length() * 1e3) + " mm path, more than " + num(kMaxSamples));
+    throw InputError("a sample spacing of " + significant(h * 1e3, 6) + " mm would need " +
+                     significant(tr.length() / h, 6) + " samples along the " + significant(tr.length() * 1e3, 6) +
+                     " mm path, more than " + significant(kMaxSamples, 6));
   Evaluator ev(in);
 
   // speed-profile kinks, as (piece, t)

@@ -3,13 +3,13 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 
 #include "cam/error.hpp"
 
 namespace polarcam::servo {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kSide = 50e-3;  // m: the test paths' size
 
 // Distance covered at time tau along a leg of length L at speed f with linear ramps of duration ta at both ends
@@ -60,7 +60,7 @@ Reference test_path(TestPath path, double feed, double T, double ramp, double ho
     v = {{-L, 0}, {0, L}, {L, 0}, {0, -L}, {-L, 0}};
     leg = L * std::sqrt(2.0);
   }
-  const double circumference = 2.0 * kPi * L;
+  const double circumference = 2.0 * std::numbers::pi * L;
   if (path == TestPath::circle) {
     if (ramp > 0.0 && circumference / feed < ramp) throw InputError("is longer than the circle takes at this feed", "--ramp");
     total = circumference / feed + ramp;
