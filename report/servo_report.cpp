@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "cam/format.hpp"
 #include "io/output.hpp"
 
 namespace polarcam {
