@@ -70,4 +70,30 @@ void cheb_chop(Cheb& s, double tol);
 // (fl = s(lo) - y, fh = s(hi) - y as known to the caller). Safeguarded Newton; returns t to machine precision.
 double cheb_solve(const Cheb& s, double y, double lo, double hi, double fl, double fh);
 
+// Clenshaw's recurrence on NV vectors of W lanes side by side (V: a GCC vector of W doubles): the series cc (its
+// coefficients already on every lane, degree n) at the W NV points z, into out. Each lane performs
+// (c_i - b_{i+2}) + 2z b_{i+1}, then (c_0 - b_2) + z b_1, in that order, with no fused multiply-add, so a value does
+// not depend on its neighbours or on the width of the vectors. Inlined always, so that a caller compiled for AVX
+// gets the four-lane code. The digitizer's levels (eval_levels) and the area walk's series (metrics/area_roots.hpp)
+// run on it.
+template <class V, int W, int NV>
+__attribute__((always_inline)) inline void clenshaw_vectors(const V* cc, int n, const double* z, double* out) {
+  V zz[NV], t2[NV], b1[NV], b2[NV];
+  for (int v = 0; v < NV; ++v) {
+    __builtin_memcpy(&zz[v], z + W * v, sizeof(V));
+    t2[v] = zz[v] + zz[v];
+    b1[v] = b2[v] = V{};
+  }
+  for (int i = n; i >= 1; --i)
+    for (int v = 0; v < NV; ++v) {
+      const V b0 = (cc[i] - b2[v]) + t2[v] * b1[v];
+      b2[v] = b1[v];
+      b1[v] = b0;
+    }
+  for (int v = 0; v < NV; ++v) {
+    const V r = (cc[0] - b2[v]) + zz[v] * b1[v];
+    __builtin_memcpy(out + W * v, &r, sizeof(V));
+  }
+}
+
 }  // namespace polarcam

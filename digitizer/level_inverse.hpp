@@ -49,7 +49,7 @@ struct LevelInverse {
 
 // sigma at the levels y_j = ((n0 + dn j) + hs) - base, j = 0..count-1 (n0, dn whole numbers: the levels of a
 // grid, formed as the step walker forms them), into out[j]. The levels are independent of one another: eight at a
-// time on four vectors of two lanes, so that four Clenshaw recurrences overlap, each ordered as
+// time on four vectors of two lanes (clenshaw_vectors), so that four Clenshaw recurrences overlap, each ordered as
 // (c_k - b_{k+2}) + 2z b_{k+1} so that a link of the chain waits on one multiply and one add. The values differ
 // from LevelInverse::operator()'s by rounding alone (a few units in the last place of the arc length).
 inline void eval_levels(const LevelInverse& inv, double n0, double dn, double hs, double base, size_t count,
@@ -67,24 +67,13 @@ inline void eval_levels(const LevelInverse& inv, double n0, double dn, double hs
   size_t j = 0;
   constexpr int W = 4;  // vectors in flight
   for (; j + 2 * W <= count; j += 2 * W) {
-    Lane2 z[W], t2[W], b1[W], b2[W];
+    double z[2 * W];
     for (int w = 0; w < W; ++w) {
-      z[w] = zs(static_cast<double>(j + 2 * w));
-      t2[w] = z[w] + z[w];
-      b1[w] = Lane2{0, 0};
-      b2[w] = b1[w];
+      const Lane2 zw = zs(static_cast<double>(j + 2 * w));
+      z[2 * w] = zw[0];
+      z[2 * w + 1] = zw[1];
     }
-    for (int k = n; k >= 1; --k)
-      for (int w = 0; w < W; ++w) {
-        const Lane2 b0 = (c[k] - b2[w]) + t2[w] * b1[w];
-        b2[w] = b1[w];
-        b1[w] = b0;
-      }
-    for (int w = 0; w < W; ++w) {
-      const Lane2 r = (c[0] - b2[w]) + z[w] * b1[w];
-      out[j + 2 * w] = r[0];
-      out[j + 2 * w + 1] = r[1];
-    }
+    clenshaw_vectors<Lane2, 2, W>(c, n, z, out + j);
   }
   for (; j < count; ++j) out[j] = inv(((n0 + dn * static_cast<double>(j)) + hs) - base);
 }

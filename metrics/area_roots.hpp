@@ -332,27 +332,6 @@ __attribute__((target("avx"))) inline void radius_crossing4(const QuadSeries& s,
 // four recurrences are in flight either way. cnt is rounded up to a multiple of eight (sixteen): z and out must
 // have room for as many.
 // V: a vector of W lanes. Inlined always, so that the four-lane copy is compiled inside clenshaw_many4 (with AVX).
-// The recurrences of NV vectors side by side: the series cc (its coefficients on every lane, degree n) at the W NV
-// points z, into out.
-template <class V, int W, int NV>
-__attribute__((always_inline)) inline void clenshaw_vectors(const V* cc, int n, const double* z, double* out) {
-  V zz[NV], t2[NV], b1[NV], b2[NV];
-  for (int v = 0; v < NV; ++v) {
-    for (int q = 0; q < W; ++q) zz[v][q] = z[W * v + q];
-    t2[v] = zz[v] + zz[v];
-    b1[v] = b2[v] = V{};
-  }
-  for (int i = n; i >= 1; --i)
-    for (int v = 0; v < NV; ++v) {
-      const V b0 = (cc[i] - b2[v]) + t2[v] * b1[v];
-      b2[v] = b1[v];
-      b1[v] = b0;
-    }
-  for (int v = 0; v < NV; ++v) {
-    const V r = (cc[0] - b2[v]) + zz[v] * b1[v];
-    for (int q = 0; q < W; ++q) out[W * v + q] = r[q];
-  }
-}
 template <class V, int W>
 __attribute__((always_inline)) inline void clenshaw_lanes(const double* c, int n, const double* z, size_t cnt,
                                                           double* out) {
