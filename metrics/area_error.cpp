@@ -479,13 +479,23 @@ bool StairAreaMeter::nearest_node(double f, int64_t& n) const {
 }
 
 const std::vector<double>& StairAreaMeter::half_levels(const Span& s) {
+  // the half levels l0 + dl i from l0 while l <= gb going up (l > gb going down): exact half-integers, counted
+  // first, then written with no chain of additions
   auto& L = imp_.L;
   L.clear();
-  if (walk_.dir > 0) {
-    for (double l = std::floor(s.ga + 0.5) + 0.5; l <= s.gb; l += 1.0) L.push_back(l);
-  } else if (walk_.dir < 0) {
-    for (double l = std::floor(s.ga - 0.5) + 0.5; l > s.gb; l -= 1.0) L.push_back(l);
-  }
+  if (walk_.dir == 0) return L;
+  const double dl = walk_.dir > 0 ? 1.0 : -1.0;
+  const double l0 = std::floor(s.ga + 0.5 * dl) + 0.5;
+  auto inside = [&](double l) { return walk_.dir > 0 ? l <= s.gb : l > s.gb; };
+  if (!inside(l0)) return L;
+  double est = std::floor(std::abs(s.gb - l0));
+  if (!(est < 1e15)) throw std::logic_error("internal error: a stretch of the area walk spans too many levels");
+  while (est > 0.0 && !inside(l0 + dl * est)) est -= 1.0;
+  while (inside(l0 + dl * (est + 1.0))) est += 1.0;
+  const size_t n = static_cast<size_t>(est) + 1;
+  L.resize(n);
+  double* Lp = L.data();
+  for (size_t i = 0; i < n; ++i) Lp[i] = l0 + dl * static_cast<double>(i);
   return L;
 }
 

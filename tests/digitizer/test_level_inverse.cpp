@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <numbers>
 #include <random>
 #include <vector>
@@ -246,6 +247,30 @@ TEST(LevelInverse, TiedAndNearlyTiedCrossingsKeepTheSolversOrder) {
     // the order itself: axis 0 first at a tie, axis 1 first when it is ahead
     EXPECT_EQ(want[0].axis, ahead == 0.0 ? 0 : 1);
   }
+}
+
+// The fit's check evaluates its series at the halfway points on the lanes of vectors (cheb_values): every value must be
+// Cheb::operator()'s to the bit, for every degree and however many points (full groups of eight, pairs, one left).
+TEST(LevelInverse, ValuesOnLanesAreTheSeriesBitForBit) {
+  std::mt19937_64 rng(20261208);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int deg = 0; deg <= kChebMaxDegree; ++deg)
+    for (int n = 1; n <= 19; ++n) {
+      Cheb s;
+      s.deg = deg;
+      for (int k = 0; k <= deg; ++k) s.c[static_cast<size_t>(k)] = u(rng) * std::pow(0.3, k) * 1e3;
+      std::vector<double> z(static_cast<size_t>(n)), out(static_cast<size_t>(n), -7.0);
+      for (auto& v : z) v = u(rng);
+      z[0] = 1.0;
+      z[static_cast<size_t>(n) - 1] = n > 1 ? -1.0 : z[0];
+      cheb_values(s, z.data(), n, out.data());
+      for (int i = 0; i < n; ++i) {
+        const double want = s(z[static_cast<size_t>(i)]);
+        EXPECT_EQ(std::memcmp(&want, &out[static_cast<size_t>(i)], sizeof(double)), 0)
+            << "degree " << deg << ", point " << i << " of " << n << ": " << out[static_cast<size_t>(i)] << " vs "
+            << want;
+      }
+    }
 }
 
 }  // namespace tu_digitizer_test_level_inverse
