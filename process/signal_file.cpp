@@ -106,6 +106,11 @@ SignalRecord parse_signal_csv(const std::string& text, const std::string& file) 
       const auto [p, ec] = std::from_chars(b, e, v);
       if (s.empty() || ec != std::errc() || p != e || !std::isfinite(v))
         throw InputError("column " + head[i] + ": " + quoted(s) + " is not a finite number", at());
+      // a signal's squares and their sums over millions of samples must stay finite (the RMS, the spectra): no
+      // force, power or current measured on a machine comes near 1e15 in any unit
+      if (i > 0 && std::abs(v) > 1e15)
+        throw InputError("column " + head[i] + ": " + quoted(s) + " is beyond 1e15 in magnitude (check the column's unit)",
+                         at());
       if (i == 0)
         t.push_back(v);
       else

@@ -90,6 +90,10 @@ void check(const TwoMassStructure& s, const Cut& c) {
   nonneg(s.C_w, "structure.C_w");
   if (!(std::isfinite(c.overlap) && c.overlap >= 0.0 && c.overlap <= 1.0))
     throw InputError("must be a fraction from 0 to 1", "cut.overlap");
+  // a cut that overlaps the last by less than a millionth regenerates nothing measurable, and the search for its
+  // limit would run on to ever higher frequencies (for every spindle speed of the lobes)
+  if (c.overlap > 0.0 && c.overlap < 1e-6)
+    throw InputError("must be 0 or at least 1e-6 (below that nothing regenerates: write 0)", "cut.overlap");
   positive(c.revolution_period, "cut.revolution_period", "time");
   if (!(std::isfinite(c.depth) && c.depth > 0.0)) throw InputError("must be a positive length", "cut.depth_of_cut");
   // the scale of the problem: the stability search samples the delay's period up to a few times the highest mode,

@@ -48,8 +48,12 @@ void check_values(const ServoParams& p) {
     finite(v, k);
     if (v < 0.0) throw InputError("must not be negative", k);
   }
-  finite(p.a, "a");
-  finite(p.b, "b");
+  // D(z)'s zero and pole are numbers of order one (Peng's a = -0.8825, b = 0): a million is far beyond any filter; the
+  // loop's matrices would overflow long before a number as large as a double allows
+  for (auto [v, k] : {std::pair{p.a, "a"}, {p.b, "b"}}) {
+    finite(v, k);
+    if (std::abs(v) > 1e6) throw InputError("must be within -1e6..1e6 (a zero or pole of the filter D(z))", k);
+  }
   if (p.T > 1.0) throw InputError("must be at most 1 s", "sample_period");
 }
 

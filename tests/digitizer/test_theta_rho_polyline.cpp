@@ -200,6 +200,31 @@ TEST(ThetaRhoPolyline, AnArmTurnAtTheCentreNeedsATimingRadius) {
   EXPECT_NEAR(tr.length(), 0.1 + 3.0 * 0.01 + 0.1, 1e-15);
 }
 
+// Sand-table patterns often start and end at the centre: the ball is back where it started whatever theta, but the
+// arm is not unless it turned by whole turns. Such a pattern is open for the motors (the tape ends on another
+// angular node; it was refused as an internal error, "a closed path did not return to its start node"); one that
+// comes back after a whole turn is closed, with a winding of one.
+TEST(ThetaRhoPolyline, APatternFromTheCentreBackToItIsClosedOnlyAfterWholeTurns) {
+  const double c = 0.2e-3 * 3200 / (2 * std::numbers::pi) * 0.01;
+  const std::vector<ThetaRho> open = {{0.0, 0.0}, {1.0, 0.1}, {2.0, 0.0}};
+  const std::vector<ThetaRho> turn = {{0.0, 0.0}, {std::numbers::pi, 0.1}, {2 * std::numbers::pi, 0.0}};
+  auto open_curve = make_theta_rho_path(open, "out and back");
+  auto turn_curve = make_theta_rho_path(turn, "a turn");
+  ASSERT_TRUE(open_curve->closed());  // in the plane: back at the centre
+  for (double cc : {0.0, c}) {
+    EXPECT_FALSE(ThetaRhoTrack::build(*as_theta_rho_path(*open_curve), cc, 0.004).closed());
+    EXPECT_FALSE(PolylineTrack(*as_theta_rho_path(*open_curve), cc, 0.004).closed());
+    const ThetaRhoTrack whole = ThetaRhoTrack::build(*as_theta_rho_path(*turn_curve), cc, 0.004);
+    EXPECT_TRUE(whole.closed());
+    EXPECT_EQ(whole.winding(), 1);
+    EXPECT_TRUE(PolylineTrack(*as_theta_rho_path(*turn_curve), cc, 0.004).closed());
+    // every step against the independent walk, the end node included
+    expect_matches_reference(open, coarse_grid(), cc, 0.004, 0.04);
+    expect_matches_reference(open, coarse_grid(), cc, 0.004, 0.04, true);
+    expect_matches_reference(turn, coarse_grid(), cc, 0.004, 0.04);
+  }
+}
+
 TEST(ThetaRhoPolyline, PolarTrackOfAPolylineIsRAndTheta) {
   // through the pole and out the other side: r goes to 0 and back, theta continues linearly (the arm's angle)
   std::vector<ThetaRho> v = {{0.5, 0.08}, {0.5, 0.0}, {0.5 + std::numbers::pi, 0.05}};

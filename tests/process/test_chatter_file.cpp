@@ -62,6 +62,8 @@ TEST(ChatterFile, BadKeysNamed) {
   EXPECT_EQ(refusal(replaced(kGood, "K_w = 12000\n", "")), "s.toml: key 'structure.K_w': missing: give the workpiece's stiffness (N/m)");
   EXPECT_EQ(refusal(replaced(kGood, "M_w = 0.09", "M_w = \"0.09 m\"")).rfind("s.toml:5: key 'structure.M_w': ", 0), 0u);
   EXPECT_EQ(refusal(replaced(kGood, "overlap = 1", "overlap = 1.2")), "s.toml:9: key 'cut.overlap': must be a fraction from 0 to 1");
+  EXPECT_EQ(refusal(replaced(kGood, "overlap = 1", "overlap = 1e-300")),
+            "s.toml:9: key 'cut.overlap': must be 0 or at least 1e-6 (below that nothing regenerates: write 0)");
   EXPECT_EQ(refusal(replaced(kGood, "K_m = 120000", "K_m = -1")), "s.toml:4: key 'structure.K_m': must be a positive stiffness");
   EXPECT_EQ(refusal(replaced(kGood, "overlap = 1", "overlap = 1\nspeed = 3")), "s.toml:10: unknown key 'cut.speed'");
   EXPECT_EQ(refusal(kGood + "[tool]\n"), "s.toml:11: unknown section [tool] (expected [structure], [cut] and an optional [suppressor])");

@@ -55,6 +55,7 @@ TEST(SignalFile, BadRowsNameFileLineAndColumn) {
   expect_error(head + "0,1\n0.001,abc\n", "sig.csv:3", "force_N");
   expect_error(head + "0,1\n0.001,nan\n", "sig.csv:3", "finite");
   expect_error(head + "0,1\n0.001,1e999\n", "sig.csv:3", "finite");
+  expect_error(head + "0,1\n0.001,-1e160\n", "sig.csv:3", "beyond 1e15");  // its square overflows in the RMS
   expect_error(head + "0,1\n0.001\n", "sig.csv:3", "fields");
   expect_error(head + "0,1\n0.001,2,3\n", "sig.csv:3", "fields");
   expect_error(head + "0,1\nx,2\n", "sig.csv:3", "time_s");

@@ -270,6 +270,21 @@ TEST(ServoAxis, RefusesBadParameters) {
   ServoParams p = appendix_a();
   p.L_a = 0.0;
   EXPECT_THROW(discretise(p), InputError);
+  // a filter zero or pole beyond a million: refused by name (1e308 made the loop's matrices overflow and the
+  // simulation of the path run on)
+  for (double big : {1e7, 1e155, -1e308}) {
+    p = appendix_a();
+    p.a = big;
+    try {
+      discretise(p);
+      FAIL() << big;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.place(), "a");
+    }
+    p = appendix_a();
+    p.b = big;
+    EXPECT_THROW(discretise(p), InputError);
+  }
   p = appendix_a();
   p.K_p = 40.0;  // unstable
   try {
