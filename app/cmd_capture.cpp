@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "app/cli.hpp"
+#include "cam/input_file.hpp"
 #include "cam/format.hpp"
 #include "capture/capture.hpp"
 #include "capture/tape_compare.hpp"
@@ -360,6 +361,7 @@ void register_capture(CLI::App& app, Action& action) {
       if (!o->out.empty()) check_output_path(o->out);
       CaptureFormat format;
       {
+        refuse_directory(o->file);
         std::ifstream in(o->file, std::ios::binary);
         if (!in) throw InputError("cannot be read: give a VCD or CSV file of the encoder levels", o->file);
         format = capture_format(o->format, o->file, in);

@@ -15,6 +15,7 @@
 
 #include "cam/error.hpp"
 #include "cam/format.hpp"
+#include "cam/input_file.hpp"
 
 namespace polarcam {
 namespace {
@@ -267,7 +268,8 @@ struct EntityCheck {
   std::string kind;
   size_t line = 0;  // of its "0" code
   std::map<long, int> count;
-  long long vertices = -1;  // an LWPOLYLINE's vertex count (group code 90) when it gives one
+  long long vertices = 0;  // an LWPOLYLINE's vertex count (group code 90), where it gives one (has_vertices)
+  bool has_vertices = false;
 };
 
 void check_entity(const EntityCheck& e, const std::string& file) {
@@ -297,7 +299,7 @@ void check_entity(const EntityCheck& e, const std::string& file) {
                            " y coordinates (group codes 10 and 20): the entity is damaged or a line is missing",
                        file + ":" + std::to_string(e.line));
     // dxflib keeps as many vertices as group code 90 declares and drops the others without a word
-    if (e.vertices >= 0 && e.vertices != nx)
+    if (e.has_vertices && e.vertices != nx)
       throw InputError("the LWPOLYLINE starting here declares " + std::to_string(e.vertices) +
                            " vertices (group code 90) but has " + std::to_string(nx) +
                            ": the entity is damaged or a line is missing",
@@ -372,7 +374,10 @@ void prevalidate(const std::string& file) {
                              ") is a count larger than this file of " +
                              std::to_string(bytes) + " bytes can hold: the entity is damaged",
                          where);
-      if (ent && ent->kind == "LWPOLYLINE" && code == 90) ent->vertices = v;
+      if (ent && ent->kind == "LWPOLYLINE" && code == 90) {
+        ent->vertices = v;  // a negative count too: dxflib would drop the entity without a word
+        ent->has_vertices = true;
+      }
     }
     if (code == 0) {
       close_entity();
@@ -422,6 +427,7 @@ PathSegment reversed(PathSegment s) {
 
 DxfPath read_dxf_path(const std::string& path, const DxfOptions& opt) {
   {
+    refuse_directory(path);
     std::ifstream probe(path);
     if (!probe) throw InputError("cannot open the DXF file", path);
   }

@@ -281,6 +281,7 @@ GrayImage parse_image(const std::string& bytes, const std::string& place) {
 }
 
 GrayImage read_image(const std::string& path) {
+  refuse_directory(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError("cannot open the image", path);
   std::ostringstream ss;

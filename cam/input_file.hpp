@@ -13,7 +13,15 @@
 
 namespace polarcam {
 
+// A directory given where a file is read: refused by name (an ifstream opens a directory and reads nothing, which
+// the parsers would report as an empty or foreign file).
+inline void refuse_directory(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw InputError("is a directory: give the path of a file in it", path);
+}
+
 inline std::string read_input_file(const std::string& path) {
+  refuse_directory(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError("cannot open the file", path);
   std::ostringstream ss;

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "cam/error.hpp"
+#include "cam/input_file.hpp"
 
 namespace polarcam {
 namespace {
@@ -42,6 +43,7 @@ bool parse_numbers(const std::string& line, std::vector<double>& out) {
 
 template <class F>
 std::vector<Vec2> read_pairs(const std::string& path, const char* kind, F convert) {
+  refuse_directory(path);
   std::ifstream in(path);
   if (!in) throw InputError("cannot open the " + std::string(kind) + " file", path);
   std::vector<Vec2> pts;

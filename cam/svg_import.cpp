@@ -1,6 +1,7 @@
 // SVG import: the one translation unit that includes svgpp (heavy to compile) and libxml2. svgpp walks the
 // document and parses every attribute; the contexts here keep the current transform, collect each shape's
 // subpaths in user units as exact segments and, when the element ends, map them into metres with y up.
+#include "cam/input_file.hpp"
 #include "cam/svg_import.hpp"
 
 #include <libxml/parser.h>
@@ -562,6 +563,7 @@ SvgDrawing parse_svg(const std::string& text, const std::string& place) {
 }
 
 SvgDrawing read_svg(const std::string& path) {
+  refuse_directory(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError("cannot open the SVG drawing", path);
   std::ostringstream ss;

@@ -9,6 +9,7 @@
 
 #include "cam/error.hpp"
 #include "cam/format.hpp"
+#include "cam/input_file.hpp"
 
 namespace polarcam {
 namespace {
@@ -75,6 +76,7 @@ ThrPattern parse_thr(std::istream& in, const std::string& place) {
 }
 
 ThrPattern read_thr(const std::string& path) {
+  refuse_directory(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError("cannot open the theta-rho file", path);
   return parse_thr(in, path);

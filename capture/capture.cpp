@@ -6,6 +6,7 @@
 #include <cmath>
 #include <fstream>
 
+#include "cam/input_file.hpp"
 #include "cam/error.hpp"
 #include "capture/csv_levels.hpp"
 #include "capture/vcd.hpp"
@@ -428,6 +429,7 @@ CaptureResult capture_to_tape(const std::string& file, CaptureFormat format, con
                               const std::string& generator, StepSink* also) {
   check_options(o);
   if (!(o.grid.dr > 0) || !(o.grid.dtheta > 0)) throw InputError("the machine's grid has no resolutions", "machine");
+  refuse_directory(file);
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError("cannot be read: give a VCD or CSV file of the encoder levels", file);
   std::vector<std::string> matched;

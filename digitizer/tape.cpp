@@ -12,6 +12,7 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "cam/input_file.hpp"
 #include "cam/error.hpp"
 #include "cam/format.hpp"
 #include "digitizer/grid.hpp"
@@ -236,6 +237,7 @@ void TapeWriter::finish(TapeHeader h) {
 // ------------------------------------------------------------------------------------------------ reader
 
 TapeReader::TapeReader(const std::string& path) : path_(path) {
+  refuse_directory(path);
   f_ = std::fopen(path.c_str(), "rb");
   if (!f_) throw InputError(std::string("cannot open the tape (") + std::strerror(errno) + ")", path);
   // The destructor does not run when the constructor throws: a tape refused here closes its file here.

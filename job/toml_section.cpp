@@ -3,6 +3,7 @@
 #include <cmath>
 #include <fstream>
 
+#include "cam/input_file.hpp"
 #include "cam/error.hpp"
 
 namespace polarcam::jobfile {
@@ -176,6 +177,7 @@ void Section::finish() const {
 }
 
 toml::table parse_toml_file(const std::string& path) {
+  refuse_directory(path);
   std::ifstream probe(path);
   if (!probe) throw InputError("cannot open the file", path);
   try {

@@ -236,6 +236,10 @@ TEST(Dxf, VertexCountsThatDisagreeWithTheVerticesAreRefused) {
   EXPECT_NE(e.find("declares 3 vertices"), std::string::npos) << e;
   e = read_error("count5.dxf", slot("5"));
   EXPECT_NE(e.find("declares 5 vertices"), std::string::npos) << e;
+  // a negative count: dxflib dropped the whole outline without a word (found by a sweep of hostile inputs)
+  e = read_error("negative.dxf", slot("-3"));
+  EXPECT_NE(e.find("negative.dxf:5"), std::string::npos) << e;
+  EXPECT_NE(e.find("declares -3 vertices"), std::string::npos) << e;
   // outside any section (dxflib reads it all the same; 1.2 GB and over 10 s before)
   e = read_error("nosection.dxf", "0\nLWPOLYLINE\n8\n0\n90\n37309503\n10\n0\n20\n0\n0\nEOF\n");
   EXPECT_NE(e.find("nosection.dxf:6"), std::string::npos) << e;

@@ -196,6 +196,24 @@ TEST(CliRobust, MissingDirectoriesAndDirectoriesAsOutputsAreIoErrors) {
                         "no-such-dir", 3);
 }
 
+// A directory given where a file is read is bad input (exit status 2), named as one, whatever reads it: a job, a
+// machine file the job names, a tape, a theta-rho pattern (which said "cannot read the pattern", exit status 3), a
+// drawing. Found by a sweep of hostile inputs.
+TEST(CliRobust, DirectoriesAsInputsAreBadInputNamedAsDirectories) {
+  Scratch sc;
+  const std::string dir = sc.path("inputs"), pattern = sc.path("pattern.thr");
+  fs::create_directories(dir);
+  fs::create_directories(pattern);
+  const std::string machine = std::string(POLARCAM_SOURCE_DIR) + "/examples/machines/sand-table.toml";
+  expect_one_line_error(run_cli("digitize " + dir), "is a directory", 2);
+  expect_one_line_error(run_cli("inspect " + dir), "is a directory", 2);
+  expect_one_line_error(run_cli("check " + pattern + " --machine " + machine + " --speed 40mm/s"), "is a directory", 2);
+  expect_one_line_error(run_cli("digitize " + pattern + " --machine " + machine + " --speed 40mm/s"), "is a directory",
+                        2);
+  const std::string job = sc.write("job.toml", replace(kSmallCircle, "machines/fahim1983.toml", "inputs"));
+  expect_one_line_error(run_cli("digitize " + job), "is a directory", 2);
+}
+
 // A long digitize (a grid 500 times finer than the examples'), interrupted by `sig` once its temporary tape exists:
 // the process ends by that signal and leaves neither the temporary nor the tape.
 void interrupt_digitize(int sig) {
