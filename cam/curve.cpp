@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <string>
+
+#include "cam/error.hpp"
 
 namespace polarcam {
 
@@ -31,11 +34,20 @@ double gl10(const Curve& c, double a, double b) {
   return s * h;
 }
 
-double adaptive(const Curve& c, double a, double b, double whole, int depth) {
+// At most this many halvings over a whole length, and a few more for each piece between breakpoints: some 20 million
+// evaluations of the curve, a few seconds. A smooth path of thousands of turns takes far fewer; beyond it the path
+// oscillates faster than any machine could follow, and its length (which the depth limit alone would reach only
+// after 2^40 halvings, a run without end) is refused.
+constexpr long kMaxHalvings = 1L << 20;
+
+double adaptive(const Curve& c, double a, double b, double whole, int depth, long& budget) {
+  if (--budget < 0)
+    throw InputError("the path has too much detail to measure its length (more than " + std::to_string(kMaxHalvings) +
+                     " pieces): it oscillates faster than a machine can follow; check the contour's definition");
   double m = 0.5 * (a + b);
   double l = gl10(c, a, m), r = gl10(c, m, b);
   if (depth >= 40 || std::abs(l + r - whole) <= 1e-14 * std::max(std::abs(whole), 1e-300)) return l + r;
-  return adaptive(c, a, m, l, depth + 1) + adaptive(c, m, b, r, depth + 1);
+  return adaptive(c, a, m, l, depth + 1, budget) + adaptive(c, m, b, r, depth + 1, budget);
 }
 
 }  // namespace
@@ -47,8 +59,9 @@ double arc_length(const Curve& c, double ua, double ub) {
     if (k > ua && k < ub) cuts.push_back(k);
   cuts.push_back(ub);
   double total = 0.0;
+  long budget = kMaxHalvings + 64 * static_cast<long>(cuts.size());  // a few for each smooth piece besides
   for (size_t i = 0; i + 1 < cuts.size(); ++i)
-    if (cuts[i + 1] > cuts[i]) total += adaptive(c, cuts[i], cuts[i + 1], gl10(c, cuts[i], cuts[i + 1]), 0);
+    if (cuts[i + 1] > cuts[i]) total += adaptive(c, cuts[i], cuts[i + 1], gl10(c, cuts[i], cuts[i + 1]), 0, budget);
   return total;
 }
 

@@ -75,6 +75,27 @@ TEST(Curves, ArcLengthOfKnownCurves) {
   EXPECT_NEAR(arc_length(*make_spiral(0, b, 0, T), 0, T), b / 2 * (T * std::sqrt(1 + T * T) + std::asinh(T)), 1e-14);
 }
 
+// A path that oscillates a billion times over its parameter: its length is refused as too detailed instead of
+// being halved towards 2^40 pieces (a polar expression r = 3 + sin(1e9 t) ran without end; found by a sweep of
+// hostile inputs). A spiral of two thousand turns is measured all the same, to its closed form.
+TEST(Curves, ArcLengthOfAPathTooDetailedToMachineIsRefused) {
+  struct Wiggle : Curve {
+    Wiggle() : Curve(0.0, 1.0, false, "wiggle") {}
+    CurvePoint eval(double u, int order) const override {
+      CurvePoint p;
+      p.p = {u, 0.01 * std::sin(1e9 * u)};
+      if (order >= 1) p.d1 = {1.0, 1e7 * std::cos(1e9 * u)};
+      if (order >= 2) p.d2 = {0.0, -1e16 * std::sin(1e9 * u)};
+      return p;
+    }
+  };
+  const Wiggle w;
+  EXPECT_THROW(arc_length(w, 0.0, 1.0), InputError);
+  const double b = 1e-5, T = 2000 * 2 * kPi;
+  EXPECT_NEAR(arc_length(*make_spiral(0, b, 0, T), 0, T), b / 2 * (T * std::sqrt(1 + T * T) + std::asinh(T)),
+              1e-12 * b * T * T);
+}
+
 TEST(Curves, RoseClosesAfterItsPeriod) {
   for (auto [p, q] : {std::pair{3, 1}, {2, 1}, {2, 3}, {1, 2}}) {
     auto c = make_rose(0.05, p, q);
