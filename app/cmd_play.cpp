@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "app/cli.hpp"
+#include "cam/format.hpp"
 #include "job/job.hpp"
 #include "io/output.hpp"
 #include "cam/error.hpp"
@@ -290,7 +291,7 @@ void register_play(CLI::App& app, Action& action) {
       }
       std::cout.flush();
       if (!error.empty()) {
-        std::fprintf(stderr, "polarcam: error: %s\n", error.c_str());
+        std::fprintf(stderr, "polarcam: error: %s\n", terminal_text(error).c_str());
         return exit_status(ErrorKind::device);
       }
       return 0;

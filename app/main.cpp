@@ -9,6 +9,7 @@
 
 #include "app/cli.hpp"
 #include "cam/error.hpp"
+#include "cam/format.hpp"
 #include "io/temp_files.hpp"
 
 #ifndef POLARCAM_VERSION
@@ -67,7 +68,7 @@ int main(int argc, char** argv) {
   }
   if (argc > 1 && argv[1][0] != '-' && !known_command) {
     std::fprintf(stderr, "polarcam: error: unknown command '%s' (the commands: %s; polarcam --help says more)\n",
-                 argv[1], known.c_str());
+                 terminal_text(argv[1]).c_str(), known.c_str());
     return exit_status(ErrorKind::input);
   }
   try {
@@ -82,18 +83,19 @@ int main(int argc, char** argv) {
     // one line, as every other error: what CLI11 found, and where the command's options are described
     std::string command = "polarcam";
     for (const CLI::App* sub : app.get_subcommands()) command += " " + sub->get_name();
-    std::fprintf(stderr, "polarcam: error: %s (%s --help lists the options)\n", e.what(), command.c_str());
+    std::fprintf(stderr, "polarcam: error: %s (%s --help lists the options)\n", terminal_text(e.what()).c_str(),
+                 command.c_str());
     return exit_status(ErrorKind::input);
   }
   try {
     return check_stdout(action ? action() : 2);
   } catch (const Error& e) {  // the one place where an error becomes an exit status
     std::cout.flush();
-    std::fprintf(stderr, "polarcam: error: %s\n", e.what());
+    std::fprintf(stderr, "polarcam: error: %s\n", terminal_text(e.what()).c_str());
     return exit_status(e.kind());
   } catch (const std::exception& e) {
     std::cout.flush();
-    std::fprintf(stderr, "polarcam: internal error: %s\n", e.what());
+    std::fprintf(stderr, "polarcam: internal error: %s\n", terminal_text(e.what()).c_str());
     return exit_status(ErrorKind::internal);
   }
 }

@@ -54,4 +54,48 @@ inline std::string xml_escape(std::string_view s) {
   return o;
 }
 
+// Text for one line of a terminal (the error messages, which may quote bytes of a damaged input file): control
+// characters, DEL and bytes that are not part of well-formed UTF-8 written as \xNN, so that a message never moves the
+// cursor, rings, changes the terminal's state or breaks the line; well-formed UTF-8 (units, dashes) kept.
+inline std::string terminal_text(std::string_view s) {
+  static const char* hex = "0123456789abcdef";
+  std::string o;
+  o.reserve(s.size());
+  auto escape = [&](unsigned char b) {
+    o += "\\x";
+    o += hex[b >> 4];
+    o += hex[b & 15];
+  };
+  for (size_t i = 0; i < s.size();) {
+    const unsigned char b = static_cast<unsigned char>(s[i]);
+    if (b >= 0x20 && b < 0x7f) {
+      o += static_cast<char>(b);
+      ++i;
+      continue;
+    }
+    // the length of a well-formed UTF-8 sequence starting here (0: none), RFC 3629's table
+    size_t n = 0;
+    auto cont = [&](size_t k, unsigned char lo = 0x80, unsigned char hi = 0xbf) {
+      if (i + k >= s.size()) return false;
+      const unsigned char c = static_cast<unsigned char>(s[i + k]);
+      return c >= lo && c <= hi;
+    };
+    if (b >= 0xc2 && b <= 0xdf && cont(1)) n = 2;
+    else if (b == 0xe0 && cont(1, 0xa0) && cont(2)) n = 3;
+    else if (((b >= 0xe1 && b <= 0xec) || b == 0xee || b == 0xef) && cont(1) && cont(2)) n = 3;
+    else if (b == 0xed && cont(1, 0x80, 0x9f) && cont(2)) n = 3;
+    else if (b == 0xf0 && cont(1, 0x90) && cont(2) && cont(3)) n = 4;
+    else if (b >= 0xf1 && b <= 0xf3 && cont(1) && cont(2) && cont(3)) n = 4;
+    else if (b == 0xf4 && cont(1, 0x80, 0x8f) && cont(2) && cont(3)) n = 4;
+    if (n == 0) {
+      escape(b);
+      ++i;
+    } else {
+      o.append(s.substr(i, n));
+      i += n;
+    }
+  }
+  return o;
+}
+
 }  // namespace polarcam

@@ -112,4 +112,20 @@ TEST(Share, PlainNumbersNeverInExponentForm) {
   EXPECT_EQ(polarcam::share(2909.92), "2910 times");
 }
 
+// Error messages quote bytes of damaged inputs; on a terminal they must not move the cursor or change its state:
+// control characters, DEL and malformed UTF-8 are escaped, well-formed UTF-8 is kept (found by a sweep of hostile
+// inputs: a .thr of random bytes printed them raw).
+TEST(Format, TerminalTextEscapesControlsAndMalformedUtf8) {
+  EXPECT_EQ(terminal_text("rho 1.5 is outside 0..1"), "rho 1.5 is outside 0..1");
+  EXPECT_EQ(terminal_text("a\x1b[2Jb"), "a\\x1b[2Jb");
+  EXPECT_EQ(terminal_text("line\nnext\r\t\x7f"), "line\\x0anext\\x0d\\x09\\x7f");
+  EXPECT_EQ(terminal_text("5 \xc2\xb5m \xe2\x80\x94 \xf0\x9f\x98\x80"), "5 \xc2\xb5m \xe2\x80\x94 \xf0\x9f\x98\x80");
+  EXPECT_EQ(terminal_text("\xff"), "\\xff");
+  EXPECT_EQ(terminal_text("x\xe2\x80"), "x\\xe2\\x80");          // cut short
+  EXPECT_EQ(terminal_text("\xc0\x80"), "\\xc0\\x80");            // overlong
+  EXPECT_EQ(terminal_text("\xed\xa0\x80"), "\\xed\\xa0\\x80");  // a surrogate
+  EXPECT_EQ(terminal_text("\xf4\x90\x80\x80"), "\\xf4\\x90\\x80\\x80");  // beyond U+10FFFF
+  EXPECT_EQ(terminal_text(std::string_view("a\0b", 3)), "a\\x00b");
+}
+
 }  // namespace tu_cam_test_units

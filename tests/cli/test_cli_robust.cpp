@@ -214,6 +214,22 @@ TEST(CliRobust, DirectoriesAsInputsAreBadInputNamedAsDirectories) {
   expect_one_line_error(run_cli("digitize " + job), "is a directory", 2);
 }
 
+// A damaged file's bytes quoted in an error line reach the terminal escaped: no control character, no malformed
+// UTF-8 (a pattern of random bytes printed them raw).
+TEST(CliRobust, ErrorLinesQuoteDamagedBytesEscaped) {
+  Scratch sc;
+  std::string junk = "\x1b[2J\x07\xff\xfe\x01 0.5\r\n";
+  const std::string file = sc.write("junk.thr", junk);
+  const std::string machine = std::string(POLARCAM_SOURCE_DIR) + "/examples/machines/sand-table.toml";
+  const CliResult r = run_cli("check " + file + " --machine " + machine + " --speed 40mm/s");
+  expect_one_line_error(r, "junk.thr:1", 2);
+  for (size_t i = 0; i + 1 < r.err.size(); ++i) {
+    const unsigned char b = static_cast<unsigned char>(r.err[i]);
+    EXPECT_TRUE(b >= 0x20 && b < 0x7f) << "byte " << static_cast<int>(b) << " at " << i << " of " << r.err;
+  }
+  EXPECT_NE(r.err.find("\\x1b[2J\\x07\\xff\\xfe\\x01"), std::string::npos) << r.err;
+}
+
 // A long digitize (a grid 500 times finer than the examples'), interrupted by `sig` once its temporary tape exists:
 // the process ends by that signal and leaves neither the temporary nor the tape.
 void interrupt_digitize(int sig) {
