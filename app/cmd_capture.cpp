@@ -10,8 +10,8 @@
 #include <sstream>
 
 #include "app/cli.hpp"
-#include "cam/input_file.hpp"
 #include "cam/format.hpp"
+#include "cam/input_file.hpp"
 #include "capture/capture.hpp"
 #include "capture/tape_compare.hpp"
 #include "machine/player/scaling.hpp"

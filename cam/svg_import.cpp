@@ -1,7 +1,6 @@
 // SVG import: the one translation unit that includes svgpp (heavy to compile) and libxml2. svgpp walks the
 // document and parses every attribute; the contexts here keep the current transform, collect each shape's
 // subpaths in user units as exact segments and, when the element ends, map them into metres with y up.
-#include "cam/input_file.hpp"
 #include "cam/svg_import.hpp"
 
 #include <libxml/parser.h>
@@ -21,6 +20,8 @@
 #include <sstream>
 
 #include "cam/error.hpp"
+#include "cam/format.hpp"
+#include "cam/input_file.hpp"
 
 namespace polarcam {
 namespace {
@@ -360,6 +361,18 @@ class ShapeContext : public BaseContext {
       std::vector<CurveSegment> segs;
       segs.reserve(subpaths_[k].segs.size());
       for (const CurveSegment& g : subpaths_[k].segs) segs.push_back(g.transformed(m));
+      // no machine draws a kilometre from its pole: numbers beyond that are a damaged drawing or a wrong unit, and
+      // fitting them onto a table would scale them by a factor that rounds to nothing
+      for (const CurveSegment& g : segs) {
+        double far = 0.0;
+        const Vec2 pts[4] = {g.p[0], g.p[1], g.p[2], g.p[3]}, arc_pts[3] = {g.center, g.ax, g.ay};
+        const bool arc = g.kind == CurveSegment::Kind::arc;
+        for (const Vec2* q = arc ? arc_pts : pts; q != (arc ? arc_pts + 3 : pts + 4); ++q)
+          far = std::max({far, std::abs(q->x), std::abs(q->y)});
+        if (!(far <= 1e3))
+          fail("subpath " + std::to_string(k + 1) + " reaches " + significant(far, 3) +
+               " m once transformed into metres (beyond 1 km): check its numbers, its units and the transforms above it");
+      }
       std::ostringstream label;
       label << "svg " << describe(node_) << " line " << line;
       if (subpaths_.size() > 1) label << " subpath " << k + 1;

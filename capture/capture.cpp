@@ -6,8 +6,8 @@
 #include <cmath>
 #include <fstream>
 
-#include "cam/input_file.hpp"
 #include "cam/error.hpp"
+#include "cam/input_file.hpp"
 #include "capture/csv_levels.hpp"
 #include "capture/vcd.hpp"
 #include "digitizer/tape.hpp"

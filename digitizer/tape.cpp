@@ -12,9 +12,9 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "cam/input_file.hpp"
 #include "cam/error.hpp"
 #include "cam/format.hpp"
+#include "cam/input_file.hpp"
 #include "digitizer/grid.hpp"
 #include "digitizer/speed_profile.hpp"
 

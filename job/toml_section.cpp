@@ -3,8 +3,8 @@
 #include <cmath>
 #include <fstream>
 
-#include "cam/input_file.hpp"
 #include "cam/error.hpp"
+#include "cam/input_file.hpp"
 
 namespace polarcam::jobfile {
 

@@ -415,6 +415,10 @@ TEST(Svg, RefusalsAreOneLineNamingFileLineAndElement) {
       {mm_svg("<use href=\"other.svg#a\"/>"), "test.svg:2", "outside this file"},
       {mm_svg("<g id=\"loop\"><use href=\"#loop\"/></g>"), "test.svg:2", "itself"},
       {mm_svg("<path id=\"empty\"/>"), "test.svg:2", "<path id=\"empty\">: lacks its attribute \"d\""},
+      // numbers no machine draws: named by the element (they were scaled onto the table by a factor that rounded to
+      // nothing, and refused as a singular transform naming no file)
+      {mm_svg("<path id=\"far\" d=\"M 0 0 L 1e300 1e300\"/>"), "test.svg:2", "<path id=\"far\">: subpath 1 reaches 1e+297 m"},
+      {mm_svg("<g transform=\"scale(1e200)\">\n<path d=\"M 0 0 L 1 1\"/></g>"), "test.svg:3", "beyond 1 km"},
   };
   for (const Case& c : cases) {
     InputError e = refusal(c.text);
