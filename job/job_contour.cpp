@@ -19,6 +19,13 @@
 #include "cam/thr_file.hpp"
 
 namespace polarcam::jobfile {
+
+// An angle of a contour (an arc's sweep, the parameter range of a spiral or a polar expression) beyond this is a
+// wrong unit or a damaged number: no contour turns some 16 000 times, and its track would need a piece for every
+// radian or so (it was refused much later, as a path passing too close to the pole).
+constexpr double kMaxContourAngle = 1e5;
+constexpr const char* kTooManyTurns =
+    "is beyond 1e5 rad (about 15 900 turns): no contour turns that often; check the number and its unit (rad, deg)";
 namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
@@ -171,6 +178,7 @@ CurvePtr parse_path(Section& s, nlohmann::ordered_json& prov) {
       try {
         if (sweep) {
           if (ss.has("direction")) ss.fail("direction", "is implied by the sign of 'sweep'");
+          if (!(std::abs(*sweep) <= kMaxContourAngle)) ss.fail("sweep", kTooManyTurns);
           segs.push_back(make_arc_segment(cur, c, *sweep));
         } else {
           std::string dir = ss.string("direction").value_or("ccw");
@@ -321,6 +329,8 @@ CurvePtr parse_contour(Section& s, const std::string& base_dir, nlohmann::ordere
       double t0 = A("t_from", 0.0);
       double t1 = s.require_quantity("t_to", dim::angle);
       prov["t_to_rad"] = t1;
+      for (auto [key, v] : {std::pair{"t_from", t0}, {"t_to", t1}})
+        if (!(std::abs(v) <= kMaxContourAngle)) s.fail(key, kTooManyTurns);
       c = make_spiral(a, bb, t0, t1);
     } else if (kind == "rose") {
       double a = L("a");
@@ -335,7 +345,8 @@ CurvePtr parse_contour(Section& s, const std::string& base_dir, nlohmann::ordere
       } else {
         s.fail("k", "expected a whole number or a ratio such as \"2/3\"");
       }
-      if (p <= 0 || q <= 0 || p > 1000000 || q > 1000000) s.fail("k", "must be a positive ratio of whole numbers");
+      if (p <= 0 || q <= 0 || p > 1000000 || q > 1000000)
+        s.fail("k", "must be a positive ratio of whole numbers, each at most 1000000");
       prov["k_den"] = q;
       prov["k"] = p;
       c = make_rose(a, p, q);
@@ -343,6 +354,8 @@ CurvePtr parse_contour(Section& s, const std::string& base_dir, nlohmann::ordere
       std::string r = s.require_string("r");
       double unit = unit_of(s);
       double t0 = A("t_from", 0.0), t1 = s.quantity("t_to", dim::angle, kTwoPi);
+      for (auto [key, v] : {std::pair{"t_from", t0}, {"t_to", t1}})
+        if (!(std::abs(v) <= kMaxContourAngle)) s.fail(key, kTooManyTurns);
       prov["t_to_rad"] = t1;
       prov["r"] = r;
       prov["unit_m"] = unit;

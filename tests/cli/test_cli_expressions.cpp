@@ -208,6 +208,20 @@ TEST(CliExpressions, AContourWithoutLengthIsRefused) {
   }
 }
 
+// A contour that would turn some sixteen thousand times or more is a wrong unit or a damaged number: refused by the
+// key at once (a spiral to 1e12 rad was refused much later as a path too close to the pole), and a rose's ratio
+// beyond its limit says the limit (found by a sweep of hostile inputs).
+TEST(CliExpressions, ContoursThatTurnTooOftenAreRefusedByTheirKey) {
+  Scratch sc;
+  expect_bad_job(sc, "digitize", "-o", "tape", job("kind = \"polar\"\nr = \"3\"\nunit = \"cm\"\nt_to = \"1e6 rad\"\n"),
+                 "", "key 'contour.t_to': is beyond 1e5 rad");
+  expect_bad_job(sc, "digitize", "-o", "tape",
+                 job("kind = \"spiral\"\na = \"5 mm\"\npitch = \"0.3 mm\"\nt_to = \"1e12 rad\"\n", "0 cm"), "",
+                 "key 'contour.t_to': is beyond 1e5 rad");
+  expect_bad_job(sc, "digitize", "-o", "tape", job("kind = \"rose\"\na = \"3 cm\"\nk = \"1000001/999999\"\n", "0 cm"), "",
+                 "each at most 1000000");
+}
+
 }  // namespace
 
 }  // namespace tu_cli_test_cli_expressions
