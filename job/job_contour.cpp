@@ -175,10 +175,10 @@ CurvePtr parse_path(Section& s, nlohmann::ordered_json& prov) {
       auto sweep = ss.quantity("sweep", dim::angle);
       auto to = ss.point("to");
       if (sweep.has_value() == to.has_value()) ss.fail_section("an arc needs either 'to' (with 'direction') or 'sweep'");
+      if (sweep && !(std::abs(*sweep) <= kMaxContourAngle)) ss.fail("sweep", kTooManyTurns);
       try {
         if (sweep) {
           if (ss.has("direction")) ss.fail("direction", "is implied by the sign of 'sweep'");
-          if (!(std::abs(*sweep) <= kMaxContourAngle)) ss.fail("sweep", kTooManyTurns);
           segs.push_back(make_arc_segment(cur, c, *sweep));
         } else {
           std::string dir = ss.string("direction").value_or("ccw");

@@ -220,6 +220,11 @@ TEST(CliExpressions, ContoursThatTurnTooOftenAreRefusedByTheirKey) {
                  "key 'contour.t_to': is beyond 1e5 rad");
   expect_bad_job(sc, "digitize", "-o", "tape", job("kind = \"rose\"\na = \"3 cm\"\nk = \"1000001/999999\"\n", "0 cm"), "",
                  "each at most 1000000");
+  const CliResult arc = run_cli("digitize " + sc.write("arc.toml", job("kind = \"path\"\nstart = [\"30 mm\", \"0 mm\"]\n"
+                                                                      "[[contour.segments]]\nkind = \"arc\"\n"
+                                                                      "center = [\"0 mm\", \"0 mm\"]\nsweep = \"1e9 rad\"\n",
+                                                                      "0 cm")));
+  expect_one_line_error(arc, "arc.toml:12: key 'contour.segments[1].sweep': is beyond 1e5 rad", 2);
 }
 
 }  // namespace
