@@ -361,9 +361,7 @@ void register_capture(CLI::App& app, Action& action) {
       if (!o->out.empty()) check_output_path(o->out);
       CaptureFormat format;
       {
-        refuse_directory(o->file);
-        std::ifstream in(o->file, std::ios::binary);
-        if (!in) throw InputError("cannot be read: give a VCD or CSV file of the encoder levels", o->file);
+        std::ifstream in = open_input_file(o->file, "cannot be read: give a VCD or CSV file of the encoder levels");
         format = capture_format(o->format, o->file, in);
       }
       const CaptureResult r = capture_to_tape(o->file, format, co, o->out, prov,

@@ -426,11 +426,7 @@ PathSegment reversed(PathSegment s) {
 }  // namespace
 
 DxfPath read_dxf_path(const std::string& path, const DxfOptions& opt) {
-  {
-    refuse_directory(path);
-    std::ifstream probe(path);
-    if (!probe) throw InputError("cannot open the DXF file", path);
-  }
+  open_input_file(path, "cannot open the DXF file");  // a probe: dxflib opens the file itself
   prevalidate(path);
   Collector col(opt);
   DL_Dxf dxf;

@@ -281,9 +281,7 @@ GrayImage parse_image(const std::string& bytes, const std::string& place) {
 }
 
 GrayImage read_image(const std::string& path) {
-  refuse_directory(path);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("cannot open the image", path);
+  std::ifstream in = open_input_file(path, "cannot open the image");
   std::ostringstream ss;
   ss << in.rdbuf();
   if (in.bad()) throw DeviceError("cannot read the image", path);

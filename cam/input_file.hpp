@@ -20,10 +20,18 @@ inline void refuse_directory(const std::string& path) {
   if (std::filesystem::is_directory(path, ec)) throw InputError("is a directory: give the path of a file in it", path);
 }
 
-inline std::string read_input_file(const std::string& path) {
+// An input file opened for reading (binary: on POSIX the same bytes as text mode): a directory refused as one, a
+// file that cannot be opened with `cannot` naming it. Every reader of an input file by its name opens it here, so none
+// forgets the directory.
+inline std::ifstream open_input_file(const std::string& path, const std::string& cannot) {
   refuse_directory(path);
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("cannot open the file", path);
+  if (!in) throw InputError(cannot, path);
+  return in;
+}
+
+inline std::string read_input_file(const std::string& path) {
+  std::ifstream in = open_input_file(path, "cannot open the file");
   std::ostringstream ss;
   ss << in.rdbuf();
   if (in.bad()) throw InputError("cannot read the file", path);

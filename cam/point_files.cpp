@@ -43,9 +43,7 @@ bool parse_numbers(const std::string& line, std::vector<double>& out) {
 
 template <class F>
 std::vector<Vec2> read_pairs(const std::string& path, const char* kind, F convert) {
-  refuse_directory(path);
-  std::ifstream in(path);
-  if (!in) throw InputError("cannot open the " + std::string(kind) + " file", path);
+  std::ifstream in = open_input_file(path, "cannot open the " + std::string(kind) + " file");
   std::vector<Vec2> pts;
   std::vector<double> nums;
   std::string line;

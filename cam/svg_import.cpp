@@ -363,12 +363,11 @@ class ShapeContext : public BaseContext {
       for (const CurveSegment& g : subpaths_[k].segs) segs.push_back(g.transformed(m));
       // no machine draws a kilometre from its pole: numbers beyond that are a damaged drawing or a wrong unit, and
       // fitting them onto a table would scale them by a factor that rounds to nothing
+      auto reach = [](Vec2 q) { return std::max(std::abs(q.x), std::abs(q.y)); };
       for (const CurveSegment& g : segs) {
-        double far = 0.0;
-        const Vec2 pts[4] = {g.p[0], g.p[1], g.p[2], g.p[3]}, arc_pts[3] = {g.center, g.ax, g.ay};
-        const bool arc = g.kind == CurveSegment::Kind::arc;
-        for (const Vec2* q = arc ? arc_pts : pts; q != (arc ? arc_pts + 3 : pts + 4); ++q)
-          far = std::max({far, std::abs(q->x), std::abs(q->y)});
+        const double far = g.kind == CurveSegment::Kind::arc
+                               ? std::max({reach(g.center), reach(g.ax), reach(g.ay)})
+                               : std::max({reach(g.p[0]), reach(g.p[1]), reach(g.p[2]), reach(g.p[3])});
         if (!(far <= 1e3))
           fail("subpath " + std::to_string(k + 1) + " reaches " + significant(far, 3) +
                " m once transformed into metres (beyond 1 km): check its numbers, its units and the transforms above it");
@@ -576,9 +575,7 @@ SvgDrawing parse_svg(const std::string& text, const std::string& place) {
 }
 
 SvgDrawing read_svg(const std::string& path) {
-  refuse_directory(path);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("cannot open the SVG drawing", path);
+  std::ifstream in = open_input_file(path, "cannot open the SVG drawing");
   std::ostringstream ss;
   ss << in.rdbuf();
   if (in.bad()) throw DeviceError("cannot read the SVG drawing", path);

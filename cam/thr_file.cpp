@@ -76,9 +76,7 @@ ThrPattern parse_thr(std::istream& in, const std::string& place) {
 }
 
 ThrPattern read_thr(const std::string& path) {
-  refuse_directory(path);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("cannot open the theta-rho file", path);
+  std::ifstream in = open_input_file(path, "cannot open the theta-rho file");
   return parse_thr(in, path);
 }
 

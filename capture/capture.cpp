@@ -429,9 +429,7 @@ CaptureResult capture_to_tape(const std::string& file, CaptureFormat format, con
                               const std::string& generator, StepSink* also) {
   check_options(o);
   if (!(o.grid.dr > 0) || !(o.grid.dtheta > 0)) throw InputError("the machine's grid has no resolutions", "machine");
-  refuse_directory(file);
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError("cannot be read: give a VCD or CSV file of the encoder levels", file);
+  std::ifstream in = open_input_file(file, "cannot be read: give a VCD or CSV file of the encoder levels");
   std::vector<std::string> matched;
   std::unique_ptr<LevelSource> src = make_reader(in, file, format, o, matched);
   std::unique_ptr<TapeWriter> writer;

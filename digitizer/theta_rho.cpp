@@ -137,13 +137,14 @@ struct ArcSum {
 
 // A pattern that ends where it starts in the plane ends on its start node only when the arm comes back too: at the
 // centre (rho 0) the ball is in the same place whatever theta, but an arm that turned by other than whole turns
-// ends on another angular node, and the tape is not periodic (an open path, for the motors).
+// ends on another angular node, and the tape is not periodic (an open path, for the motors). Sets the track's
+// closed flag and its winding (the whole turns the arm made; 0 for an open path).
 namespace {
-bool closed_for_the_axes(const ThetaRhoPath& path) {
-  if (!path.closed()) return false;
+void close_for_the_axes(const ThetaRhoPath& path, bool& closed, int& winding) {
   const auto& v = path.vertices();
   const double turns = (v.back().theta - v.front().theta) / PolarMap::kTwoPi;
-  return std::abs(turns - std::nearbyint(turns)) * PolarMap::kTwoPi <= 1e-9;
+  closed = path.closed() && std::abs(turns - std::nearbyint(turns)) * PolarMap::kTwoPi <= 1e-9;
+  winding = closed ? static_cast<int>(std::nearbyint(turns)) : 0;
 }
 }  // namespace
 
@@ -155,10 +156,9 @@ struct PolylineTrackFill {
     tr.pieces_.clear();
     tr.extrema_.clear();
     tr.turns_.clear();
-    tr.closed_ = closed_for_the_axes(path);
+    close_for_the_axes(path, tr.closed_, tr.winding_);
     tr.pieces_.reserve(v.size() - 1);  // one piece a segment as a rule
     polyline_pieces(path, c, r_floor, [&](const TrackPiece& pc, size_t, double, double) { tr.pieces_.push_back(pc); });
-    if (tr.closed_) tr.winding_ = static_cast<int>(std::nearbyint((v.back().theta - v.front().theta) / PolarMap::kTwoPi));
     tr.finish();
   }
 };
@@ -167,8 +167,7 @@ PolylineTrack::PolylineTrack(const ThetaRhoPath& path, double c, double r_floor)
   if (!std::isfinite(c)) throw InputError("the arm's coupling must be a finite length per radian");
   check_timing_radius(r_floor);
   const auto& v = path.vertices();
-  closed_ = closed_for_the_axes(path);
-  if (closed_) winding_ = static_cast<int>(std::nearbyint((v.back().theta - v.front().theta) / PolarMap::kTwoPi));
+  close_for_the_axes(path, closed_, winding_);
   // the ranges as AxisTrack::finish finds them: the start of every piece, then the end of the last (the pieces
   // are linear in both coordinates: no interior extrema); rho is the polar track's q0
   for (int a = 0; a < 2; ++a) {

@@ -24,8 +24,11 @@ namespace polarcam::jobfile {
 // wrong unit or a damaged number: no contour turns some 16 000 times, and its track would need a piece for every
 // radian or so (it was refused much later, as a path passing too close to the pole).
 constexpr double kMaxContourAngle = 1e5;
-constexpr const char* kTooManyTurns =
-    "is beyond 1e5 rad (about 15 900 turns): no contour turns that often; check the number and its unit (rad, deg)";
+void refuse_too_many_turns(const Section& s, const char* key, double angle) {
+  if (!(std::abs(angle) <= kMaxContourAngle))
+    s.fail(key, "is beyond 1e5 rad (about 15 900 turns): no contour turns that often; check the number and its unit "
+                "(rad, deg)");
+}
 namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
@@ -175,7 +178,7 @@ CurvePtr parse_path(Section& s, nlohmann::ordered_json& prov) {
       auto sweep = ss.quantity("sweep", dim::angle);
       auto to = ss.point("to");
       if (sweep.has_value() == to.has_value()) ss.fail_section("an arc needs either 'to' (with 'direction') or 'sweep'");
-      if (sweep && !(std::abs(*sweep) <= kMaxContourAngle)) ss.fail("sweep", kTooManyTurns);
+      if (sweep) refuse_too_many_turns(ss, "sweep", *sweep);
       try {
         if (sweep) {
           if (ss.has("direction")) ss.fail("direction", "is implied by the sign of 'sweep'");
@@ -329,8 +332,8 @@ CurvePtr parse_contour(Section& s, const std::string& base_dir, nlohmann::ordere
       double t0 = A("t_from", 0.0);
       double t1 = s.require_quantity("t_to", dim::angle);
       prov["t_to_rad"] = t1;
-      for (auto [key, v] : {std::pair{"t_from", t0}, {"t_to", t1}})
-        if (!(std::abs(v) <= kMaxContourAngle)) s.fail(key, kTooManyTurns);
+      refuse_too_many_turns(s, "t_from", t0);
+      refuse_too_many_turns(s, "t_to", t1);
       c = make_spiral(a, bb, t0, t1);
     } else if (kind == "rose") {
       double a = L("a");
@@ -354,8 +357,8 @@ CurvePtr parse_contour(Section& s, const std::string& base_dir, nlohmann::ordere
       std::string r = s.require_string("r");
       double unit = unit_of(s);
       double t0 = A("t_from", 0.0), t1 = s.quantity("t_to", dim::angle, kTwoPi);
-      for (auto [key, v] : {std::pair{"t_from", t0}, {"t_to", t1}})
-        if (!(std::abs(v) <= kMaxContourAngle)) s.fail(key, kTooManyTurns);
+      refuse_too_many_turns(s, "t_from", t0);
+      refuse_too_many_turns(s, "t_to", t1);
       prov["t_to_rad"] = t1;
       prov["r"] = r;
       prov["unit_m"] = unit;

@@ -177,9 +177,7 @@ void Section::finish() const {
 }
 
 toml::table parse_toml_file(const std::string& path) {
-  refuse_directory(path);
-  std::ifstream probe(path);
-  if (!probe) throw InputError("cannot open the file", path);
+  open_input_file(path, "cannot open the file");  // a probe: toml++ opens the file itself
   try {
     return toml::parse_file(path);
   } catch (const toml::parse_error& e) {

@@ -479,23 +479,18 @@ bool StairAreaMeter::nearest_node(double f, int64_t& n) const {
 }
 
 const std::vector<double>& StairAreaMeter::half_levels(const Span& s) {
-  // the half levels l0 + dl i from l0 while l <= gb going up (l > gb going down): exact half-integers, counted
-  // first, then written with no chain of additions
+  // the half levels l0 + dl i while l <= gb going up (l > gb going down): exact half-integers, each formed from the
+  // count i, not from the level before (no chain of additions)
   auto& L = imp_.L;
   L.clear();
   if (walk_.dir == 0) return L;
   const double dl = walk_.dir > 0 ? 1.0 : -1.0;
   const double l0 = std::floor(s.ga + 0.5 * dl) + 0.5;
-  auto inside = [&](double l) { return walk_.dir > 0 ? l <= s.gb : l > s.gb; };
-  if (!inside(l0)) return L;
-  double est = std::floor(std::abs(s.gb - l0));
-  if (!(est < 1e15)) throw std::logic_error("internal error: a stretch of the area walk spans too many levels");
-  while (est > 0.0 && !inside(l0 + dl * est)) est -= 1.0;
-  while (inside(l0 + dl * (est + 1.0))) est += 1.0;
-  const size_t n = static_cast<size_t>(est) + 1;
-  L.resize(n);
-  double* Lp = L.data();
-  for (size_t i = 0; i < n; ++i) Lp[i] = l0 + dl * static_cast<double>(i);
+  for (size_t i = 0;; ++i) {
+    const double l = l0 + dl * static_cast<double>(i);
+    if (!(walk_.dir > 0 ? l <= s.gb : l > s.gb)) break;
+    L.push_back(l);
+  }
   return L;
 }
 
