@@ -404,10 +404,12 @@ bool StairAreaMeter::walk_fit(const Span& s) {
   // sum).
   struct Column {
     uint32_t key;
-    double rho, A0, A1;
+    double k, A0, A1;
   };
   Column xc[area_roots::FitCrossings::kMax];
   area_roots::FitCrossings xf;
+  xf.width = grid_.width;
+  const bool polar = grid_.geo == sweep::Geometry::polar;
   area_roots::FitCrossingSeries<area_roots::Lane4> fit4;
   area_roots::FitCrossingSeries<Lane2> fit2;
   size_t nx = 0;
@@ -429,7 +431,7 @@ bool StairAreaMeter::walk_fit(const Span& s) {
       // rounding (some 1e-16 rad of an angle of several radians) would be a large part of a step's width
       const double dz = xf.z1[q] - xf.z0[q];
       const double l = dz != 0.0 ? l0 + ((xf.z[q] - xf.z0[q]) / dz) * (l1 - l0) : 0.5;
-      imp_.part[x.key] = two_sides(x.A0, x.A1, level_factor(p.h_a, x.rho), l0, l1, l, ab + xf.a[q]);
+      imp_.part[x.key] = two_sides(x.A0, x.A1, x.k, l0, l1, l, ab + xf.a[q]);
     }
     nx = 0;
   };
@@ -441,18 +443,30 @@ bool StairAreaMeter::walk_fit(const Span& s) {
   if (!(avx ? area_roots::nearest_levels_avx : area_roots::nearest_levels)(hl.data() + k0, cnt - 1, inv,
                                                                           imp_.margin, dr, levels.data()))
     imp_.failed = true;
+  // the fit of the radius at the columns' half levels
+  const double* rh = w.r[3].data() + k0;
   for (size_t i = 0; i + 1 < cnt; ++i) {
     // the column from edge i to edge i + 1: their radii and Astar
     const double ha = p.h_a + (hb + r1[i]), hb1 = p.h_a + (hb + r1[i + 1]), Aa = ab + r2[i], Ab = ab + r2[i + 1];
     const double rho = levels[i];
     const uint32_t key_j = key(column(i));
+    const double k = level_factor(p.h_a, rho);
     if (crosses(ha, hb1, rho)) {
       xf.z0[nx] = ez[i], xf.z1[nx] = ez[i + 1], xf.h0[nx] = r1[i], xf.h1[nx] = r1[i + 1];
+      // the four values of the column's cubic: its edges and half level with the next column's half level, or the
+      // column before's with the last column
+      if (i + 2 < cnt)
+        xf.v[0][nx] = r1[i], xf.v[1][nx] = rh[i], xf.v[2][nx] = r1[i + 1], xf.v[3][nx] = rh[i + 1], xf.ua[nx] = 0.0;
+      else
+        xf.v[0][nx] = rh[i - 1], xf.v[1][nx] = r1[i], xf.v[2][nx] = rh[i], xf.v[3][nx] = r1[i + 1], xf.ua[nx] = 1.0;
       xf.y[nx] = (rho - p.h_a) - hb;
-      xc[nx] = Column{key_j, rho, Aa, Ab};
+      // the crossing's budget (FitCrossings): a thousandth of a unit in the last place of the part's values
+      xf.hf[nx] = polar ? std::max(std::abs(ha), std::abs(hb1)) : 1.0;
+      xf.bud[nx] = 0x1p-62 * std::max({std::abs(Aa), std::abs(Ab), std::abs(k)});
+      xc[nx] = Column{key_j, k, Aa, Ab};
       if (++nx == area_roots::FitCrossings::kMax) crossings();
     } else {
-      imp_.part[key_j] = one_side(Aa, Ab, level_factor(p.h_a, rho), l1 - l0);
+      imp_.part[key_j] = one_side(Aa, Ab, k, l1 - l0);
     }
   }
   crossings();
@@ -486,11 +500,19 @@ const std::vector<double>& StairAreaMeter::half_levels(const Span& s) {
   if (walk_.dir == 0) return L;
   const double dl = walk_.dir > 0 ? 1.0 : -1.0;
   const double l0 = std::floor(s.ga + 0.5 * dl) + 0.5;
-  for (size_t i = 0;; ++i) {
+  auto inside = [&](size_t i) {
     const double l = l0 + dl * static_cast<double>(i);
-    if (!(walk_.dir > 0 ? l <= s.gb : l > s.gb)) break;
-    L.push_back(l);
-  }
+    return walk_.dir > 0 ? l <= s.gb : l > s.gb;
+  };
+  // the count: from the distance to gb, then the levels at its ends checked themselves (the first outside, the last
+  // inside), so that it does not rest on the rounding of the distance
+  const double span = walk_.dir > 0 ? s.gb - l0 : l0 - s.gb;
+  size_t n = span >= 0.0 && span < 1e15 ? static_cast<size_t>(span) + 1 : 0;
+  while (n > 0 && !inside(n - 1)) --n;
+  while (inside(n)) ++n;
+  L.resize(n);
+  double* out = L.data();
+  for (size_t i = 0; i < n; ++i) out[i] = l0 + dl * static_cast<double>(i);
   return L;
 }
 

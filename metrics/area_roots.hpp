@@ -3,6 +3,7 @@
 // radius and the swept area together, and the level crossings of a series, safeguarded Newton on a bracket.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "digitizer/chebyshev.hpp"
 #include "digitizer/level_crossing.hpp"
@@ -373,11 +374,34 @@ template <class V>
 struct FitCrossingSeries {
   int n = 0, na = 0;
   V h[kChebMaxDegree + 1], a[kChebMaxDegree + 1];
+  V m4;   // a bound on |H''''| on [-1, 1] (fourth_derivative_bound)
+  V eps;  // a bound on the rounding of H's values as evaluated (clenshaw_bound), doubled
 };
+// A bound on the fourth derivative of the series H on [-1, 1]: |T_k''''| is largest at the ends, where it is
+// k^2 (k^2 - 1) (k^2 - 4) (k^2 - 9) / 105 (the Chebyshev polynomials' derivatives at 1, where Markov's inequality
+// is an equality).
+inline double fourth_derivative_bound(const Cheb& H) {
+  double m = 0.0;
+  for (int k = 4; k <= H.deg; ++k) {
+    const double kk = static_cast<double>(k) * k;
+    m += std::abs(H.c[static_cast<size_t>(k)]) * (kk * (kk - 1.0) * (kk - 4.0) * (kk - 9.0) / 105.0);
+  }
+  return m;
+}
+// A bound on the rounding of Clenshaw's recurrence for the series H at a point of [-1, 1]: (n + 1)^2 units of
+// rounding of the sum of |c_k| (the recurrence's error grows at most as the square of the degree).
+inline double clenshaw_bound(const Cheb& H) {
+  double m = 0.0;
+  for (int k = 0; k <= H.deg; ++k) m += std::abs(H.c[static_cast<size_t>(k)]);
+  const double n1 = static_cast<double>(H.deg) + 1.0;
+  return n1 * n1 * 0x1p-52 * m;
+}
 template <class V>
 inline void prepare_fit_crossings(FitCrossingSeries<V>& s, const Cheb& H, const Cheb& A) {
   s.n = H.deg;
   s.na = A.deg;
+  s.m4 = V{} + fourth_derivative_bound(H);
+  s.eps = V{} + 2.0 * clenshaw_bound(H);
   for (int k = 0; k <= H.deg; ++k)
     for (size_t q = 0; q < sizeof(V) / sizeof(double); ++q) s.h[k][q] = H.c[static_cast<size_t>(k)];
   for (int k = 0; k <= A.deg; ++k)
@@ -390,10 +414,28 @@ inline void prepare_fit_crossings(FitCrossingSeries<V>& s, const Cheb& H, const 
 // state (a bracketing interval, Newton's step where it stays inside, halving otherwise; done once the error left
 // after a step, |H''/(2 H')| dz^2, is below 1e-12, or the interval is below 1e-15): the processor cannot guess which
 // way a lane goes. Out: z[q], the crossing, and a[q], the fit of Astar there.
+// Before the search, each column's crossing is taken from the cubic through four values of the fit at steps of
+// half a column (v: its two edges, its half level and the next column's, u = 0, 1, 2, 3 with the column from
+// u = 0 to 2; or the column before's half level, its edges and its own, the column from u = 1 to 3: ua[q]), with
+// one Newton step on that cubic from the chord. It is kept where it is certified. With M4 the bound on |H''''|
+// and w = |z1 - z0|, the cubic is within M4 w^4 / 384 of H on the column (the node polynomial is at most (w/2)^4
+// there, divided by 4!), plus the rounding of the four values (eps) and of the nodes' places (half levels formed
+// from their own levels: a few units in the last place of z); its derivative is within 3.375 M4 w^3 of H's (Rolle's
+// theorem three times over the nodes' span of 1.5 w). Where the derivative keeps its sign with a margin m1 > 0 on
+// the column, the crossing is within dz = (those errors + |p(u) - y|) / m1 of H's. A crossing misplaced by dz moves
+// the column's part by at most |f'| dz^2, f the part's integrand; with f' = hf[q] width H' / w in the fit's
+// variable (hf: the largest radius of the column in the polar geometry, 1 in the Cartesian one; width: the abscissa
+// per column), the crossing is kept where that is at most bud[q] (the walk's budget: a thousandth of a unit in the
+// last place of the values the part is formed from). The columns where it is not, and those whose radius turns,
+// are searched as before (searched counts them).
 struct FitCrossings {
   static constexpr int kMax = 16;
   alignas(32) double z0[kMax], z1[kMax], h0[kMax], h1[kMax], y[kMax], z[kMax], a[kMax];
+  alignas(32) double v[4][kMax], ua[kMax], hf[kMax], bud[kMax];
+  double width = 0.0;
   int n = 0;
+  int searched = 0;        // the columns of the last batch whose crossings were searched
+  uint32_t searched_q = 0;  // which: bit q for column q
 };
 // The lanes' masks: a comparison of two vectors of doubles gives one of 64-bit integers, all ones where true.
 typedef long long Mask2 __attribute__((vector_size(16)));
@@ -462,13 +504,88 @@ __attribute__((always_inline)) inline void fit_search_lanes(const FitCrossingSer
   }
   for (int v = 0; v < NV; ++v) __builtin_memcpy(x.z + W * (v0 + v), &t[v], sizeof(V));
 }
-// The search on pairs of vectors (more side by side would not fit the processor's registers), then Astar's fit at
-// the crossings on all NV vectors side by side (clenshaw_vectors).
+// The crossings from the columns' cubics (FitCrossings), on NV vectors of W lanes: each lane's own operations, the
+// crossing into zq and whether it is certified into ok.
+template <class V, int W, int NV>
+__attribute__((always_inline)) inline void fit_interpolate_lanes(const FitCrossingSeries<V>& s, const FitCrossings& x,
+                                                                 V* zq, typename MaskOf<V>::type* ok) {
+  typedef typename MaskOf<V>::type M;
+  const M sign = (M)(-V{});
+  const V half = V{} + 0.5, one = V{} + 1.0, two = V{} + 2.0, sixth = V{} + 1.0 / 6.0;
+  const V wd = V{} + x.width;
+  for (int v = 0; v < NV; ++v) {
+    V z0, z1, h0, h1, y, hf, bud, ua, v0, v1, v2, v3;
+    __builtin_memcpy(&z0, x.z0 + W * v, sizeof(V));
+    __builtin_memcpy(&z1, x.z1 + W * v, sizeof(V));
+    __builtin_memcpy(&h0, x.h0 + W * v, sizeof(V));
+    __builtin_memcpy(&h1, x.h1 + W * v, sizeof(V));
+    __builtin_memcpy(&y, x.y + W * v, sizeof(V));
+    __builtin_memcpy(&hf, x.hf + W * v, sizeof(V));
+    __builtin_memcpy(&bud, x.bud + W * v, sizeof(V));
+    __builtin_memcpy(&ua, x.ua + W * v, sizeof(V));
+    __builtin_memcpy(&v0, x.v[0] + W * v, sizeof(V));
+    __builtin_memcpy(&v1, x.v[1] + W * v, sizeof(V));
+    __builtin_memcpy(&v2, x.v[2] + W * v, sizeof(V));
+    __builtin_memcpy(&v3, x.v[3] + W * v, sizeof(V));
+    // Newton's form on the nodes u = 0, 1, 2, 3: p(u) = v0 + u (d1 + (u - 1) (d2 / 2 + (u - 2) d3 / 6))
+    const V e1 = v1 - v0, e2 = v2 - v1, d1 = e1, d2 = e2 - e1, d3 = ((v3 - v2) - e2) - d2;
+    const V c2 = half * d2, c3 = sixth * d3;
+    // (p'(u) = d1 + d2 (u - 1/2) + d3 (u^2 - 2u + 2/3) / 2; macros, as a lambda returning a vector would be compiled
+    // without AVX)
+#define POLARCAM_P(u) (v0 + (u) * (d1 + ((u)-one) * (c2 + ((u)-two) * c3)))
+#define POLARCAM_DP(u) ((d1 + d2 * ((u)-half)) + c3 * (((V{} + 3.0) * (u) - (V{} + 6.0)) * (u) + two))
+    const V ub = ua + two;
+    V u = ua + two * ((y - h0) / (h1 - h0));  // the chord's crossing
+    u = u - (POLARCAM_P(u) - y) / POLARCAM_DP(u);
+    const V res = POLARCAM_ABS(POLARCAM_P(u) - y);
+#undef POLARCAM_P
+#undef POLARCAM_DP
+    // the derivative on the column: its part linear in u at the ends, less a bound on the rest (|u^2 - 2u + 2/3|
+    // is at most 11/3 on [0, 3])
+    const V la = d1 + d2 * (ua - half), lb = d1 + d2 * (ub - half), ala = POLARCAM_ABS(la), alb = POLARCAM_ABS(lb);
+    const V rest = (V{} + 11.0 / 6.0) * POLARCAM_ABS(d3);
+    const M lt = ala < alb;
+    const V aw = POLARCAM_ABS(z1 - z0), per_z = two / aw, aw3 = aw * aw * aw;
+    const V dh = (V{} + 3.375) * s.m4 * aw3;  // H' less the cubic's
+    const V m1 = (POLARCAM_PICK(lt, ala, alb) - rest) * per_z - dh, mx = (POLARCAM_PICK(lt, alb, ala) + rest) * per_z + dh;
+    const V err = (V{} + 1.0 / 384.0) * s.m4 * (aw3 * aw) + s.eps + (V{} + 0x1p-49) * mx + res;
+    const M inside = (u > ua) & (u < ub);
+    ok[v] = ((la > V{}) == (lb > V{})) & (m1 > V{}) & inside &
+            ((hf * (wd * mx)) * (err * err) <= (bud * aw) * (m1 * m1));
+    zq[v] = z0 + (u - ua) * (half * (z1 - z0));
+  }
+}
+// The cubics' crossings where certified (fit_interpolate_lanes); if a lane of the batch is not, the search on
+// pairs of vectors (more side by side would not fit the processor's registers) for the batch, each lane then taking
+// its own: a lane's crossing depends on its column alone. Then Astar's fit at the crossings on all NV vectors side
+// by side (clenshaw_vectors).
 template <class V, int W, int NV>
 __attribute__((always_inline)) inline void fit_crossings_lanes(const FitCrossingSeries<V>& s, FitCrossings& x) {
-  int v = 0;
-  for (; v + 2 <= NV; v += 2) fit_search_lanes<V, W, 2>(s, x, v);
-  if (v < NV) fit_search_lanes<V, W, 1>(s, x, v);
+  typedef typename MaskOf<V>::type M;
+  V zq[NV];
+  M ok[NV];
+  fit_interpolate_lanes<V, W, NV>(s, x, zq, ok);
+  int searched = 0;
+  uint32_t which = 0;
+  for (int v = 0; v < NV; ++v)
+    for (int q = 0; q < W; ++q) {
+      const bool s_q = (ok[v][q] == 0) & (W * v + q < x.n);
+      searched += s_q;
+      which |= static_cast<uint32_t>(s_q) << (W * v + q);
+    }
+  x.searched = searched;
+  x.searched_q = which;
+  if (searched > 0) {
+    int v = 0;
+    for (; v + 2 <= NV; v += 2) fit_search_lanes<V, W, 2>(s, x, v);
+    if (v < NV) fit_search_lanes<V, W, 1>(s, x, v);
+    for (v = 0; v < NV; ++v) {
+      V zs;
+      __builtin_memcpy(&zs, x.z + W * v, sizeof(V));
+      zq[v] = POLARCAM_PICK(ok[v], zq[v], zs);
+    }
+  }
+  for (int v = 0; v < NV; ++v) __builtin_memcpy(x.z + W * v, &zq[v], sizeof(V));
   clenshaw_vectors<V, W, NV>(s.a, s.na, x.z, x.a);
 }
 #undef POLARCAM_PICK
@@ -480,7 +597,8 @@ inline void pad_crossings(FitCrossings& x, int W) {
   const int end = (x.n + W - 1) / W * W;
   for (int q = x.n; q < end; ++q) {
     x.z0[q] = x.z0[x.n - 1], x.z1[q] = x.z1[x.n - 1], x.h0[q] = x.h0[x.n - 1], x.h1[q] = x.h1[x.n - 1];
-    x.y[q] = x.y[x.n - 1];
+    x.y[q] = x.y[x.n - 1], x.ua[q] = x.ua[x.n - 1], x.hf[q] = x.hf[x.n - 1], x.bud[q] = x.bud[x.n - 1];
+    for (int k = 0; k < 4; ++k) x.v[k][q] = x.v[k][x.n - 1];
   }
 }
 

@@ -272,10 +272,11 @@ TEST(AreaError, FitSamplesFourAtATimeAreBitForBitTheSeries) {
   EXPECT_GT(checked, 1000);
 }
 
-// The crossings of the dense walk's columns on its fits (fit_crossings): each is the root of the radius's fit in
-// its column to within 2e-12 in z (the search stops once its estimate of the error left is below 1e-12; an error
-// dz moves the area by a term in dz^2), Astar's fit is evaluated there, and the values are the same bytes on
-// vectors of two lanes and of four, in batches of one to sixteen columns, and for a column alone.
+// The crossings of the dense walk's columns on its fits (fit_crossings), searched (a budget of zero: no cubic's
+// crossing is kept): each is the root of the radius's fit in its column to within 2e-12 in z (the search stops
+// once its estimate of the error left is below 1e-12; an error dz moves the area by a term in dz^2), Astar's fit is
+// evaluated there, and the values are the same bytes on vectors of two lanes and of four, in batches of one to
+// sixteen columns, and for a column alone.
 TEST(AreaError, FitCrossingsAreTheRootsOnTwoOrFourLanes) {
   using namespace polarcam::area_roots;
   RandomSeries rs{4242};
@@ -334,6 +335,104 @@ TEST(AreaError, FitCrossingsAreTheRootsOnTwoOrFourLanes) {
     }
   }
   EXPECT_GT(checked, 1000);
+}
+
+// The crossings taken from the columns' cubics (fit_crossings with a budget): where a column's crossing is kept
+// from its cubic (not searched), the part's integrand f moved by the misplacement, at most max |f'| dz^2 over the
+// column with f' = hf width H' / w, is within the column's budget; max |H'| is found here by sampling H' at 257
+// points of the column and the root by bisection on H, not from the bounds fit_crossings uses. Where it is
+// searched, the root is within 2e-12 as above. Narrow columns (as the walk's, a few thousandths of the fit's
+// variable) with a budget are nearly all kept; wide ones or no budget are searched. Every crossing is the same
+// bytes alone, in a batch, on two lanes or four.
+TEST(AreaError, FitCrossingsFromCubicsAreWithinTheirBudget) {
+  using namespace polarcam::area_roots;
+  RandomSeries rs{777};
+  int kept = 0, searched = 0, kept_narrow = 0, narrow = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const Cheb H = rs.series(1 + trial % kChebMaxDegree, trial % 2 ? -1.5 : 2.0);  // monotone: |H'| >= 0.5
+    const Cheb dH = H.derivative();
+    const Cheb A = rs.series(trial % (kChebMaxDegree + 1), 0.7);
+    FitCrossings x2{}, x4;
+    x2.width = 1e-3 * (1.0 + 0.5 * rs.uniform());
+    double want[FitCrossings::kMax], slope[FitCrossings::kMax];
+    const int n = 1 + trial % FitCrossings::kMax;
+    for (int q = 0; q < n; ++q) {
+      const bool wide = (trial + q) % 5 == 0;
+      const double w = wide ? 0.05 : 1e-3 * (2.0 + rs.uniform());  // the column's width in z
+      const double za = 0.9 * rs.uniform(), dz = (q % 3 == 0) ? -w : w, zb = za + dz;
+      const bool last = (trial + q) % 4 == 0;  // the last column of a stretch: the column before's half level
+      x2.z0[q] = za, x2.z1[q] = zb, x2.h0[q] = H(za), x2.h1[q] = H(zb);
+      if (!last)
+        x2.v[0][q] = H(za), x2.v[1][q] = H(za + 0.5 * dz), x2.v[2][q] = H(zb), x2.v[3][q] = H(za + 1.5 * dz), x2.ua[q] = 0;
+      else
+        x2.v[0][q] = H(za - 0.5 * dz), x2.v[1][q] = H(za), x2.v[2][q] = H(za + 0.5 * dz), x2.v[3][q] = H(zb), x2.ua[q] = 1;
+      const double u = 0.02 + 0.96 * (0.5 + 0.5 * rs.uniform());
+      x2.y[q] = x2.h0[q] + u * (x2.h1[q] - x2.h0[q]);
+      x2.hf[q] = 0.05 + std::abs(rs.uniform());
+      // a budget as the walk's, a thousandth of a unit in the last place of values of 1e-4 to 1, or none
+      x2.bud[q] = trial % 7 == 3 ? 0.0 : 0x1p-62 * std::pow(10.0, -4.0 * (0.5 + 0.5 * rs.uniform()));
+      double lo = std::min(za, zb), hi = std::max(za, zb);
+      const bool up = H(hi) > H(lo);
+      for (int it = 0; it < 200 && lo < hi; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        if (mid == lo || mid == hi) break;
+        ((H(mid) > x2.y[q]) == up ? hi : lo) = mid;
+      }
+      want[q] = 0.5 * (lo + hi);
+      double m = 0.0;
+      for (int k = 0; k <= 256; ++k) m = std::max(m, std::abs(dH(za + dz * (k / 256.0))));
+      slope[q] = m;
+    }
+    x2.n = n;
+    x4 = x2;
+    FitCrossingSeries<Lane2> s2;
+    prepare_fit_crossings(s2, H, A);
+    fit_crossings(s2, x2);
+    FitCrossingSeries<Lane4> s4;
+    if (has_avx()) {
+      prepare_fit_crossings(s4, H, A);
+      fit_crossings(s4, x4);
+      EXPECT_EQ(x4.searched_q, x2.searched_q) << trial;
+    }
+    for (int q = 0; q < n; ++q) {
+      FitCrossings one = x2;  // the column alone, in the first lane of a batch of one
+      one.z0[0] = x2.z0[q], one.z1[0] = x2.z1[q], one.h0[0] = x2.h0[q], one.h1[0] = x2.h1[q], one.y[0] = x2.y[q];
+      for (int k = 0; k < 4; ++k) one.v[k][0] = x2.v[k][q];
+      one.ua[0] = x2.ua[q], one.hf[0] = x2.hf[q], one.bud[0] = x2.bud[q];
+      one.n = 1;
+      if (has_avx())
+        fit_crossings(s4, one);
+      else
+        fit_crossings(s2, one);
+      EXPECT_EQ(std::bit_cast<uint64_t>(one.z[0]), std::bit_cast<uint64_t>(x2.z[q])) << trial << " lane " << q;
+      EXPECT_EQ(std::bit_cast<uint64_t>(one.a[0]), std::bit_cast<uint64_t>(x2.a[q])) << trial << " lane " << q;
+      if (has_avx()) {
+        EXPECT_EQ(std::bit_cast<uint64_t>(x2.z[q]), std::bit_cast<uint64_t>(x4.z[q])) << trial << " lane " << q;
+        EXPECT_EQ(std::bit_cast<uint64_t>(x2.a[q]), std::bit_cast<uint64_t>(x4.a[q])) << trial << " lane " << q;
+      }
+      const double w = std::abs(x2.z1[q] - x2.z0[q]);
+      const bool was_searched = (x2.searched_q >> q) & 1u;
+      if (was_searched) {
+        ++searched;
+        EXPECT_NEAR(x2.z[q], want[q], 2e-12) << trial << " lane " << q;
+      } else {
+        ++kept;
+        // the bisection's root is within a unit or two in the last place of z: that much is not the cubic's error
+        const double err = std::max(0.0, std::abs(x2.z[q] - want[q]) - 4e-16);
+        EXPECT_LE(x2.hf[q] * x2.width * (slope[q] / w) * err * err, x2.bud[q])
+            << trial << " lane " << q << ": crossing " << x2.z[q] << ", root " << want[q];
+        EXPECT_GT(x2.bud[q], 0.0) << "a crossing kept without a budget";
+      }
+      EXPECT_NEAR(x2.a[q], A(x2.z[q]), 1e-14) << trial << " lane " << q;
+      if (w < 0.01 && x2.bud[q] > 0.0) {
+        ++narrow;
+        kept_narrow += was_searched ? 0 : 1;
+      }
+    }
+  }
+  EXPECT_GT(searched, 300);  // the wide columns and those with no budget
+  EXPECT_GT(kept, 1500);
+  EXPECT_GT(kept_narrow, 0.95 * narrow) << kept_narrow << " of " << narrow;
 }
 
 // The levels of a dense stretch's columns (nearest_levels): a radius a fraction d of a level above level n (|d| below
