@@ -356,19 +356,21 @@ bool StairAreaMeter::walk_fit(const Span& s) {
     all_edges();
     return true;
   }
-  // the radius at the half levels from the same fit
+  // the radius at the half levels from the same fit: hl (exact: the fit at each half level's z; the dense columns'
+  // below)
   const std::vector<double>& L = half_levels(s);
   const size_t nl = L.size();
   auto& hl = imp_.h;
   hl.resize(nl);
-  if (nl > 0) {
+  auto exact_levels = [&](size_t from, size_t to) {
+    if (from >= to) return;
     auto& z = imp_.z;
-    z.resize(nl);
-    for (size_t i = 0; i < nl; ++i) z[i] = z_of(L[i]);
+    z.resize(to - from);
+    for (size_t i = from; i < to; ++i) z[i - from] = z_of(L[i]);
     auto& r = w.r[3];
-    clenshaw_many(c[1], f[1].deg, z, nl, r);
-    for (size_t i = 0; i < nl; ++i) hl[i] = p.h_a + (hb + r[i]);
-  }
+    clenshaw_many(c[1], f[1].deg, z, to - from, r);
+    for (size_t i = from; i < to; ++i) hl[i] = p.h_a + (hb + r[i - from]);
+  };
   // Dense: the columns between two edges of the stretch, each a sub from ray to ray under the level strand of its
   // half level, are measured here at once, as walk_next, imply_arc and dense_full would one by one (the same parts,
   // in the same sectors: the sum in key order is unchanged). The walk is handed the first edge and the last; the
@@ -386,9 +388,16 @@ bool StairAreaMeter::walk_fit(const Span& s) {
   }
   size_t done = 0;
   if (k0 < nl) {
+    exact_levels(0, k0);
+    exact_levels(k0 + cnt - 1, nl);
     for (; done < k0; ++done) imply_arc(hl[done]);
     // the staircase's next level strand must be that of column 0 (as dense_full requires)
-    if (imp_.failed || imp_.g0 + m_ - (w.dir > 0 ? 0 : 1) != column(0)) k0 = nl;
+    if (imp_.failed || imp_.g0 + m_ - (w.dir > 0 ? 0 : 1) != column(0)) {
+      exact_levels(k0, k0 + cnt - 1);
+      k0 = nl;
+    }
+  } else {
+    exact_levels(0, nl);
   }
   if (k0 >= nl) {
     for (; done < nl; ++done) imply_arc(hl[done]);
@@ -440,11 +449,19 @@ bool StairAreaMeter::walk_fit(const Span& s) {
   // discarded and the digitizer measures this pole
   auto& levels = imp_.rho;
   levels.resize(cnt - 1);
-  if (!(avx ? area_roots::nearest_levels_avx : area_roots::nearest_levels)(hl.data() + k0, cnt - 1, inv,
-                                                                          imp_.margin, dr, levels.data()))
+  // the columns' half levels are their middles in z: the radius there from the edges' values (midpoint_values),
+  // within midpoint_error of the fit, which the nearest rule's margin takes in; the fit itself where there are
+  // fewer than four edges
+  double margin = imp_.margin;
+  if (cnt >= 4) {
+    area_roots::midpoint_values(r1, cnt, p.h_a, hb, hl.data() + k0);
+    margin += area_roots::midpoint_error(f[1], std::max(std::abs(ez[1] - ez[0]), std::abs(ez[cnt - 1] - ez[cnt - 2]))) * inv;
+  } else {
+    exact_levels(k0, k0 + cnt - 1);
+  }
+  if (!(avx ? area_roots::nearest_levels_avx : area_roots::nearest_levels)(hl.data() + k0, cnt - 1, inv, margin, dr,
+                                                                          levels.data()))
     imp_.failed = true;
-  // the fit of the radius at the columns' half levels
-  const double* rh = w.r[3].data() + k0;
   for (size_t i = 0; i + 1 < cnt; ++i) {
     // the column from edge i to edge i + 1: their radii and Astar
     const double ha = p.h_a + (hb + r1[i]), hb1 = p.h_a + (hb + r1[i + 1]), Aa = ab + r2[i], Ab = ab + r2[i + 1];
@@ -455,14 +472,13 @@ bool StairAreaMeter::walk_fit(const Span& s) {
       xf.z0[nx] = ez[i], xf.z1[nx] = ez[i + 1], xf.h0[nx] = r1[i], xf.h1[nx] = r1[i + 1];
       // the four values of the column's cubic: its edges and half level with the next column's half level, or the
       // column before's with the last column
-      if (i + 2 < cnt)
-        xf.v[0][nx] = r1[i], xf.v[1][nx] = rh[i], xf.v[2][nx] = r1[i + 1], xf.v[3][nx] = rh[i + 1], xf.ua[nx] = 0.0;
-      else
-        xf.v[0][nx] = rh[i - 1], xf.v[1][nx] = r1[i], xf.v[2][nx] = rh[i], xf.v[3][nx] = r1[i + 1], xf.ua[nx] = 1.0;
+      const size_t e0 = i == 0 ? 0 : (i + 2 < cnt ? i - 1 : cnt - 4);
+      for (size_t e = 0; e < 4; ++e) xf.v[e][nx] = r1[e0 + e];
+      xf.ua[nx] = static_cast<double>(i - e0);
       xf.y[nx] = (rho - p.h_a) - hb;
       // the crossing's budget (FitCrossings): a thousandth of a unit in the last place of the part's values
       xf.hf[nx] = polar ? std::max(std::abs(ha), std::abs(hb1)) : 1.0;
-      xf.bud[nx] = 0x1p-62 * std::max({std::abs(Aa), std::abs(Ab), std::abs(k)});
+      xf.bud[nx] = cnt >= 4 ? 0x1p-62 * std::max({std::abs(Aa), std::abs(Ab), std::abs(k)}) : 0.0;
       xc[nx] = Column{key_j, k, Aa, Ab};
       if (++nx == area_roots::FitCrossings::kMax) crossings();
     } else {

@@ -534,8 +534,8 @@ __attribute__((always_inline)) inline void fit_interpolate_lanes(const FitCrossi
     // without AVX)
 #define POLARCAM_P(u) (v0 + (u) * (d1 + ((u)-one) * (c2 + ((u)-two) * c3)))
 #define POLARCAM_DP(u) ((d1 + d2 * ((u)-half)) + c3 * (((V{} + 3.0) * (u) - (V{} + 6.0)) * (u) + two))
-    const V ub = ua + two;
-    V u = ua + two * ((y - h0) / (h1 - h0));  // the chord's crossing
+    const V ub = ua + one;
+    V u = ua + (y - h0) / (h1 - h0);  // the chord's crossing
     u = u - (POLARCAM_P(u) - y) / POLARCAM_DP(u);
     const V res = POLARCAM_ABS(POLARCAM_P(u) - y);
 #undef POLARCAM_P
@@ -545,14 +545,16 @@ __attribute__((always_inline)) inline void fit_interpolate_lanes(const FitCrossi
     const V la = d1 + d2 * (ua - half), lb = d1 + d2 * (ub - half), ala = POLARCAM_ABS(la), alb = POLARCAM_ABS(lb);
     const V rest = (V{} + 11.0 / 6.0) * POLARCAM_ABS(d3);
     const M lt = ala < alb;
-    const V aw = POLARCAM_ABS(z1 - z0), per_z = two / aw, aw3 = aw * aw * aw;
-    const V dh = (V{} + 3.375) * s.m4 * aw3;  // H' less the cubic's
+    const V aw = POLARCAM_ABS(z1 - z0), per_z = one / aw, aw3 = aw * aw * aw;
+    const V dh = (V{} + 27.0) * s.m4 * aw3;  // H' less the cubic's
     const V m1 = (POLARCAM_PICK(lt, ala, alb) - rest) * per_z - dh, mx = (POLARCAM_PICK(lt, alb, ala) + rest) * per_z + dh;
-    const V err = (V{} + 1.0 / 384.0) * s.m4 * (aw3 * aw) + s.eps + (V{} + 0x1p-49) * mx + res;
+    // the node polynomial on the column: at most 9/16 w^4 on the middle one (u from 1 to 2), w^4 on the others
+    const V node = POLARCAM_PICK(ua == one, V{} + 0.5625 / 24.0, V{} + 1.0 / 24.0);
+    const V err = node * s.m4 * (aw3 * aw) + s.eps + (V{} + 0x1p-49) * mx + res;
     const M inside = (u > ua) & (u < ub);
     ok[v] = ((la > V{}) == (lb > V{})) & (m1 > V{}) & inside &
             ((hf * (wd * mx)) * (err * err) <= (bud * aw) * (m1 * m1));
-    zq[v] = z0 + (u - ua) * (half * (z1 - z0));
+    zq[v] = z0 + (u - ua) * (z1 - z0);
   }
 }
 // The cubics' crossings where certified (fit_interpolate_lanes); if a lane of the batch is not, the search on
@@ -630,6 +632,27 @@ __attribute__((target("avx"))) inline void fit_crossings(const FitCrossingSeries
     default:
       fit_crossings_lanes<Lane4, 4, 4>(s, x);
   }
+}
+
+// The values of a series at the middles of the cnt - 1 columns between cnt >= 4 equally spaced points, from its
+// values r at the points: the cubic through the four nearest points (the columns' own two and one on each side;
+// the first and the last column the four at their end), weights (-1, 9, 9, -1) / 16 in the middle and
+// (5, 15, -5, 1) / 16 at the ends. out[i] = base + (b + value).
+inline void midpoint_values(const double* r, size_t cnt, double base, double b, double* out) {
+  out[0] = base + (b + (5.0 * r[0] + 15.0 * r[1] - 5.0 * r[2] + r[3]) * 0.0625);
+  for (size_t i = 1; i + 2 < cnt; ++i) out[i] = base + (b + (9.0 * (r[i] + r[i + 1]) - (r[i - 1] + r[i + 2])) * 0.0625);
+  const size_t e = cnt - 4;
+  out[cnt - 2] = base + (b + (r[e] - 5.0 * r[e + 1] + 15.0 * r[e + 2] + 5.0 * r[e + 3]) * 0.0625);
+}
+// A bound on the error of midpoint_values against the series H itself, the points w apart in H's variable: the
+// cubic's, M4 w^4 |node polynomial| / 4! with the node polynomial at most 15/16 w^4 (the end columns; 9/16 in the
+// middle), the rounding of the values (clenshaw_bound, weighted by at most 26/16) and of the points' places (a few
+// units in the last place, times |H'|, which Markov's bound sum k^2 |c_k| caps).
+inline double midpoint_error(const Cheb& H, double w) {
+  double m1 = 0.0;
+  for (int k = 1; k <= H.deg; ++k) m1 += std::abs(H.c[static_cast<size_t>(k)]) * (static_cast<double>(k) * k);
+  const double w2 = w * w;
+  return fourth_derivative_bound(H) * (w2 * w2) * (0.9375 / 24.0) + 1.625 * clenshaw_bound(H) + 0x1p-49 * m1;
 }
 
 // The nearest node to f (in units of the level spacing), fl = floor(f + 1/2); true where f is clear of a rounding
