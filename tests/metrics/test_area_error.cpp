@@ -142,6 +142,58 @@ struct RandomSeries {
   }
 };
 
+// The root of H = y between za and zb by bisection, to the last bit (H monotone there).
+double bisected_root(const Cheb& H, double za, double zb, double y) {
+  double lo = std::min(za, zb), hi = std::max(za, zb);
+  const bool up = H(hi) > H(lo);
+  for (int it = 0; it < 200 && lo < hi; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    if (mid == lo || mid == hi) break;
+    ((H(mid) > y) == up ? hi : lo) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+// The batch x2 on vectors of two lanes, and a copy of it into x4 on vectors of four where the processor has AVX.
+void crossings_on_two_and_four_lanes(const Cheb& H, const Cheb& A, polarcam::area_roots::FitCrossings& x2,
+                                     polarcam::area_roots::FitCrossings& x4,
+                                     polarcam::area_roots::FitCrossingSeries<polarcam::Lane2>& s2,
+                                     polarcam::area_roots::FitCrossingSeries<polarcam::area_roots::Lane4>& s4) {
+  using namespace polarcam::area_roots;
+  x4 = x2;
+  prepare_fit_crossings(s2, H, A);
+  fit_crossings(s2, x2);
+  if (has_avx()) {
+    prepare_fit_crossings(s4, H, A);
+    fit_crossings(s4, x4);
+  }
+}
+
+// Column q of the batch x2 (two lanes), alone in the first lane of a batch of one and in x4 (four lanes, where the
+// processor has AVX): the same crossing and Astar, bit for bit.
+void expect_the_same_alone_and_on_lanes(const polarcam::area_roots::FitCrossings& x2,
+                                        const polarcam::area_roots::FitCrossings& x4, int q,
+                                        const polarcam::area_roots::FitCrossingSeries<polarcam::Lane2>& s2,
+                                        const polarcam::area_roots::FitCrossingSeries<polarcam::area_roots::Lane4>& s4,
+                                        int trial) {
+  using namespace polarcam::area_roots;
+  FitCrossings one = x2;
+  one.z0[0] = x2.z0[q], one.z1[0] = x2.z1[q], one.h0[0] = x2.h0[q], one.h1[0] = x2.h1[q], one.y[0] = x2.y[q];
+  for (int k = 0; k < 4; ++k) one.v[k][0] = x2.v[k][q];
+  one.ua[0] = x2.ua[q], one.hf[0] = x2.hf[q], one.bud[0] = x2.bud[q];
+  one.n = 1;
+  if (has_avx())
+    fit_crossings(s4, one);
+  else
+    fit_crossings(s2, one);
+  EXPECT_EQ(std::bit_cast<uint64_t>(one.z[0]), std::bit_cast<uint64_t>(x2.z[q])) << trial << " lane " << q;
+  EXPECT_EQ(std::bit_cast<uint64_t>(one.a[0]), std::bit_cast<uint64_t>(x2.a[q])) << trial << " lane " << q;
+  if (has_avx()) {
+    EXPECT_EQ(std::bit_cast<uint64_t>(x2.z[q]), std::bit_cast<uint64_t>(x4.z[q])) << trial << " lane " << q;
+    EXPECT_EQ(std::bit_cast<uint64_t>(x2.a[q]), std::bit_cast<uint64_t>(x4.a[q])) << trial << " lane " << q;
+  }
+}
+
 }  // namespace
 
 TEST(AreaError, PairedCrossingsAreBitForBitTheSingleOnes) {
@@ -293,44 +345,17 @@ TEST(AreaError, FitCrossingsAreTheRootsOnTwoOrFourLanes) {
       const double u = 0.05 + 0.9 * (0.5 + 0.5 * rs.uniform());
       x2.z0[q] = za, x2.z1[q] = zb, x2.h0[q] = H(za), x2.h1[q] = H(zb);
       x2.y[q] = x2.h0[q] + u * (x2.h1[q] - x2.h0[q]);
-      // the root by bisection, to the last bit
-      double lo = std::min(za, zb), hi = std::max(za, zb);
-      const bool up = H(hi) > H(lo);
-      for (int it = 0; it < 200 && lo < hi; ++it) {
-        const double mid = 0.5 * (lo + hi);
-        if (mid == lo || mid == hi) break;
-        ((H(mid) > x2.y[q]) == up ? hi : lo) = mid;
-      }
-      want[q] = 0.5 * (lo + hi);
+      want[q] = bisected_root(H, za, zb, x2.y[q]);
     }
     x2.n = n;  // on as many vectors as the batch fills
-    x4 = x2;
     FitCrossingSeries<Lane2> s2;
-    prepare_fit_crossings(s2, H, A);
-    fit_crossings(s2, x2);
     FitCrossingSeries<Lane4> s4;
-    if (has_avx()) {
-      prepare_fit_crossings(s4, H, A);
-      fit_crossings(s4, x4);
-    }
+    crossings_on_two_and_four_lanes(H, A, x2, x4, s2, s4);
     for (int q = 0; q < n; ++q) {
-      // the column alone, in the first lane of a batch of one
-      FitCrossings one{};
-      one.z0[0] = x2.z0[q], one.z1[0] = x2.z1[q], one.h0[0] = x2.h0[q], one.h1[0] = x2.h1[q], one.y[0] = x2.y[q];
-      one.n = 1;
-      if (has_avx())
-        fit_crossings(s4, one);
-      else
-        fit_crossings(s2, one);
-      EXPECT_EQ(std::bit_cast<uint64_t>(one.z[0]), std::bit_cast<uint64_t>(x2.z[q])) << trial << " lane " << q;
-      EXPECT_EQ(std::bit_cast<uint64_t>(one.a[0]), std::bit_cast<uint64_t>(x2.a[q])) << trial << " lane " << q;
+      expect_the_same_alone_and_on_lanes(x2, x4, q, s2, s4, trial);
       const double w = std::abs(x2.z1[q] - x2.z0[q]);
       EXPECT_NEAR(x2.z[q], want[q], 2e-12) << trial << " lane " << q << " of a column " << w << " wide";
       EXPECT_NEAR(x2.a[q], A(x2.z[q]), 1e-14) << trial << " lane " << q;
-      if (has_avx()) {
-        EXPECT_EQ(std::bit_cast<uint64_t>(x2.z[q]), std::bit_cast<uint64_t>(x4.z[q])) << trial << " lane " << q;
-        EXPECT_EQ(std::bit_cast<uint64_t>(x2.a[q]), std::bit_cast<uint64_t>(x4.a[q])) << trial << " lane " << q;
-      }
       ++checked;
     }
   }
@@ -372,45 +397,20 @@ TEST(AreaError, FitCrossingsFromCubicsAreWithinTheirBudget) {
       x2.hf[q] = 0.05 + std::abs(rs.uniform());
       // a budget as the walk's, a thousandth of a unit in the last place of values of 1e-4 to 1, or none
       x2.bud[q] = trial % 7 == 3 ? 0.0 : 0x1p-62 * std::pow(10.0, -4.0 * (0.5 + 0.5 * rs.uniform()));
-      double lo = std::min(za, zb), hi = std::max(za, zb);
-      const bool up = H(hi) > H(lo);
-      for (int it = 0; it < 200 && lo < hi; ++it) {
-        const double mid = 0.5 * (lo + hi);
-        if (mid == lo || mid == hi) break;
-        ((H(mid) > x2.y[q]) == up ? hi : lo) = mid;
-      }
-      want[q] = 0.5 * (lo + hi);
+      want[q] = bisected_root(H, za, zb, x2.y[q]);
       double m = 0.0;
       for (int k = 0; k <= 256; ++k) m = std::max(m, std::abs(dH(za + dz * (k / 256.0))));
       slope[q] = m;
     }
     x2.n = n;
-    x4 = x2;
     FitCrossingSeries<Lane2> s2;
-    prepare_fit_crossings(s2, H, A);
-    fit_crossings(s2, x2);
     FitCrossingSeries<Lane4> s4;
+    crossings_on_two_and_four_lanes(H, A, x2, x4, s2, s4);
     if (has_avx()) {
-      prepare_fit_crossings(s4, H, A);
-      fit_crossings(s4, x4);
       EXPECT_EQ(x4.searched_q, x2.searched_q) << trial;
     }
     for (int q = 0; q < n; ++q) {
-      FitCrossings one = x2;  // the column alone, in the first lane of a batch of one
-      one.z0[0] = x2.z0[q], one.z1[0] = x2.z1[q], one.h0[0] = x2.h0[q], one.h1[0] = x2.h1[q], one.y[0] = x2.y[q];
-      for (int k = 0; k < 4; ++k) one.v[k][0] = x2.v[k][q];
-      one.ua[0] = x2.ua[q], one.hf[0] = x2.hf[q], one.bud[0] = x2.bud[q];
-      one.n = 1;
-      if (has_avx())
-        fit_crossings(s4, one);
-      else
-        fit_crossings(s2, one);
-      EXPECT_EQ(std::bit_cast<uint64_t>(one.z[0]), std::bit_cast<uint64_t>(x2.z[q])) << trial << " lane " << q;
-      EXPECT_EQ(std::bit_cast<uint64_t>(one.a[0]), std::bit_cast<uint64_t>(x2.a[q])) << trial << " lane " << q;
-      if (has_avx()) {
-        EXPECT_EQ(std::bit_cast<uint64_t>(x2.z[q]), std::bit_cast<uint64_t>(x4.z[q])) << trial << " lane " << q;
-        EXPECT_EQ(std::bit_cast<uint64_t>(x2.a[q]), std::bit_cast<uint64_t>(x4.a[q])) << trial << " lane " << q;
-      }
+      expect_the_same_alone_and_on_lanes(x2, x4, q, s2, s4, trial);
       const double w = std::abs(x2.z1[q] - x2.z0[q]);
       const bool was_searched = (x2.searched_q >> q) & 1u;
       if (was_searched) {
