@@ -414,20 +414,20 @@ inline void prepare_fit_crossings(FitCrossingSeries<V>& s, const Cheb& H, const 
 // state (a bracketing interval, Newton's step where it stays inside, halving otherwise; done once the error left
 // after a step, |H''/(2 H')| dz^2, is below 1e-12, or the interval is below 1e-15): the processor cannot guess which
 // way a lane goes. Out: z[q], the crossing, and a[q], the fit of Astar there.
-// Before the search, each column's crossing is taken from the cubic through four values of the fit at steps of
-// half a column (v: its two edges, its half level and the next column's, u = 0, 1, 2, 3 with the column from
-// u = 0 to 2; or the column before's half level, its edges and its own, the column from u = 1 to 3: ua[q]), with
-// one Newton step on that cubic from the chord. It is kept where it is certified. With M4 the bound on |H''''|
-// and w = |z1 - z0|, the cubic is within M4 w^4 / 384 of H on the column (the node polynomial is at most (w/2)^4
-// there, divided by 4!), plus the rounding of the four values (eps) and of the nodes' places (half levels formed
-// from their own levels: a few units in the last place of z); its derivative is within 3.375 M4 w^3 of H's (Rolle's
-// theorem three times over the nodes' span of 1.5 w). Where the derivative keeps its sign with a margin m1 > 0 on
-// the column, the crossing is within dz = (those errors + |p(u) - y|) / m1 of H's. A crossing misplaced by dz moves
-// the column's part by at most |f'| dz^2, f the part's integrand; with f' = hf[q] width H' / w in the fit's
-// variable (hf: the largest radius of the column in the polar geometry, 1 in the Cartesian one; width: the abscissa
-// per column), the crossing is kept where that is at most bud[q] (the walk's budget: a thousandth of a unit in the
-// last place of the values the part is formed from). The columns where it is not, and those whose radius turns,
-// are searched as before (searched counts them).
+// Before the search, each column's crossing is taken from the cubic through the fit's values v at four edges, u = 0,
+// 1, 2, 3 a column apart: the column runs from u = ua[q] to ua[q] + 1 (1: the column and one edge on each side; 0 and
+// 2: a stretch's first and last column, the four edges at its end), with one Newton step on that cubic from the
+// chord. It is kept where it is certified. With M4 the bound on |H''''| and w = |z1 - z0|, the cubic is within
+// M4 w^4 |node polynomial| / 4! of H on the column (the node polynomial at most 9/16 w^4 on the middle column, w^4
+// on an end one), plus the rounding of the four values (eps) and of the edges' places (a few units in the last
+// place of z, times |H'|); its derivative is within 27 M4 w^3 of H's (Rolle's theorem three times over the nodes'
+// span of 3 w). Where the derivative keeps its sign with a margin m1 > 0 on the column, the crossing is within
+// dz = (those errors + |p(u) - y|) / m1 of H's. A crossing misplaced by dz moves the column's part by at most
+// |f'| dz^2, f the part's integrand; with f' = hf[q] width H' / w in the fit's variable (hf: the largest radius of
+// the column in the polar geometry, 1 in the Cartesian one; width: the abscissa per column), the crossing is kept
+// where that is at most bud[q] (the walk's budget: a thousandth of a unit in the last place of the values the part
+// is formed from; 0 keeps none). The columns where it is not, and those whose radius turns, are searched as before
+// (searched counts them).
 struct FitCrossings {
   static constexpr int kMax = 16;
   alignas(32) double z0[kMax], z1[kMax], h0[kMax], h1[kMax], y[kMax], z[kMax], a[kMax];
