@@ -19,6 +19,7 @@
 #include "cam/thr_file.hpp"
 
 namespace polarcam::jobfile {
+namespace {
 
 // An angle of a contour (an arc's sweep, the parameter range of a spiral or a polar expression) beyond this is a
 // wrong unit or a damaged number: no contour turns some 16 000 times, and its track would need a piece for every
@@ -29,7 +30,6 @@ void refuse_too_many_turns(const Section& s, const char* key, double angle) {
     s.fail(key, "is beyond 1e5 rad (about 15 900 turns): no contour turns that often; check the number and its unit "
                 "(rad, deg)");
 }
-namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 

@@ -419,6 +419,7 @@ bool StairAreaMeter::walk_fit(const Span& s) {
   area_roots::FitCrossings xf;
   xf.width = grid_.width;
   const bool polar = grid_.geo == sweep::Geometry::polar;
+  const area_roots::SeriesBounds bounds = area_roots::series_bounds(f[1]);  // the radius's fit's
   area_roots::FitCrossingSeries<area_roots::Lane4> fit4;
   area_roots::FitCrossingSeries<Lane2> fit2;
   size_t nx = 0;
@@ -427,10 +428,10 @@ bool StairAreaMeter::walk_fit(const Span& s) {
     if (nx == 0) return;
     xf.n = static_cast<int>(nx);
     if (avx) {
-      if (!prepared) area_roots::prepare_fit_crossings(fit4, f[1], f[2]);
+      if (!prepared) area_roots::prepare_fit_crossings(fit4, f[1], f[2], bounds);
       area_roots::fit_crossings(fit4, xf);
     } else {
-      if (!prepared) area_roots::prepare_fit_crossings(fit2, f[1], f[2]);
+      if (!prepared) area_roots::prepare_fit_crossings(fit2, f[1], f[2], bounds);
       area_roots::fit_crossings(fit2, xf);
     }
     prepared = true;
@@ -455,7 +456,8 @@ bool StairAreaMeter::walk_fit(const Span& s) {
   double margin = imp_.margin;
   if (cnt >= 4) {
     area_roots::midpoint_values(r1, cnt, p.h_a, hb, hl.data() + k0);
-    margin += area_roots::midpoint_error(f[1], std::max(std::abs(ez[1] - ez[0]), std::abs(ez[cnt - 1] - ez[cnt - 2]))) * inv;
+    const double w_edges = std::max(std::abs(ez[1] - ez[0]), std::abs(ez[cnt - 1] - ez[cnt - 2]));
+    margin += area_roots::midpoint_error(bounds, w_edges) * inv;
   } else {
     exact_levels(k0, k0 + cnt - 1);
   }
@@ -470,8 +472,7 @@ bool StairAreaMeter::walk_fit(const Span& s) {
     const double k = level_factor(p.h_a, rho);
     if (crosses(ha, hb1, rho)) {
       xf.z0[nx] = ez[i], xf.z1[nx] = ez[i + 1], xf.h0[nx] = r1[i], xf.h1[nx] = r1[i + 1];
-      // the four values of the column's cubic: its edges and half level with the next column's half level, or the
-      // column before's with the last column
+      // the four edges of the column's cubic: its own and one on each side, or the four at the stretch's end
       const size_t e0 = i == 0 ? 0 : (i + 2 < cnt ? i - 1 : cnt - 4);
       for (size_t e = 0; e < 4; ++e) xf.v[e][nx] = r1[e0 + e];
       xf.ua[nx] = static_cast<double>(i - e0);
@@ -523,7 +524,8 @@ const std::vector<double>& StairAreaMeter::half_levels(const Span& s) {
   // the count: from the distance to gb, then the levels at its ends checked themselves (the first outside, the last
   // inside), so that it does not rest on the rounding of the distance
   const double span = walk_.dir > 0 ? s.gb - l0 : l0 - s.gb;
-  size_t n = span >= 0.0 && span < 1e15 ? static_cast<size_t>(span) + 1 : 0;
+  if (!(span < 1e15)) throw std::logic_error("internal error: a stretch of the area walk spans too many levels");
+  size_t n = span >= 0.0 ? static_cast<size_t>(span) + 1 : 0;
   while (n > 0 && !inside(n - 1)) --n;
   while (inside(n)) ++n;
   L.resize(n);

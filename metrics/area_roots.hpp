@@ -374,34 +374,37 @@ template <class V>
 struct FitCrossingSeries {
   int n = 0, na = 0;
   V h[kChebMaxDegree + 1], a[kChebMaxDegree + 1];
-  V m4;   // a bound on |H''''| on [-1, 1] (fourth_derivative_bound)
-  V eps;  // a bound on the rounding of H's values as evaluated (clenshaw_bound), doubled
+  V m4;   // SeriesBounds::m4
+  V eps;  // SeriesBounds::rounding, doubled
 };
-// A bound on the fourth derivative of the series H on [-1, 1]: |T_k''''| is largest at the ends, where it is
-// k^2 (k^2 - 1) (k^2 - 4) (k^2 - 9) / 105 (the Chebyshev polynomials' derivatives at 1, where Markov's inequality
-// is an equality).
-inline double fourth_derivative_bound(const Cheb& H) {
-  double m = 0.0;
-  for (int k = 4; k <= H.deg; ++k) {
-    const double kk = static_cast<double>(k) * k;
-    m += std::abs(H.c[static_cast<size_t>(k)]) * (kk * (kk - 1.0) * (kk - 4.0) * (kk - 9.0) / 105.0);
+// Bounds on a series H on [-1, 1], from its coefficients, for the certificates of the dense walk's crossings and
+// half levels. The derivatives of T_k are largest at the ends, where Markov's inequality is an equality:
+// |T_k'| <= k^2 and |T_k''''| <= k^2 (k^2 - 1) (k^2 - 4) (k^2 - 9) / 105.
+struct SeriesBounds {
+  double m1 = 0.0;        // |H'|: sum of k^2 |c_k|
+  double m4 = 0.0;        // |H''''|: sum over k >= 4 of |c_k| T_k''''(1)
+  double rounding = 0.0;  // of Clenshaw's recurrence at a point: (n + 1)^2 units of rounding of sum |c_k| (its
+                          // error grows at most as the square of the degree)
+};
+inline SeriesBounds series_bounds(const Cheb& H) {
+  SeriesBounds b;
+  double sum = 0.0;
+  for (int k = 0; k <= H.deg; ++k) {
+    const double c = std::abs(H.c[static_cast<size_t>(k)]), kk = static_cast<double>(k) * k;
+    sum += c;
+    b.m1 += c * kk;
+    if (k >= 4) b.m4 += c * (kk * (kk - 1.0) * (kk - 4.0) * (kk - 9.0) / 105.0);
   }
-  return m;
-}
-// A bound on the rounding of Clenshaw's recurrence for the series H at a point of [-1, 1]: (n + 1)^2 units of
-// rounding of the sum of |c_k| (the recurrence's error grows at most as the square of the degree).
-inline double clenshaw_bound(const Cheb& H) {
-  double m = 0.0;
-  for (int k = 0; k <= H.deg; ++k) m += std::abs(H.c[static_cast<size_t>(k)]);
   const double n1 = static_cast<double>(H.deg) + 1.0;
-  return n1 * n1 * 0x1p-52 * m;
+  b.rounding = n1 * n1 * 0x1p-52 * sum;
+  return b;
 }
 template <class V>
-inline void prepare_fit_crossings(FitCrossingSeries<V>& s, const Cheb& H, const Cheb& A) {
+inline void prepare_fit_crossings(FitCrossingSeries<V>& s, const Cheb& H, const Cheb& A, const SeriesBounds& b) {
   s.n = H.deg;
   s.na = A.deg;
-  s.m4 = V{} + fourth_derivative_bound(H);
-  s.eps = V{} + 2.0 * clenshaw_bound(H);
+  s.m4 = V{} + b.m4;
+  s.eps = V{} + 2.0 * b.rounding;
   for (int k = 0; k <= H.deg; ++k)
     for (size_t q = 0; q < sizeof(V) / sizeof(double); ++q) s.h[k][q] = H.c[static_cast<size_t>(k)];
   for (int k = 0; k <= A.deg; ++k)
@@ -427,16 +430,19 @@ inline void prepare_fit_crossings(FitCrossingSeries<V>& s, const Cheb& H, const 
 // the column in the polar geometry, 1 in the Cartesian one; width: the abscissa per column), the crossing is kept
 // where that is at most bud[q] (the walk's budget: a thousandth of a unit in the last place of the values the part
 // is formed from; 0 keeps none). The columns where it is not, and those whose radius turns, are searched as before
-// (searched counts them).
+// (searched_q marks them).
 struct FitCrossings {
   static constexpr int kMax = 16;
   alignas(32) double z0[kMax], z1[kMax], h0[kMax], h1[kMax], y[kMax], z[kMax], a[kMax];
   alignas(32) double v[4][kMax], ua[kMax], hf[kMax], bud[kMax];
   double width = 0.0;
   int n = 0;
-  int searched = 0;        // the columns of the last batch whose crossings were searched
-  uint32_t searched_q = 0;  // which: bit q for column q
+  uint32_t searched_q = 0;  // the columns of the last batch whose crossings were searched: bit q for column q
 };
+template <class V>
+inline void prepare_fit_crossings(FitCrossingSeries<V>& s, const Cheb& H, const Cheb& A) {
+  prepare_fit_crossings(s, H, A, series_bounds(H));
+}
 // The lanes' masks: a comparison of two vectors of doubles gives one of 64-bit integers, all ones where true.
 typedef long long Mask2 __attribute__((vector_size(16)));
 typedef long long Mask4 __attribute__((vector_size(32)));
@@ -567,17 +573,11 @@ __attribute__((always_inline)) inline void fit_crossings_lanes(const FitCrossing
   V zq[NV];
   M ok[NV];
   fit_interpolate_lanes<V, W, NV>(s, x, zq, ok);
-  int searched = 0;
   uint32_t which = 0;
   for (int v = 0; v < NV; ++v)
-    for (int q = 0; q < W; ++q) {
-      const bool s_q = (ok[v][q] == 0) & (W * v + q < x.n);
-      searched += s_q;
-      which |= static_cast<uint32_t>(s_q) << (W * v + q);
-    }
-  x.searched = searched;
+    for (int q = 0; q < W; ++q) which |= static_cast<uint32_t>((ok[v][q] == 0) & (W * v + q < x.n)) << (W * v + q);
   x.searched_q = which;
-  if (searched > 0) {
+  if (which != 0) {
     int v = 0;
     for (; v + 2 <= NV; v += 2) fit_search_lanes<V, W, 2>(s, x, v);
     if (v < NV) fit_search_lanes<V, W, 1>(s, x, v);
@@ -644,15 +644,13 @@ inline void midpoint_values(const double* r, size_t cnt, double base, double b, 
   const size_t e = cnt - 4;
   out[cnt - 2] = base + (b + (r[e] - 5.0 * r[e + 1] + 15.0 * r[e + 2] + 5.0 * r[e + 3]) * 0.0625);
 }
-// A bound on the error of midpoint_values against the series H itself, the points w apart in H's variable: the
-// cubic's, M4 w^4 |node polynomial| / 4! with the node polynomial at most 15/16 w^4 (the end columns; 9/16 in the
-// middle), the rounding of the values (clenshaw_bound, weighted by at most 26/16) and of the points' places (a few
-// units in the last place, times |H'|, which Markov's bound sum k^2 |c_k| caps).
-inline double midpoint_error(const Cheb& H, double w) {
-  double m1 = 0.0;
-  for (int k = 1; k <= H.deg; ++k) m1 += std::abs(H.c[static_cast<size_t>(k)]) * (static_cast<double>(k) * k);
+// A bound on the error of midpoint_values against the series H itself (b: its bounds), the points w apart in H's
+// variable: the cubic's, M4 w^4 |node polynomial| / 4! with the node polynomial at most 15/16 w^4 (the end
+// columns; 9/16 in the middle), the rounding of the values (weighted by at most 26/16) and of the points' places
+// (a few units in the last place, times |H'|).
+inline double midpoint_error(const SeriesBounds& b, double w) {
   const double w2 = w * w;
-  return fourth_derivative_bound(H) * (w2 * w2) * (0.9375 / 24.0) + 1.625 * clenshaw_bound(H) + 0x1p-49 * m1;
+  return b.m4 * (w2 * w2) * (0.9375 / 24.0) + 1.625 * b.rounding + 0x1p-49 * b.m1;
 }
 
 // The nearest node to f (in units of the level spacing), fl = floor(f + 1/2); true where f is clear of a rounding
